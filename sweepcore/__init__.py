@@ -1,0 +1,21 @@
+"""sweepcore: parameter sweeps of the stick-slip friction oscillator (Liu's model).
+
+Units throughout: force kN, length cm, time s (mass kN s^2/cm).
+
+Public API::
+
+    Params, simulate, attractor, Attractor, Grid, sweep, hopf_boundary,
+    open_result, write_netcdf
+"""
+from importlib.metadata import PackageNotFoundError, version
+
+from .attractor import Attractor, attractor
+from .params import Params
+from .simulate import simulate
+
+try:
+    __version__ = version("sweepcore")
+except PackageNotFoundError:  # running from a source tree without install
+    __version__ = "0.1.0"
+
+__all__ = ["Params", "simulate", "attractor", "Attractor", "__version__"]

@@ -1,0 +1,281 @@
+"""Attractor of one grid point, reduced on line (no stored trajectory).
+
+The search runs the hybrid driver and stops as soon as the answer is known:
+
+* **stick-slip / grazing cycles**: for ``v != 0`` every slip after a stick starts from
+  the breakaway point ``(sgn(v) r_y/k, v)`` (design fact 2), and so does every slide
+  after a touch snapped to it. Once the run reaches that point (a *reset*), the
+  motion until the next reset is one whole period of a periodic orbit: it is measured
+  and the search ends. No transient is integrated after the first reset.
+* **slip cycles** (no stick): a Poincare section at the maxima of ``x``. Successive
+  returns ``a_n`` converge geometrically with ratio ``rho``; the point is converged
+  when the step ``|a_n - a_{n-1}|`` and the remaining distance
+  ``|a_n - a_{n-1}| rho / (1 - rho)`` are both below ``tol * L``. When ``rho`` is near
+  1 (near v*, transients ~ 2/|q|), an Aitken jump to the extrapolated fixed point
+  replaces the slow approach (Steffensen's method on the Poincare map), and the
+  convergence test is repeated from there.
+* **equilibrium** (steady sliding at x_eq): with ``y = x - x_eq`` and
+  ``E = (m ydot^2 + k y^2)/2``, eq. (41) gives
+  ``dE/dt = ydot^2 (m q + 3 alpha2 v ydot - alpha2 ydot^2)`` (v > 0). If ``q < 0`` and
+  ``sqrt(2E/m) < min(|v|, m|q|/(3 alpha2 |v|))`` the bracket is negative on the whole
+  sublevel set, which is therefore invariant and free of sticking: the motion
+  converges to x_eq (LaSalle). That certificate ends the search.
+* budget: ``max_periods`` natural periods and ``max_steps`` stepper calls; when spent
+  the point is returned as unconverged with the last period's estimates.
+"""
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from . import codes
+from .dopri5 import scales
+from .driver import advance, init_state
+from .layout import (A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
+                     A_XMIN, A1, A2, K, M, NA, NOBS, NS, O_DT, O_GPS_A, O_MAX_STEPS,
+                     O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
+                     OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS,
+                     OB_STICK_FRACTION, OB_STICKS_PER_PERIOD, OB_T_SETTLE,
+                     OB_VAMPLITUDE, OB_X_MAX, OB_X_MIN, RY, S_MODE, S_N, S_T, S_X,
+                     S_ZD, V, X0, XD0)
+
+
+@njit(cache=True, inline="always")
+def _clear(acc):
+    for i in range(NA):
+        acc[i] = 0.0
+    acc[A_XMAX] = -np.inf
+    acc[A_XMIN] = np.inf
+    acc[A_XDMAX] = -np.inf
+    acc[A_XDMIN] = np.inf
+
+
+@njit(cache=True, inline="always")
+def _merge(dst, src):
+    for i in (A_IX, A_IXD2, 2, A_TSTICK, A_NSTICK):
+        dst[i] += src[i]
+    dst[A_XMAX] = max(dst[A_XMAX], src[A_XMAX])
+    dst[A_XMIN] = min(dst[A_XMIN], src[A_XMIN])
+    dst[A_XDMAX] = max(dst[A_XDMAX], src[A_XDMAX])
+    dst[A_XDMIN] = min(dst[A_XDMIN], src[A_XDMIN])
+
+
+@njit(cache=True)
+def _write_cycle(out, acc, t0, t1, omega, regime):
+    T = t1 - t0
+    out[OB_AMPLITUDE] = 0.5 * (acc[A_XMAX] - acc[A_XMIN])
+    out[OB_MEAN] = acc[A_IX] / T
+    out[OB_VAMPLITUDE] = 0.5 * (acc[A_XDMAX] - acc[A_XDMIN])
+    out[OB_CYCLE_SIZE] = math.sqrt(max(acc[A_IXD2], 0.0) / (omega * math.pi))
+    out[OB_PERIOD] = T
+    out[OB_STICK_FRACTION] = acc[A_TSTICK] / T
+    out[OB_STICKS_PER_PERIOD] = acc[A_NSTICK]
+    out[OB_T_SETTLE] = t0
+    out[OB_X_MAX] = acc[A_XMAX]
+    out[OB_X_MIN] = acc[A_XMIN]
+    out[OB_REGIME] = regime
+
+
+@njit(cache=True)
+def _write_rest(out, x, t, regime, stuck):
+    out[OB_AMPLITUDE] = 0.0
+    out[OB_MEAN] = x
+    out[OB_VAMPLITUDE] = 0.0
+    out[OB_CYCLE_SIZE] = 0.0
+    out[OB_PERIOD] = np.nan
+    out[OB_STICK_FRACTION] = 1.0 if stuck else 0.0
+    out[OB_STICKS_PER_PERIOD] = 0.0
+    out[OB_T_SETTLE] = t
+    out[OB_X_MAX] = x
+    out[OB_X_MIN] = x
+    out[OB_REGIME] = regime
+
+
+@njit(cache=True)
+def resolve_options(p, o_in):
+    """Per-point option row: 'auto' method, default dt and GPS shift resolved."""
+    o = o_in.copy()
+    if o[O_METHOD] < 0.0:
+        o[O_METHOD] = codes.EXACT if p[A2] == 0.0 else codes.DOPRI5
+    omega = math.sqrt(p[K] / p[M])
+    if not o[O_DT] > 0.0:
+        o[O_DT] = 2.0 * math.pi / omega / 50.0
+    if np.isnan(o[O_GPS_A]):
+        lx, _lv = scales(p)
+        o[O_GPS_A] = lx
+    return o
+
+
+@njit(cache=True)
+def x_equilibrium(p):
+    """Steady-sliding position (eq. 43, mirrored for v < 0; 0 for v = 0) [cm]."""
+    v = p[V]
+    if v == 0.0:
+        return 0.0
+    va = abs(v)
+    sg = 1.0 if v > 0.0 else -1.0
+    return sg * (p[RY] - p[A1] * va + p[A2] * va ** 3) / p[K]
+
+
+@njit(cache=True)
+def _certified_rest(x, zd, p):
+    """True when (x, zdot) lies in a sublevel set of E that provably decays to x_eq."""
+    v = p[V]
+    if v == 0.0:
+        return False
+    m = p[M]
+    q = (p[A1] - 3.0 * p[A2] * v * v) / m
+    if not q < 0.0:
+        return False
+    y = x - x_equilibrium(p)
+    yd = zd + v
+    vel = math.sqrt(yd * yd + p[K] / m * y * y)     # sqrt(2E/m)
+    lim = abs(v)
+    if p[A2] > 0.0:
+        lim = min(lim, m * abs(q) / (3.0 * p[A2] * abs(v)))
+    return vel < lim
+
+
+@njit(cache=True, nogil=True)
+def attractor_point(p, o_in, out):
+    """Fill ``out`` (layout OB_*) with the attractor observables of one point."""
+    for i in range(NOBS):
+        out[i] = np.nan
+    o = resolve_options(p, o_in)
+    meth = int(o[O_METHOD])
+    if meth == codes.EXACT and p[A2] != 0.0:
+        out[OB_REGIME] = codes.R_FAILED
+        out[OB_STATUS] = codes.BAD_METHOD
+        out[OB_NSTEPS] = 0.0
+        return
+    v = p[V]
+    omega = math.sqrt(p[K] / p[M])
+    t_budget = o[O_MAX_TIME] * 2.0 * math.pi / omega
+    tol = o[O_RTOL]
+    lx, _lv = scales(p)
+    xs = p[RY] / p[K]
+    conservative = p[A1] == 0.0 and p[A2] == 0.0
+    st = np.zeros(NS)
+    acc = np.zeros(NA)
+    acc_cyc = np.zeros(NA)
+    acc_sec = np.zeros(NA)
+    acc_last = np.zeros(NA)
+    _clear(acc)
+    _clear(acc_cyc)
+    _clear(acc_sec)
+    init_state(st, p[X0], p[XD0], p, o)
+    reset_seen = False
+    t_cyc = 0.0
+    # a start exactly at the breakaway point is a reset
+    if v != 0.0 and st[S_ZD] == 0.0 and st[S_MODE] != codes.STICK and \
+            st[S_X] == (xs if v > 0.0 else -xs):
+        reset_seen = True
+    n_sec = 0
+    a_hist = np.zeros(3)      # last section values x_max
+    t_hist = np.zeros(3)
+    t_last_sec = 0.0
+    status = codes.OK
+    for _it in range(int(o[O_MAX_STEPS]) + 10):
+        ev, status = advance(st, p, o, acc, t_budget)
+        _merge(acc_cyc, acc)
+        _merge(acc_sec, acc)
+        _clear(acc)
+        t = st[S_T]
+        if status != codes.OK:
+            break
+        if ev == codes.EV_STOP_TIME:
+            status = codes.UNCONVERGED
+            break
+        if v == 0.0 and ev == codes.EV_STICK:
+            _write_rest(out, st[S_X], t, codes.R_STUCK, True)
+            out[OB_STATUS] = codes.OK
+            out[OB_NSTEPS] = st[S_N]
+            return
+        is_reset = v != 0.0 and (ev == codes.EV_SLIP or (
+            ev == codes.EV_ABNORMAL_STOP and st[S_X] == (xs if v > 0.0 else -xs)))
+        if is_reset:
+            if reset_seen:
+                regime = codes.R_STICK_SLIP if acc_cyc[A_NSTICK] > 0 else codes.R_SLIP_CYCLE
+                _write_cycle(out, acc_cyc, t_cyc, t, omega, regime)
+                out[OB_STATUS] = codes.OK
+                out[OB_NSTEPS] = st[S_N]
+                return
+            reset_seen = True
+            t_cyc = t
+            _clear(acc_cyc)
+            _clear(acc_sec)
+            n_sec = 0
+            continue
+        section = ev == codes.EV_XMAX or (v == 0.0 and ev == codes.EV_NORMAL_STOP
+                                          and st[S_X] > 0.0)
+        if not section:
+            continue
+        if _certified_rest(st[S_X], st[S_ZD], p):
+            _write_rest(out, x_equilibrium(p), t, codes.R_EQUILIBRIUM, False)
+            out[OB_STATUS] = codes.OK
+            out[OB_NSTEPS] = st[S_N]
+            return
+        # shift the section history
+        a_hist[0] = a_hist[1]
+        a_hist[1] = a_hist[2]
+        a_hist[2] = st[S_X]
+        t_hist[0] = t_hist[1]
+        t_hist[1] = t_hist[2]
+        t_hist[2] = t
+        n_sec += 1
+        if n_sec >= 2:
+            for i in range(NA):
+                acc_last[i] = acc_sec[i]
+            t_last_sec = t_hist[1]
+        _clear(acc_sec)
+        if n_sec < 3:
+            continue
+        d1 = a_hist[2] - a_hist[1]
+        d0 = a_hist[1] - a_hist[0]
+        T1 = t_hist[2] - t_hist[1]
+        T0 = t_hist[1] - t_hist[0]
+        rho = d1 / d0 if d0 != 0.0 else 0.0
+        rem = abs(d1) * abs(rho) / (1.0 - abs(rho)) if abs(rho) < 1.0 else np.inf
+        if abs(d1) <= tol * lx and rem <= tol * lx and abs(T1 - T0) <= 10.0 * tol * T1:
+            regime = codes.R_NEUTRAL if conservative else codes.R_SLIP_CYCLE
+            _write_cycle(out, acc_last, t_last_sec, t, omega, regime)
+            out[OB_STATUS] = codes.OK
+            out[OB_NSTEPS] = st[S_N]
+            return
+        if n_sec >= 4 and 0.5 < rho < 1.0 and rem > tol * lx:
+            # Aitken jump on the section sequence (slow geometric approach)
+            a_star = a_hist[2] - d1 * d1 / (d1 - d0)
+            if abs(a_star - a_hist[2]) < 10.0 * abs(a_hist[2] - x_equilibrium(p)):
+                st[S_X] = a_star
+                st[S_ZD] = -v
+                n_sec = 1
+                a_hist[2] = a_star
+                t_hist[2] = t
+                _clear(acc_sec)
+    # budget spent or numerical failure
+    out[OB_NSTEPS] = st[S_N]
+    if status == codes.UNCONVERGED or status == codes.STEP_BUDGET:
+        if n_sec >= 3:
+            _write_cycle(out, acc_last, t_last_sec, t_hist[2], omega, codes.R_UNCONVERGED)
+        out[OB_REGIME] = codes.R_UNCONVERGED
+        out[OB_STATUS] = status
+        return
+    if status == codes.DIVERGED and meth == codes.EXACT:
+        out[OB_REGIME] = codes.R_UNBOUNDED
+    else:
+        out[OB_REGIME] = codes.R_FAILED
+    out[OB_STATUS] = status
+
+
+@njit(cache=True, nogil=True)
+def attractor_rows(P, o, out):
+    """Serial loop over the rows of P (for dask tasks: dask owns the parallelism)."""
+    for i in range(P.shape[0]):
+        attractor_point(P[i], o, out[i])
+
+
+@njit(cache=True, parallel=True)
+def attractor_rows_parallel(P, o, out):
+    """numba-threaded loop over the rows of P (one prange, sequential inside)."""
+    for i in prange(P.shape[0]):
+        attractor_point(P[i], o, out[i])

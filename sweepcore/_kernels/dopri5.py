@@ -1,0 +1,98 @@
+"""Dormand-Prince 5(4) with local extrapolation and error control (method "dopri5").
+
+Tableau from Dormand & Prince (1980), as in Hairer, Norsett & Wanner, Solving ODEs I,
+table II.5.2. The error is measured per component against
+``rtol * (L + |y|)`` with the point's own scales ``L`` (length ``r_y/k + |v|/omega``
+and its velocity ``omega L``), so the tolerance is relative and the units cancel.
+"""
+import numpy as np
+from numba import njit
+
+from .friction import friction, zdd
+from .layout import K, M, O_RTOL, RY, V, X0, XD0
+
+ORDER = 5
+ERROR_ORDER = 4
+
+C2, C3, C4, C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
+A21 = 1 / 5
+A31, A32 = 3 / 40, 9 / 40
+A41, A42, A43 = 44 / 45, -56 / 15, 32 / 9
+A51, A52, A53, A54 = 19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729
+A61, A62, A63, A64, A65 = 9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656
+B1, B3, B4, B5, B6 = 35 / 384, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84
+# E = b - b_hat (b_hat: the embedded fourth-order weights; stage 7 = FSAL stage)
+E1, E3, E4, E5, E6, E7 = (71 / 57600, -71 / 16695, 71 / 1920, -17253 / 339200,
+                          22 / 525, -1 / 40)
+
+TABLEAU_A = np.array([
+    [0, 0, 0, 0, 0, 0],
+    [A21, 0, 0, 0, 0, 0],
+    [A31, A32, 0, 0, 0, 0],
+    [A41, A42, A43, 0, 0, 0],
+    [A51, A52, A53, A54, 0, 0],
+    [A61, A62, A63, A64, A65, 0],
+    [B1, 0, B3, B4, B5, B6],
+])
+TABLEAU_C = np.array([0, C2, C3, C4, C5, 1.0, 1.0])
+TABLEAU_B = np.array([B1, 0, B3, B4, B5, B6, 0])
+TABLEAU_E = np.array([E1, 0, E3, E4, E5, E6, E7])
+
+
+@njit(cache=True, inline="always")
+def scales(p):
+    """Length scale [cm] and velocity scale [cm/s] of a point (error weights)."""
+    omega = np.sqrt(p[K] / p[M])
+    lx = p[RY] / p[K] + abs(p[V]) / omega + abs(p[X0]) + abs(p[XD0]) / omega
+    if not lx > 0.0:
+        lx = 1.0
+    return lx, omega * lx
+
+
+@njit(cache=True)
+def dopri5_step(x, zd, h, s, p, o, want_q):
+    """One Dormand-Prince step of the sliding field; see ``stepper.py``."""
+    v = p[V]
+    k1x = zd + v
+    k1z = zdd(x, zd, s, p)
+    x2 = x + h * A21 * k1x
+    z2 = zd + h * A21 * k1z
+    k2x = z2 + v
+    k2z = zdd(x2, z2, s, p)
+    x3 = x + h * (A31 * k1x + A32 * k2x)
+    z3 = zd + h * (A31 * k1z + A32 * k2z)
+    k3x = z3 + v
+    k3z = zdd(x3, z3, s, p)
+    x4 = x + h * (A41 * k1x + A42 * k2x + A43 * k3x)
+    z4 = zd + h * (A41 * k1z + A42 * k2z + A43 * k3z)
+    k4x = z4 + v
+    k4z = zdd(x4, z4, s, p)
+    x5 = x + h * (A51 * k1x + A52 * k2x + A53 * k3x + A54 * k4x)
+    z5 = zd + h * (A51 * k1z + A52 * k2z + A53 * k3z + A54 * k4z)
+    k5x = z5 + v
+    k5z = zdd(x5, z5, s, p)
+    x6 = x + h * (A61 * k1x + A62 * k2x + A63 * k3x + A64 * k4x + A65 * k5x)
+    z6 = zd + h * (A61 * k1z + A62 * k2z + A63 * k3z + A64 * k4z + A65 * k5z)
+    k6x = z6 + v
+    k6z = zdd(x6, z6, s, p)
+    x1 = x + h * (B1 * k1x + B3 * k3x + B4 * k4x + B5 * k5x + B6 * k6x)
+    zd1 = zd + h * (B1 * k1z + B3 * k3z + B4 * k4z + B5 * k5z + B6 * k6z)
+    k7x = zd1 + v
+    k7z = zdd(x1, zd1, s, p)
+    ex = h * (E1 * k1x + E3 * k3x + E4 * k4x + E5 * k5x + E6 * k6x + E7 * k7x)
+    ez = h * (E1 * k1z + E3 * k3z + E4 * k4z + E5 * k5z + E6 * k6z + E7 * k7z)
+    lx, lv = scales(p)
+    rtol = o[O_RTOL]
+    err = max(abs(ex) / (rtol * (lx + max(abs(x), abs(x1)))),
+              abs(ez) / (rtol * (lv + max(abs(zd), abs(zd1)))))
+    qx = 0.0
+    qv = 0.0
+    qw = 0.0
+    if want_q:
+        qx = h * (B1 * x + B3 * x3 + B4 * x4 + B5 * x5 + B6 * x6)
+        qv = h * (B1 * k1x * k1x + B3 * k3x * k3x + B4 * k4x * k4x
+                  + B5 * k5x * k5x + B6 * k6x * k6x)
+        qw = h * (B1 * friction(zd, s, p) * k1x + B3 * friction(z3, s, p) * k3x
+                  + B4 * friction(z4, s, p) * k4x + B5 * friction(z5, s, p) * k5x
+                  + B6 * friction(z6, s, p) * k6x)
+    return x1, zd1, qx, qv, qw, err, True

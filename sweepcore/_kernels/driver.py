@@ -1,0 +1,482 @@
+"""The one hybrid stick/slide driver.
+
+It owns the phases and every rule that switches them; steppers (``stepper.py``) only
+advance the smooth sliding field. ``advance`` moves a state array ``st`` (layout in
+``layout.py``) to the next event or to ``t_stop`` and returns ``(event, status)``.
+
+Rules (eq. numbers of Liu's paper):
+
+* stick: ``xdot = v``; slip when ``|k x|`` reaches ``r_y`` at the closed-form time of
+  eq. (27), never by time stepping. The slip state is set to ``(sgn(v) r_y/k, v)``
+  exactly, so every slip after a stick starts from the same point.
+* slide: ``zdot`` returns to 0 (located inside a step, then re-stepped to the event so
+  the state is the integrator's own). With ``x_s = r_y/k`` and ``v > 0``:
+  ``x >= x_s`` -> slide on with ``zdot < 0`` (the slide-slide condition (22));
+  ``x < -x_s`` -> slide on with ``zdot > 0``; otherwise stick. Sliding on in the
+  same direction is an abnormal stop (31), reversing a normal stop (30). ``v < 0`` is
+  the mirror image; for ``v = 0`` the slider sticks when ``|x| <= x_s``.
+* tangential touches (grazes): ``zdot`` touching 0 with ``zdd = 0`` (the constant-
+  friction cycle's abnormal stop) is found at its turning point, not by a sign test,
+  and a touch within the graze tolerance of the breakaway point ``x_s`` is snapped to
+  it: no stick of finite duration, no chain of zero-length events.
+* after leaving the switching line (slip, stop) the event test is disarmed until
+  ``zdot`` turns back towards 0, so the departure itself is never an event.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from . import codes
+from .dopri5 import scales
+from .friction import zdd, zddd
+from .layout import (A_IX, A_IXD2, A_NSTEPS, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
+                     A_XDMIN, A_XMAX, A_XMIN, K, M, O_GRAZE, O_MAX_STEPS, O_METHOD,
+                     O_RTOL, RY, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
+from .stepper import proposal, step
+
+EPS = np.finfo(np.float64).eps
+_F_ZD = 0    # functions whose roots are polished on re-steps
+_F_XD = 1
+_F_ZDD = 2
+
+
+# ---------------------------------------------------------------- small pieces
+@njit(cache=True, inline="always")
+def _fun(which, x, zd, s, p):
+    v = p[V]
+    if which == _F_ZD:
+        return zd, zdd(x, zd, s, p)
+    if which == _F_XD:
+        return zd + v, zdd(x, zd, s, p)
+    return zdd(x, zd, s, p), zddd(x, zd, s, p, v)
+
+
+@njit(cache=True)
+def _polish(which, x, zd, s, p, o, lo, hi, sign_lo, guess, st):
+    """Root in (lo, hi] of F(h) = fun(step(x, zd, h)); F(lo) has sign ``sign_lo``.
+
+    Safeguarded Newton: Newton steps inside the bracket, bisection otherwise.
+    Returns (h, x1, zd1).
+    """
+    h = guess if lo < guess <= hi else 0.5 * (lo + hi)
+    x1 = x
+    z1 = zd
+    for _ in range(60):
+        x1, z1, _a, _b, _c, _e, _ok = step(x, zd, h, s, p, o, False)
+        st[S_N] += 1.0
+        f, df = _fun(which, x1, z1, s, p)
+        if f == 0.0:
+            break
+        if (f > 0.0) == (sign_lo > 0.0):
+            lo = h
+        else:
+            hi = h
+        if hi - lo <= 2.0 * EPS * hi:
+            break
+        hn = h - f / df if df != 0.0 else 0.5 * (lo + hi)
+        if not (lo < hn < hi):
+            hn = 0.5 * (lo + hi)
+        if abs(hn - h) <= 2.0 * EPS * hi:
+            h = hn
+            x1, z1, _a, _b, _c, _e, _ok = step(x, zd, h, s, p, o, False)
+            st[S_N] += 1.0
+            break
+        h = hn
+    return h, x1, z1
+
+
+@njit(cache=True, inline="always")
+def _cubic(f0, f1, d0, d1, th):
+    """Cubic Hermite interpolant on [0, 1] (values f, theta-derivatives d)."""
+    a = 2.0 * (f0 - f1) + d0 + d1
+    b = 3.0 * (f1 - f0) - 2.0 * d0 - d1
+    return ((a * th + b) * th + d0) * th + f0
+
+
+@njit(cache=True)
+def _critical(f0, f1, d0, d1):
+    """Critical points in (0, 1) of the Hermite cubic, sorted; (n, t1, t2)."""
+    a = 3.0 * (2.0 * (f0 - f1) + d0 + d1)
+    b = 2.0 * (3.0 * (f1 - f0) - 2.0 * d0 - d1)
+    c = d0
+    r1 = -1.0
+    r2 = -1.0
+    scale = abs(a) + abs(b) + abs(c)
+    if scale == 0.0:
+        return 0, 0.0, 0.0
+    if abs(a) <= 1e-14 * scale:
+        if b != 0.0:
+            r1 = -c / b
+    else:
+        disc = b * b - 4.0 * a * c
+        if disc >= 0.0:
+            sq = math.sqrt(disc)
+            q = -0.5 * (b + (sq if b >= 0.0 else -sq))
+            if q != 0.0:
+                r1 = q / a
+                r2 = c / q
+            else:
+                r1 = -b / (2.0 * a)
+    if r1 > r2:
+        r1, r2 = r2, r1
+    n = 0
+    t1 = 0.0
+    t2 = 0.0
+    for r in (r1, r2):
+        if 0.0 < r < 1.0:
+            if n == 0:
+                t1 = r
+            else:
+                t2 = r
+            n += 1
+    return n, t1, t2
+
+
+@njit(cache=True)
+def classify_zero(x, s, p, gtol):
+    """Mode after zdot reached 0 while sliding with sign s, and the event kind.
+
+    Returns (new_mode, event, x_new): x_new is x, or the breakaway point when a
+    touch within the graze tolerance of it is snapped there.
+    """
+    v = p[V]
+    xs = p[RY] / p[K]
+    lx, _lv = scales(p)
+    tolx = gtol * lx
+    new = codes.STICK
+    xn = x
+    if v > 0.0:
+        if x >= xs - tolx:
+            new = codes.SLIDE_NEG
+            if x <= xs + tolx:
+                xn = xs
+        elif x < -xs - tolx:
+            new = codes.SLIDE_POS
+    elif v < 0.0:
+        if x <= -xs + tolx:
+            new = codes.SLIDE_POS
+            if x >= -xs - tolx:
+                xn = -xs
+        elif x > xs + tolx:
+            new = codes.SLIDE_NEG
+    else:
+        if x > xs + tolx:
+            new = codes.SLIDE_NEG
+        elif x < -xs - tolx:
+            new = codes.SLIDE_POS
+    if new == codes.STICK:
+        return new, codes.EV_STICK, xn
+    if new == s:
+        return new, codes.EV_ABNORMAL_STOP, xn
+    return new, codes.EV_NORMAL_STOP, xn
+
+
+@njit(cache=True)
+def initial_mode(x0, xd0, p, gtol):
+    """Phase of a start (x0, xdot0): slide by the sign of zdot, else as at a stop."""
+    zd0 = xd0 - p[V]
+    if zd0 > 0.0:
+        return codes.SLIDE_POS, x0
+    if zd0 < 0.0:
+        return codes.SLIDE_NEG, x0
+    new, _ev, xn = classify_zero(x0, 0, p, gtol)
+    return new, xn
+
+
+@njit(cache=True, inline="always")
+def _note_x(acc, x, xd):
+    if x > acc[A_XMAX]:
+        acc[A_XMAX] = x
+    if x < acc[A_XMIN]:
+        acc[A_XMIN] = x
+    if xd > acc[A_XDMAX]:
+        acc[A_XDMAX] = xd
+    if xd < acc[A_XDMIN]:
+        acc[A_XDMIN] = xd
+
+
+@njit(cache=True)
+def init_state(st, x0, xd0, p, o):
+    """Fill st for a start at t = 0; returns the start's mode."""
+    mode, xs = initial_mode(x0, xd0, p, o[O_GRAZE])
+    st[S_T] = 0.0
+    st[S_X] = xs
+    st[S_ZD] = 0.0 if mode == codes.STICK else xd0 - p[V]
+    st[S_MODE] = mode
+    st[S_ARMED] = 1.0 if st[S_ZD] != 0.0 else 0.0
+    omega = math.sqrt(p[K] / p[M])
+    st[S_H] = 0.05 / omega
+    st[S_N] = 0.0
+    return mode
+
+
+# ---------------------------------------------------------------- the phases
+@njit(cache=True)
+def stick_until_slip(st, p, acc, t_stop):
+    """Stick phase in closed form (x moves with the belt) until slip or t_stop."""
+    v = p[V]
+    xs = p[RY] / p[K]
+    t = st[S_T]
+    x = st[S_X]
+    if v > 0.0:
+        t_slip = t + max(xs - x, 0.0) / v
+    elif v < 0.0:
+        t_slip = t + min(-xs - x, 0.0) / v
+    else:
+        t_slip = np.inf
+    t1 = min(t_slip, t_stop)
+    dt = t1 - t
+    x1 = x + v * dt
+    ix = dt * (x + 0.5 * v * dt)
+    acc[A_IX] += ix
+    acc[A_IXD2] += v * v * dt
+    acc[A_WF] += -p[K] * v * ix       # r_a = -k x while stuck
+    acc[A_TSTICK] += dt
+    st[S_T] = t1
+    if t_slip <= t_stop:
+        st[S_X] = xs if v > 0.0 else -xs
+        st[S_ZD] = 0.0
+        st[S_MODE] = codes.SLIDE_NEG if v > 0.0 else codes.SLIDE_POS
+        st[S_ARMED] = 0.0
+        _note_x(acc, st[S_X], v)
+        return codes.EV_SLIP, codes.OK
+    st[S_X] = x1
+    _note_x(acc, x1, v)
+    return codes.EV_STOP_TIME, codes.OK
+
+
+@njit(cache=True)
+def _zd_event(g0, g1, d0, d1, armed, near):
+    """Scan the Hermite cubic of g = s zdot over a step.
+
+    Returns (kind, th_a, th_b, th_c, armed): kind 0 nothing, 1 crossing bracketed
+    in [th_a, th_b], 2 a turning point th_c (local min of g, bracketed by th_a, th_b)
+    whose value is within ``near`` of 0 and must be checked on the integrator.
+    """
+    n, c1, c2 = _critical(g0, g1, d0, d1)
+    pts = np.empty(4)
+    pts[0] = 0.0
+    k = 1
+    if n >= 1:
+        pts[k] = c1
+        k += 1
+    if n == 2:
+        pts[k] = c2
+        k += 1
+    pts[k] = 1.0
+    k += 1
+    start = 0
+    if not armed:
+        # A start on the switching line (g0 = 0) is never itself an event: skip to
+        # the first interior maximum of g (zdot turning back towards 0).
+        start = -1
+        if g0 > 0.0 and d0 <= 0.0:
+            start = 0
+        else:
+            a = 2.0 * (g0 - g1) + d0 + d1
+            b = 3.0 * (g1 - g0) - 2.0 * d0 - d1
+            for i in range(1, k - 1):
+                th = pts[i]
+                if 6.0 * a * th + 2.0 * b < 0.0 and _cubic(g0, g1, d0, d1, th) > 0.0:
+                    start = i
+                    break
+        if start < 0:
+            return 0, 0.0, 0.0, 0.0, g1 > 0.0 and d1 <= 0.0
+        armed = True
+    for i in range(start, k - 1):
+        ta = pts[i]
+        tb = pts[i + 1]
+        gb = _cubic(g0, g1, d0, d1, tb)
+        if tb == 1.0:
+            gb = g1
+        if gb <= 0.0:
+            return 1, ta, tb, 0.0, armed
+        if i + 1 < k - 1 and gb <= near:
+            a = 2.0 * (g0 - g1) + d0 + d1
+            b = 3.0 * (g1 - g0) - 2.0 * d0 - d1
+            if 6.0 * a * tb + 2.0 * b > 0.0:       # local minimum of g
+                return 2, ta, pts[i + 2], tb, armed
+    return 0, 0.0, 0.0, 0.0, armed
+
+
+@njit(cache=True)
+def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
+    """Book the partial step to a zdot = 0 event at h and apply the stop rules."""
+    _x, _z, qx, qv, qw, _e, _ok = step(x0, zd0, h, s, p, o, True)
+    st[S_N] += 1.0
+    acc[A_IX] += qx
+    acc[A_IXD2] += qv
+    acc[A_WF] += qw
+    st[S_T] += h
+    new, ev, xn = classify_zero(xe, s, p, o[O_GRAZE])
+    st[S_X] = xn
+    st[S_ZD] = 0.0
+    st[S_MODE] = new
+    st[S_ARMED] = 0.0
+    if new == codes.STICK:
+        acc[A_NSTICK] += 1.0
+    _note_x(acc, xn, p[V])
+    return ev
+
+
+@njit(cache=True)
+def slide_until_event(st, p, o, acc, t_stop):
+    """Integrate the sliding phase until zdot = 0, an extremum of x, or t_stop."""
+    v = p[V]
+    s = st[S_MODE]
+    meth = int(o[O_METHOD])
+    adaptive = meth == codes.DOPRI5
+    max_steps = o[O_MAX_STEPS]
+    lx, lv = scales(p)
+    gtol = o[O_GRAZE] * lv
+    near = max(gtol, 1e-3 * lv)
+    omega = math.sqrt(p[K] / p[M])
+    h_max = 0.5 / omega
+    h_min_gps = 1e-12 / omega
+    while True:
+        t = st[S_T]
+        if t >= t_stop:
+            return codes.EV_STOP_TIME, codes.OK
+        if st[S_N] >= max_steps:
+            return codes.EV_STOP_TIME, codes.STEP_BUDGET
+        x = st[S_X]
+        zd = st[S_ZD]
+        h = proposal(x, zd, s, p, o, st[S_H])
+        if adaptive:
+            h = min(h, h_max)
+        last = False
+        if t + h >= t_stop:
+            h = t_stop - t
+            last = True
+        if h <= EPS * max(abs(t), 1.0):
+            if adaptive and not last:
+                return codes.EV_STOP_TIME, codes.STEP_UNDERFLOW
+            st[S_T] = t_stop
+            return codes.EV_STOP_TIME, codes.OK
+        x1, z1, qx, qv, qw, err, ok = step(x, zd, h, s, p, o, True)
+        st[S_N] += 1.0
+        if not ok:                      # GPS denominator guard: halve the step
+            hh = h
+            while not ok and hh > h_min_gps:
+                hh *= 0.5
+                x1, z1, qx, qv, qw, err, ok = step(x, zd, hh, s, p, o, True)
+                st[S_N] += 1.0
+            if not ok:
+                return codes.EV_STOP_TIME, codes.GPS_DENOMINATOR
+            h = hh
+            last = False
+        if adaptive:
+            if not (err <= 1.0):
+                fac = 0.2 if not (err < 1e300) else max(0.2, 0.9 * err ** -0.2)
+                st[S_H] = h * fac
+                continue
+            st[S_H] = h * min(5.0, max(0.2, 0.9 * (err + 1e-300) ** -0.2))
+        if not (abs(x1) < 1e12 * lx and abs(z1) < 1e12 * lv):
+            return codes.EV_STOP_TIME, codes.DIVERGED
+        a0 = zdd(x, zd, s, p)
+        a1 = zdd(x1, z1, s, p)
+        # --- zdot = 0: crossings, double crossings and touches inside the step
+        g0 = s * zd
+        g1 = s * z1
+        kind, ta, tb, tc, armed = _zd_event(g0, g1, s * a0 * h, s * a1 * h,
+                                            st[S_ARMED] > 0.0, near)
+        st[S_ARMED] = 1.0 if armed else 0.0
+        h_ev = -1.0
+        xe = x1
+        crossing = False
+        if kind == 2:                   # check the turning point on the integrator
+            # zdd has the sign -s where g falls towards the touch, +s after it
+            hc, xc, zc = _polish(_F_ZDD, x, zd, s, p, o, 0.5 * (ta + tc) * h,
+                                 0.5 * (tc + tb) * h, -s, tc * h, st)
+            gc = s * zc
+            if abs(gc) <= gtol:         # a touch
+                h_ev = hc
+                xe = xc
+            elif gc < 0.0:              # a real double crossing: the first root
+                h_ev, xe, _ze = _polish(_F_ZD, x, zd, s, p, o, ta * h, hc, s,
+                                        0.5 * (ta + tc) * h, st)
+                crossing = True
+        elif kind == 1:
+            gb = g1
+            if tb < 1.0:
+                _xb, zb, _a, _b, _c, _e, _ok = step(x, zd, tb * h, s, p, o, False)
+                st[S_N] += 1.0
+                gb = s * zb
+            if gb <= 0.0:
+                # Newton starts from the cubic's own root (bisection on the cubic)
+                ca = ta
+                cb = tb
+                for _ in range(40):
+                    cm = 0.5 * (ca + cb)
+                    if _cubic(g0, g1, s * a0 * h, s * a1 * h, cm) > 0.0:
+                        ca = cm
+                    else:
+                        cb = cm
+                h_ev, xe, _ze = _polish(_F_ZD, x, zd, s, p, o, ta * h, tb * h, s,
+                                        0.5 * (ca + cb) * h, st)
+                crossing = True
+        if crossing:
+            # A crossing whose excursion past 0 stays within the graze tolerance is a
+            # touch: its root is ill-conditioned (error ~ sqrt(eps)), its turning
+            # point (zdd = 0) is not, so the touch is placed there.
+            gp = s * zdd(xe, 0.0, s, p)
+            gpp = s * zddd(xe, 0.0, s, p, v)
+            if gp < 0.0 and gpp > 0.0 and gp * gp <= 2.0 * gpp * gtol:
+                tau = -gp / gpp
+                h_ev, xe, _zc = _polish(_F_ZDD, x, zd, s, p, o, h_ev, h_ev + 2.0 * tau,
+                                        -s, h_ev + tau, st)
+        if kind == 0 and 0.0 < g1 <= gtol and s * a1 * h >= -gtol and st[S_ARMED] > 0.0:
+            h_ev = h                    # the step ends on a touch (exact arcs)
+            xe = x1
+        # --- extremum of x (Poincare section) inside the step
+        h_xe = -1.0
+        xd0 = zd + v
+        xd1 = z1 + v
+        if v != 0.0 and xd0 != 0.0 and (xd0 > 0.0) != (xd1 > 0.0):
+            h_xe, xx, zx = _polish(_F_XD, x, zd, s, p, o, 0.0, h,
+                                   1.0 if xd0 > 0.0 else -1.0, h * xd0 / (xd0 - xd1), st)
+        if h_ev >= 0.0 and (h_xe < 0.0 or h_ev <= h_xe):
+            return _finish_zero(st, p, o, acc, x, zd, s, h_ev, xe), codes.OK
+        if h_xe >= 0.0:
+            _x, _z, qx, qv, qw, _e, _ok = step(x, zd, h_xe, s, p, o, True)
+            st[S_N] += 1.0
+            acc[A_IX] += qx
+            acc[A_IXD2] += qv
+            acc[A_WF] += qw
+            st[S_T] = t + h_xe
+            st[S_X] = xx
+            st[S_ZD] = -v               # xdot = 0 exactly at the section
+            _note_x(acc, xx, 0.0)
+            _velocity_extremum(st, p, o, acc, x, zd, s, h_xe, a0,
+                               zdd(xx, -v, s, p))
+            if xd0 > 0.0:
+                return codes.EV_XMAX, codes.OK
+            return codes.EV_XMIN, codes.OK
+        acc[A_IX] += qx
+        acc[A_IXD2] += qv
+        acc[A_WF] += qw
+        _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1)
+        st[S_T] = t + h if not last else t_stop
+        st[S_X] = x1
+        st[S_ZD] = z1
+        _note_x(acc, x1, z1 + v)
+        if last:
+            return codes.EV_STOP_TIME, codes.OK
+
+
+@njit(cache=True)
+def _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1):
+    """Record an extremum of xdot (zdd = 0) inside [0, h] of the step from (x, zd)."""
+    if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
+        _h, xv, zv = _polish(_F_ZDD, x, zd, s, p, o, 0.0, h, 1.0 if a0 > 0.0 else -1.0,
+                             h * a0 / (a0 - a1), st)
+        _note_x(acc, xv, zv + p[V])
+
+
+@njit(cache=True)
+def advance(st, p, o, acc, t_stop):
+    """Advance to the next event or to t_stop; returns (event, status)."""
+    if st[S_MODE] == codes.STICK:
+        return stick_until_slip(st, p, acc, t_stop)
+    return slide_until_event(st, p, o, acc, t_stop)

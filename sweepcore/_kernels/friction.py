@@ -1,0 +1,34 @@
+"""The friction law and the smooth sliding field.
+
+Sliding with the friction sign ``s = sgn(zdot)`` frozen, eq. (40)
+
+    r_a = r_y s - alpha1 zdot + alpha2 zdot^3,
+
+and eq. (41), written in the bounded coordinates ``(x, zdot)`` (z = x - v t grows
+without bound, x does not):
+
+    xdot    = zdot + v
+    zdotdot = (-k x - r_a) / m .
+"""
+from numba import njit
+
+from .layout import A1, A2, K, M, RY
+
+
+@njit(cache=True, inline="always")
+def friction(zd, s, p):
+    """Friction force r_a on the slider while sliding [kN], eq. (40)."""
+    return p[RY] * s - p[A1] * zd + p[A2] * zd * zd * zd
+
+
+@njit(cache=True, inline="always")
+def zdd(x, zd, s, p):
+    """Relative (= absolute) acceleration while sliding [cm/s^2], eq. (41)."""
+    return (-p[K] * x - friction(zd, s, p)) / p[M]
+
+
+@njit(cache=True, inline="always")
+def zddd(x, zd, s, p, v):
+    """Time derivative of zdd along the sliding flow [cm/s^3]."""
+    a = zdd(x, zd, s, p)
+    return (-p[K] * (zd + v) + (p[A1] - 3.0 * p[A2] * zd * zd) * a) / p[M]

@@ -1,0 +1,55 @@
+"""Liu's group-preserving scheme (GPS), eqs. (49)-(50), fixed step (method "gps").
+
+The paper applies the Cayley-form GPS of Liu (2001) to ``u = (z + a, zdot)``. Here
+``u = (x + a, zdot)``: the same scheme on the autonomous form of the same equation.
+``z = x - v t`` grows without bound over a long run, so ``||u||`` would grow and the
+scheme would drift towards forward Euler with a time-dependent effective step; ``x``
+stays bounded, so ``||u||`` does too. ``a`` (cm) keeps ``||u||`` away from zero; by
+default it is the length scale ``r_y/k + |v|/omega``.
+
+The update ``u1 = u0 + eta f`` with
+
+    eta = (2 tau ||u||^2 + 2 tau^2 f.u) / (||u||^2 - tau^2 ||f||^2),  tau = h/2,
+
+is first-order accurate: for ``tau ||f|| << ||u||``, ``eta -> h`` and the step is
+forward Euler, which pumps energy into an oscillator (growth ~ omega^2 h / 2 per unit
+time). When the denominator is not safely positive (``<= ||u||^2 / 2``) the step is
+refused (``ok = False``) and the driver halves it.
+"""
+from numba import njit
+
+from .friction import friction, zdd
+from .layout import O_GPS_A, V
+
+ORDER = 1
+
+
+@njit(cache=True)
+def gps_step(x, zd, h, s, p, o, want_q):
+    """One GPS step of the sliding field; see ``stepper.py`` for the contract."""
+    v = p[V]
+    a = o[O_GPS_A]
+    u1 = x + a
+    u2 = zd
+    f1 = zd + v
+    f2 = zdd(x, zd, s, p)
+    tau = 0.5 * h
+    uu = u1 * u1 + u2 * u2
+    ff = f1 * f1 + f2 * f2
+    fu = f1 * u1 + f2 * u2
+    den = uu - tau * tau * ff
+    if not (den > 0.5 * uu):
+        return x, zd, 0.0, 0.0, 0.0, 0.0, False
+    eta = (2.0 * tau * uu + 2.0 * tau * tau * fu) / den
+    x1 = x + eta * f1
+    zd1 = zd + eta * f2
+    qx = 0.0
+    qv = 0.0
+    qw = 0.0
+    if want_q:  # trapezoid rule: second order, above the scheme's own order
+        xd0 = f1
+        xd1 = zd1 + v
+        qx = 0.5 * h * (x + x1)
+        qv = 0.5 * h * (xd0 * xd0 + xd1 * xd1)
+        qw = 0.5 * h * (friction(zd, s, p) * xd0 + friction(zd1, s, p) * xd1)
+    return x1, zd1, qx, qv, qw, 0.0, True

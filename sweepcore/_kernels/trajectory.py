@@ -1,0 +1,57 @@
+"""One run of the hybrid driver, sampled at given times, with its event log."""
+import numpy as np
+from numba import njit
+
+from . import codes
+from .driver import advance, init_state
+from .layout import NA, NS, S_MODE, S_N, S_T, S_X, S_ZD, A_XMAX, A_XMIN, A_XDMAX, A_XDMIN
+
+
+@njit(cache=True)
+def fresh_acc():
+    """Accumulators with empty extrema."""
+    acc = np.zeros(NA)
+    acc[A_XMAX] = -np.inf
+    acc[A_XMIN] = np.inf
+    acc[A_XDMAX] = -np.inf
+    acc[A_XDMIN] = np.inf
+    return acc
+
+
+@njit(cache=True)
+def run_trajectory(p, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind, ev_x,
+                   ev_zd, acc):
+    """Run from (p[X0], p[XD0]) and fill the sample and event arrays.
+
+    Samples are the driver's own state at each time of ``t_samples`` (sorted, >= 0):
+    the driver stops exactly there. Phase events (slip, stick, stops) are logged up
+    to the buffers' length; the return value counts all of them, so a caller can
+    retry with larger buffers. Returns (n_events, status, n_steps).
+    """
+    st = np.zeros(NS)
+    init_state(st, p[6], p[7], p, o)
+    n_ev = 0
+    cap = ev_t.shape[0]
+    status = codes.OK
+    for i in range(t_samples.shape[0]):
+        ts = t_samples[i]
+        while st[S_T] < ts and status == codes.OK:
+            ev, status = advance(st, p, o, acc, ts)
+            if ev == codes.EV_SLIP or ev == codes.EV_STICK or \
+                    ev == codes.EV_NORMAL_STOP or ev == codes.EV_ABNORMAL_STOP:
+                if n_ev < cap:
+                    ev_t[n_ev] = st[S_T]
+                    ev_kind[n_ev] = ev
+                    ev_x[n_ev] = st[S_X]
+                    ev_zd[n_ev] = st[S_ZD]
+                n_ev += 1
+        if status != codes.OK:
+            for j in range(i, t_samples.shape[0]):
+                out_x[j] = np.nan
+                out_zd[j] = np.nan
+                out_mode[j] = -9
+            break
+        out_x[i] = st[S_X]
+        out_zd[i] = st[S_ZD]
+        out_mode[i] = int(st[S_MODE])
+    return n_ev, status, st[S_N]

@@ -1,0 +1,83 @@
+"""The attractor of one point: observables reduced on line, with their status."""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from ._kernels import codes, layout
+from ._kernels.attractor import attractor_point
+from .options import make_options
+from .params import Params
+from .simulate import start_row
+from .variables import OBSERVABLES
+
+
+@dataclass(frozen=True)
+class Attractor:
+    """Observables of one attractor (units: cm, s; see ``sweepcore.variables``).
+
+    ``converged`` is True only when the attractor was recognised (status "ok");
+    otherwise the numbers are the last measured period's estimates (unconverged) or
+    NaN (failed), and ``regime``/``status`` say which.
+    """
+
+    amplitude: float
+    mean: float
+    velocity_amplitude: float
+    cycle_size: float
+    period: float
+    stick_fraction: float
+    sticks_per_period: float
+    t_settle: float
+    x_max: float
+    x_min: float
+    n_steps: int
+    regime: str
+    status: str
+    converged: bool
+    q: float
+    v_star: float
+    x_eq: float
+    eigenvalues: tuple
+
+    def to_dict(self) -> dict:
+        return asdict(self)
+
+
+def attractor(params: Params, x0: float = 0.0, xdot0: float | None = None,
+              method: str = "auto", tol: float = 1e-8, **options) -> Attractor:
+    """Find the attractor reached from (x0, xdot0) and measure it on line.
+
+    Parameters
+    ----------
+    params : Params
+    x0, xdot0 : float
+        Start [cm], [cm/s]; ``xdot0=None`` starts stuck on the belt.
+    method : {"auto", "exact", "gps", "rk4", "dopri5"}
+    tol : float
+        Integration tolerance (dopri5) and convergence tolerance of the Poincare
+        returns, relative to the point's length scale r_y/k + |v|/omega.
+    **options
+        dt, max_steps, max_periods, gps_a, graze (see ``make_options``).
+
+    Notes
+    -----
+    The search (``sweepcore/_kernels/attractor.py``) stops at the first whole period
+    after a reset to the breakaway point (stick-slip), when Poincare returns agree
+    (slip cycles, accelerated by Aitken jumps), or when an energy certificate proves
+    decay to x_eq (equilibrium, q < 0).
+    """
+    row = start_row(params, x0, xdot0)
+    if method == "exact" and params.alpha2 != 0.0:
+        raise ValueError("method='exact' needs alpha2 == 0; got "
+                         f"alpha2={params.alpha2}")
+    out = np.empty(layout.NOBS)
+    attractor_point(row, make_options(method, tol=tol, **options), out)
+    status = int(out[layout.OB_STATUS])
+    vals = {name: float(out[col]) for name, (col, *_rest) in OBSERVABLES.items()}
+    vals["n_steps"] = int(vals["n_steps"])
+    return Attractor(**vals, regime=codes.REGIME_NAMES[int(out[layout.OB_REGIME])],
+                     status=codes.STATUS_NAMES[status], converged=status == codes.OK,
+                     q=params.q, v_star=params.v_star, x_eq=params.x_eq,
+                     eigenvalues=params.eigenvalues)

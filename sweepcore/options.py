@@ -1,0 +1,62 @@
+"""Numerical options, validated once and packed into the kernels' option row."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._kernels import codes, layout
+
+METHODS = ("auto", "exact", "gps", "rk4", "dopri5")
+AUTO = -1.0   # resolved per point in the kernel: exact if alpha2 == 0 else dopri5
+
+
+def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = None,
+                 max_steps: int = 2_000_000, max_periods: float = 2000.0,
+                 gps_a: float | None = None, graze: float = 1e-10) -> np.ndarray:
+    """Validate numerical options and return the kernel option row.
+
+    Parameters
+    ----------
+    method : {"auto", "exact", "gps", "rk4", "dopri5"}
+        Stepper. "auto" is exact when alpha2 = 0, else dopri5 at ``tol``.
+    tol : float
+        Relative tolerance of dopri5, and of convergence detection of attractors.
+    dt : float, optional
+        Fixed step of gps and rk4 [s]; default 2 pi / omega / 50 per point.
+    max_steps : int
+        Stepper calls allowed for one run or one grid point.
+    max_periods : float
+        Time budget of one attractor search, in natural periods 2 pi / omega.
+    gps_a : float, optional
+        GPS shift constant a [cm]; default the point's length scale r_y/k + |v|/omega.
+    graze : float
+        Relative tolerance that decides a tangential touch of zdot = 0.
+    """
+    if method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    for name, val in (("tol", tol), ("graze", graze)):
+        if isinstance(val, bool) or not isinstance(val, (int, float)) or \
+                not (math.isfinite(val) and 0.0 < val < 1.0):
+            raise ValueError(f"{name} must be a number in (0, 1), got {val!r}")
+    if dt is not None and (isinstance(dt, bool) or not isinstance(dt, (int, float))
+                           or not (math.isfinite(dt) and dt > 0.0)):
+        raise ValueError(f"dt must be a finite number > 0 [s], got {dt!r}")
+    if isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) \
+            or max_steps < 1:
+        raise ValueError(f"max_steps must be an integer >= 1, got {max_steps!r}")
+    if isinstance(max_periods, bool) or not isinstance(max_periods, (int, float)) or \
+            not (math.isfinite(max_periods) and max_periods > 0):
+        raise ValueError(f"max_periods must be a finite number > 0, got {max_periods!r}")
+    if gps_a is not None and (isinstance(gps_a, bool) or not isinstance(gps_a, (int, float))
+                              or not math.isfinite(gps_a)):
+        raise ValueError(f"gps_a must be a finite number [cm], got {gps_a!r}")
+    o = np.zeros(layout.NO)
+    o[layout.O_METHOD] = AUTO if method == "auto" else codes.METHOD_CODES[method]
+    o[layout.O_RTOL] = tol
+    o[layout.O_DT] = -1.0 if dt is None else dt
+    o[layout.O_MAX_STEPS] = max_steps
+    o[layout.O_MAX_TIME] = max_periods
+    o[layout.O_GPS_A] = np.nan if gps_a is None else gps_a
+    o[layout.O_GRAZE] = graze
+    return o

@@ -1,0 +1,136 @@
+"""Parameters of one slider, validated at the boundary, with derived quantities.
+
+Units (the paper's): force kN, length cm, time s, so mass is kN s^2/cm, stiffness
+kN/cm, alpha1 kN s/cm and alpha2 kN s^3/cm^3.
+"""
+from __future__ import annotations
+
+import cmath
+import math
+import numbers
+from dataclasses import dataclass
+
+import numpy as np
+
+UNITS = {
+    "m": "kN s2 cm-1", "k": "kN cm-1", "r_y": "kN", "v": "cm s-1",
+    "alpha1": "kN s cm-1", "alpha2": "kN s3 cm-3", "x0": "cm", "xdot0": "cm s-1",
+}
+LONG_NAMES = {
+    "m": "slider mass", "k": "spring stiffness", "r_y": "friction bound",
+    "v": "belt speed", "alpha1": "linear friction-speed coefficient",
+    "alpha2": "cubic friction-speed coefficient", "x0": "initial position",
+    "xdot0": "initial velocity",
+}
+
+
+def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
+    """Return ``value`` as a float, or raise naming the parameter and the value.
+
+    Accepts Python and NumPy real numbers; rejects bool, complex, strings, NaN and
+    infinities. ``positive`` demands > 0, ``nonnegative`` >= 0.
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise TypeError(f"{name} must be a real number, got {value!r} "
+                        f"of type {type(value).__name__}")
+    x = float(value)
+    if not math.isfinite(x):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    if positive and not x > 0.0:
+        raise ValueError(f"{name} must be > 0 [{UNITS.get(name, '')}], got {value!r}")
+    if nonnegative and not x >= 0.0:
+        hint = (" (a negative cubic coefficient makes the friction force unbounded "
+                "at high sliding speed)") if name == "alpha2" else ""
+        raise ValueError(f"{name} must be >= 0 [{UNITS.get(name, '')}], "
+                         f"got {value!r}{hint}")
+    return x
+
+
+@dataclass(frozen=True)
+class Params:
+    """One slider on the belt (Liu, Fig. 1), friction law eq. (40).
+
+    Parameters
+    ----------
+    m : float
+        Mass [kN s^2/cm], > 0.
+    k : float
+        Stiffness [kN/cm], > 0.
+    r_y : float
+        Friction bound [kN], >= 0.
+    v : float
+        Belt speed [cm/s], any finite value: ``v < 0`` is the mirror image of
+        ``-v``, ``v = 0`` a static belt.
+    alpha1 : float
+        Linear coefficient of eq. (40) [kN s/cm], any finite value.
+    alpha2 : float
+        Cubic coefficient of eq. (40) [kN s^3/cm^3], >= 0.
+    """
+
+    m: float
+    k: float
+    r_y: float
+    v: float
+    alpha1: float = 0.0
+    alpha2: float = 0.0
+
+    def __post_init__(self):
+        for name, kw in (("m", dict(positive=True)), ("k", dict(positive=True)),
+                         ("r_y", dict(nonnegative=True)), ("v", {}), ("alpha1", {}),
+                         ("alpha2", dict(nonnegative=True))):
+            object.__setattr__(self, name, check_real(name, getattr(self, name), **kw))
+
+    @property
+    def omega(self) -> float:
+        """Natural frequency sqrt(k/m) [1/s]."""
+        return math.sqrt(self.k / self.m)
+
+    @property
+    def q(self) -> float:
+        """Hopf quantity q = (alpha1 - 3 alpha2 v^2)/m [1/s], eq. (46).
+
+        The equilibrium's eigenvalues solve lambda^2 - q lambda + omega^2 = 0
+        (eq. 45): stable for q < 0, unstable for q > 0.
+        """
+        return (self.alpha1 - 3.0 * self.alpha2 * self.v ** 2) / self.m
+
+    @property
+    def v_star(self) -> float:
+        """Hopf belt speed sqrt(alpha1 / (3 alpha2)) [cm/s], below eq. (51).
+
+        ``inf`` when alpha2 = 0 and alpha1 > 0 (q > 0 at every speed), ``nan``
+        when alpha1 <= 0 and alpha2 = 0 or alpha1 < 0 (q <= 0 at every speed:
+        there is no crossing), and 0 when alpha1 = 0 < alpha2.
+        """
+        if self.alpha2 == 0.0:
+            return math.inf if self.alpha1 > 0.0 else math.nan
+        if self.alpha1 < 0.0:
+            return math.nan
+        return math.sqrt(self.alpha1 / (3.0 * self.alpha2))
+
+    @property
+    def x_eq(self) -> float:
+        """Steady-sliding equilibrium (r_y - alpha1 v + alpha2 v^3)/k [cm], eq. (43).
+
+        Written for v > 0 (the slider slower than the belt). For v < 0 the mirror
+        image -x_eq(-v) is returned; for v = 0 there is a band of rest positions
+        |x| <= r_y/k and the value returned is 0.
+        """
+        v = self.v
+        if v == 0.0:
+            return 0.0
+        sgn = 1.0 if v > 0 else -1.0
+        va = abs(v)
+        return sgn * (self.r_y - self.alpha1 * va + self.alpha2 * va ** 3) / self.k
+
+    @property
+    def eigenvalues(self) -> tuple[complex, complex]:
+        """Roots of eq. (45), lambda^2 - q lambda + omega^2 = 0 [1/s]."""
+        q = self.q
+        d = cmath.sqrt(q * q - 4.0 * self.omega ** 2)
+        return (0.5 * (q + d), 0.5 * (q - d))
+
+    def row(self, x0: float, xdot0: float) -> np.ndarray:
+        """The kernel's flat parameter row (layout.py)."""
+        return np.array([self.m, self.k, self.r_y, self.v, self.alpha1, self.alpha2,
+                         x0, xdot0], dtype=np.float64)

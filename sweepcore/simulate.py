@@ -1,0 +1,141 @@
+"""One slider over time: the hybrid driver sampled on a time axis, as xarray."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import xarray as xr
+
+from ._kernels import codes, layout
+from ._kernels.attractor import resolve_options
+from ._kernels.trajectory import fresh_acc, run_trajectory
+from .options import make_options
+from .params import Params, check_real
+
+
+def start_row(params: Params, x0: float, xdot0: float | None) -> np.ndarray:
+    """Validated kernel row for a start; ``xdot0=None`` starts stuck (xdot0 = v)."""
+    if not isinstance(params, Params):
+        raise TypeError(f"params must be a sweepcore.Params, got {type(params).__name__}")
+    x0 = check_real("x0", x0)
+    xdot0 = params.v if xdot0 is None else check_real("xdot0", xdot0)
+    return params.row(x0, xdot0)
+
+
+def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None = None,
+             method: str = "auto", output_dt: float | None = None, tol: float = 1e-10,
+             dt: float | None = None, max_steps: int = 10_000_000,
+             max_events: int = 100_000) -> xr.Dataset:
+    """Simulate one slider from (x0, xdot0) to ``t_end`` [s].
+
+    Parameters
+    ----------
+    params : Params
+        The slider (units kN, cm, s).
+    t_end : float
+        End time [s], > 0.
+    x0, xdot0 : float
+        Start [cm], [cm/s]. ``xdot0=None`` starts stuck on the belt (xdot0 = v), as
+        in the paper's figures.
+    method : {"auto", "exact", "gps", "rk4", "dopri5"}
+        "exact" (closed-form arcs) needs alpha2 = 0; "auto" picks it then, else dopri5.
+    output_dt : float, optional
+        Sampling interval [s]; default 2 pi / omega / 100 (at most 10^6 samples).
+    tol, dt, max_steps :
+        As in :func:`sweepcore.options.make_options`.
+    max_events : int
+        Size of the event log; a longer log raises (nothing is silently dropped).
+
+    Returns
+    -------
+    xarray.Dataset
+        On ``time``: x, xdot, z, zdot, friction force r_a, restoring force r and
+        phase (0 stick, -1/+1 slide with zdot < 0 / > 0); the samples are the
+        driver's own state at those times (exact for method "exact"). On ``event``:
+        event_time, event_kind (flag variable), event_x, event_xdot. Attribute
+        ``status`` is "ok" or the failure; after a failure samples are NaN.
+    """
+    row = start_row(params, x0, xdot0)
+    t_end = check_real("t_end", t_end, positive=True)
+    if output_dt is None:
+        output_dt = 2.0 * math.pi / params.omega / 100.0
+    output_dt = check_real("output_dt", output_dt, positive=True)
+    n = int(math.floor(t_end / output_dt + 1e-9)) + 1
+    if n > 10_000_000:
+        raise ValueError(f"output_dt={output_dt} gives {n} samples over t_end={t_end}; "
+                         "use a larger output_dt (at most 10^7 samples)")
+    if method == "exact" and params.alpha2 != 0.0:
+        raise ValueError("method='exact' needs alpha2 == 0 (the sliding phase has a "
+                         f"closed form only for the piecewise-linear law); got "
+                         f"alpha2={params.alpha2}")
+    o = resolve_options(row, make_options(method, tol=tol, dt=dt, max_steps=max_steps))
+    t = np.arange(n) * output_dt
+    if t[-1] < t_end:
+        t = np.append(t, t_end)
+    cap = 1024
+    while True:
+        xs = np.empty_like(t)
+        zds = np.empty_like(t)
+        mode = np.empty(t.shape, np.int64)
+        ev = [np.empty(cap), np.empty(cap, np.int64), np.empty(cap), np.empty(cap)]
+        n_ev, status, n_steps = run_trajectory(row, o, t, xs, zds, mode, *ev, fresh_acc())
+        if n_ev <= cap or cap >= max_events:
+            break
+        cap = min(max_events, 2 * n_ev)
+    if n_ev > cap:
+        raise RuntimeError(f"more than max_events={max_events} events before t_end; "
+                           "raise max_events or shorten t_end")
+    return _dataset(params, row, o, t, xs, zds, mode, [e[:n_ev] for e in ev],
+                    int(status), int(n_steps))
+
+
+def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
+    v = params.v
+    xd = zd + v
+    stick = mode == codes.STICK
+    ra = np.where(stick, -params.k * x,
+                  params.r_y * mode - params.alpha1 * zd + params.alpha2 * zd ** 3)
+    ev_t, ev_kind, ev_x, ev_zd = ev
+    kinds = sorted(k for k in codes.EVENT_NAMES if k <= codes.EV_ABNORMAL_STOP)
+    ds = xr.Dataset(
+        {
+            "x": ("time", x, {"units": "cm", "long_name": "slider position"}),
+            "xdot": ("time", xd, {"units": "cm s-1", "long_name": "slider velocity"}),
+            "z": ("time", x - v * t, {"units": "cm",
+                                      "long_name": "displacement relative to the belt",
+                                      "comment": "z = x - v t, eq. (1)"}),
+            "zdot": ("time", zd, {"units": "cm s-1", "long_name": "relative velocity",
+                                  "comment": "zdot = xdot - v, eq. (2)"}),
+            "r_a": ("time", ra, {"units": "kN", "long_name": "friction force on the slider",
+                                 "comment": "eq. (40) while sliding, -k x while stuck"}),
+            "r": ("time", params.k * (x - v * t) + ra + params.k * v * t,
+                  {"units": "kN", "long_name": "restoring force",
+                   "comment": "r = k x + r_a = -m xddot (eqs. 3, 11)"}),
+            "phase": ("time", mode.astype(np.int8),
+                      {"units": "1", "long_name": "phase",
+                       "flag_values": np.array([-1, 0, 1], np.int8),
+                       "flag_meanings": "slide_slower_than_belt stick slide_faster_than_belt"}),
+            "event_time": ("event", ev_t, {"units": "s", "long_name": "event time"}),
+            "event_kind": ("event", ev_kind.astype(np.int8),
+                           {"units": "1", "long_name": "event kind",
+                            "flag_values": np.array(kinds, np.int8),
+                            "flag_meanings": " ".join(codes.EVENT_NAMES[k] for k in kinds)}),
+            "event_x": ("event", ev_x, {"units": "cm", "long_name": "position at the event"}),
+            "event_xdot": ("event", ev_zd + v,
+                           {"units": "cm s-1", "long_name": "velocity at the event"}),
+        },
+        coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
+        attrs={
+            "title": "sweepcore single-slider simulation",
+            "method": codes.METHOD_NAMES[int(o[layout.O_METHOD])],
+            "status": codes.STATUS_NAMES[status],
+            "n_steps": n_steps,
+            **{name: getattr(params, name) for name in ("m", "k", "r_y", "v", "alpha1",
+                                                        "alpha2")},
+            "x0": row[layout.X0], "xdot0": row[layout.XD0],
+        },
+    )
+    if status != codes.OK:
+        ds.attrs["comment"] = ("the run stopped with status "
+                               f"{codes.STATUS_NAMES[status]}; samples after it are NaN")
+    return ds

@@ -1,0 +1,53 @@
+"""Metadata of every output variable, declared once (units, long names, codes).
+
+Used by ``attractor()``, ``sweep()`` and the netCDF writer so that a variable means
+the same thing wherever it appears. Units are UDUNITS strings (CF section 3.1).
+"""
+from ._kernels import codes, layout
+
+# name -> (column in the kernel's observables row, units, long_name, comment)
+OBSERVABLES = {
+    "amplitude": (layout.OB_AMPLITUDE, "cm", "vibration amplitude",
+                  "half peak-to-peak of x on the attractor; 0 at an equilibrium"),
+    "mean": (layout.OB_MEAN, "cm", "mean position",
+             "time average of x over whole periods of the attractor (x_eq at an "
+             "equilibrium, eq. 43)"),
+    "velocity_amplitude": (layout.OB_VAMPLITUDE, "cm s-1", "velocity amplitude",
+                           "half peak-to-peak of xdot on the attractor"),
+    "cycle_size": (layout.OB_CYCLE_SIZE, "cm", "limit-cycle size",
+                   "sqrt(area/pi) of the orbit in the (x, xdot/omega) plane; the "
+                   "radius of a circle, 0 at an equilibrium"),
+    "period": (layout.OB_PERIOD, "s", "period of the attractor",
+               "NaN at an equilibrium or a permanent stick (no period)"),
+    "stick_fraction": (layout.OB_STICK_FRACTION, "1", "fraction of the period stuck",
+                       "time stuck on the belt / period"),
+    "sticks_per_period": (layout.OB_STICKS_PER_PERIOD, "1", "finite sticks per period",
+                          "number of sticks of finite duration in one period"),
+    "t_settle": (layout.OB_T_SETTLE, "s", "settling time",
+                 "time at which the measured period of the attractor began"),
+    "x_max": (layout.OB_X_MAX, "cm", "largest x on the attractor", ""),
+    "x_min": (layout.OB_X_MIN, "cm", "smallest x on the attractor", ""),
+    "n_steps": (layout.OB_NSTEPS, "1", "integrator steps spent on the point",
+                "all stepper calls, including rejected steps and event polishing"),
+}
+
+REGIME = {
+    "units": "1",
+    "long_name": "attractor regime",
+    "flag_values": sorted(codes.REGIME_NAMES),
+    "flag_meanings": " ".join(codes.REGIME_NAMES[k] for k in sorted(codes.REGIME_NAMES)),
+}
+STATUS = {
+    "units": "1",
+    "long_name": "numerical status of the point",
+    "flag_values": sorted(codes.STATUS_NAMES),
+    "flag_meanings": " ".join(codes.STATUS_NAMES[k] for k in sorted(codes.STATUS_NAMES)),
+}
+
+# analytic quantities stored beside the measured ones
+ANALYTIC = {
+    "q": ("s-1", "Hopf quantity q = (alpha1 - 3 alpha2 v^2)/m", "eq. (46)"),
+    "v_star": ("cm s-1", "Hopf belt speed sqrt(alpha1/(3 alpha2))", "below eq. (51)"),
+    "x_eq": ("cm", "steady-sliding equilibrium position", "eq. (43)"),
+    "omega": ("s-1", "natural frequency sqrt(k/m)", ""),
+}
