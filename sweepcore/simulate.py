@@ -78,15 +78,19 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
         zds = np.empty_like(t)
         mode = np.empty(t.shape, np.int64)
         ev = [np.empty(cap), np.empty(cap, np.int64), np.empty(cap), np.empty(cap)]
-        n_ev, status, n_steps = run_trajectory(row, o, t, xs, zds, mode, *ev, fresh_acc())
+        acc = fresh_acc()
+        n_ev, status, n_steps = run_trajectory(row, o, t, xs, zds, mode, *ev, acc)
         if n_ev <= cap or cap >= max_events:
             break
         cap = min(max_events, 2 * n_ev)
     if n_ev > cap:
         raise RuntimeError(f"more than max_events={max_events} events before t_end; "
                            "raise max_events or shorten t_end")
-    return _dataset(params, row, o, t, xs, zds, mode, [e[:n_ev] for e in ev],
-                    int(status), int(n_steps))
+    ds = _dataset(params, row, o, t, xs, zds, mode, [e[:n_ev] for e in ev],
+                  int(status), int(n_steps))
+    ds.attrs["friction_work"] = float(acc[layout.A_WF])
+    ds.attrs["time_stuck"] = float(acc[layout.A_TSTICK])
+    return ds
 
 
 def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):

@@ -171,12 +171,24 @@ def attractor_point(p, o_in, out):
             st[S_X] == (xs if v > 0.0 else -xs):
         reset_seen = True
     n_sec = 0
-    a_hist = np.zeros(3)      # last section values x_max
-    t_hist = np.zeros(3)
+    a_hist = np.zeros(4)      # last section values x_max
+    t_hist = np.zeros(4)
+    e_hist = np.zeros(3)      # phase events inside each of the last section intervals
+    n_ev_sec = 0
     t_last_sec = 0.0
     status = codes.OK
+    t_stuck = 0.0             # stuck time is closed form: it does not count
+    if v == 0.0 and st[S_MODE] == codes.STICK:
+        _write_rest(out, st[S_X], 0.0, codes.R_STUCK, True)
+        out[OB_STATUS] = codes.OK
+        out[OB_NSTEPS] = 0.0
+        return
     for _it in range(int(o[O_MAX_STEPS]) + 10):
-        ev, status = advance(st, p, o, acc, t_budget)
+        if st[S_MODE] == codes.STICK:
+            ev, status = advance(st, p, o, acc, np.inf)
+            t_stuck += acc[A_TSTICK]
+        else:
+            ev, status = advance(st, p, o, acc, t_budget + t_stuck)
         _merge(acc_cyc, acc)
         _merge(acc_sec, acc)
         _clear(acc)
@@ -209,6 +221,8 @@ def attractor_point(p, o_in, out):
         section = ev == codes.EV_XMAX or (v == 0.0 and ev == codes.EV_NORMAL_STOP
                                           and st[S_X] > 0.0)
         if not section:
+            if ev != codes.EV_XMIN and ev != codes.EV_XMAX:
+                n_ev_sec += 1
             continue
         if _certified_rest(st[S_X], st[S_ZD], p):
             _write_rest(out, x_equilibrium(p), t, codes.R_EQUILIBRIUM, False)
@@ -216,24 +230,27 @@ def attractor_point(p, o_in, out):
             out[OB_NSTEPS] = st[S_N]
             return
         # shift the section history
-        a_hist[0] = a_hist[1]
-        a_hist[1] = a_hist[2]
-        a_hist[2] = st[S_X]
-        t_hist[0] = t_hist[1]
-        t_hist[1] = t_hist[2]
-        t_hist[2] = t
+        for j in range(3):
+            a_hist[j] = a_hist[j + 1]
+            t_hist[j] = t_hist[j + 1]
+        a_hist[3] = st[S_X]
+        t_hist[3] = t
+        e_hist[0] = e_hist[1]
+        e_hist[1] = e_hist[2]
+        e_hist[2] = n_ev_sec
+        n_ev_sec = 0
         n_sec += 1
         if n_sec >= 2:
             for i in range(NA):
                 acc_last[i] = acc_sec[i]
-            t_last_sec = t_hist[1]
+            t_last_sec = t_hist[2]
         _clear(acc_sec)
         if n_sec < 3:
             continue
-        d1 = a_hist[2] - a_hist[1]
-        d0 = a_hist[1] - a_hist[0]
-        T1 = t_hist[2] - t_hist[1]
-        T0 = t_hist[1] - t_hist[0]
+        d1 = a_hist[3] - a_hist[2]
+        d0 = a_hist[2] - a_hist[1]
+        T1 = t_hist[3] - t_hist[2]
+        T0 = t_hist[2] - t_hist[1]
         rho = d1 / d0 if d0 != 0.0 else 0.0
         rem = abs(d1) * abs(rho) / (1.0 - abs(rho)) if abs(rho) < 1.0 else np.inf
         if abs(d1) <= tol * lx and rem <= tol * lx and abs(T1 - T0) <= 10.0 * tol * T1:
@@ -242,21 +259,28 @@ def attractor_point(p, o_in, out):
             out[OB_STATUS] = codes.OK
             out[OB_NSTEPS] = st[S_N]
             return
-        if n_sec >= 4 and 0.5 < rho < 1.0 and rem > tol * lx:
-            # Aitken jump on the section sequence (slow geometric approach)
-            a_star = a_hist[2] - d1 * d1 / (d1 - d0)
-            if abs(a_star - a_hist[2]) < 10.0 * abs(a_hist[2] - x_equilibrium(p)):
+        # Aitken jump on the section sequence, only where the return map is smooth
+        # with a steady geometric ratio: the same itinerary (number of stops) in the
+        # last three intervals, two consecutive ratios that agree, and not the
+        # conservative law (every circle is a fixed point there).
+        if n_sec >= 4 and not conservative and 0.5 < rho < 1.0 and rem > tol * lx \
+                and e_hist[0] == e_hist[1] and e_hist[1] == e_hist[2]:
+            dm = a_hist[1] - a_hist[0]
+            rho0 = d0 / dm if dm != 0.0 else 0.0
+            a_star = a_hist[3] - d1 * d1 / (d1 - d0)
+            if abs(rho - rho0) <= 0.2 * abs(rho) and \
+                    abs(a_star - a_hist[3]) < 10.0 * abs(a_hist[3] - x_equilibrium(p)):
                 st[S_X] = a_star
                 st[S_ZD] = -v
                 n_sec = 1
-                a_hist[2] = a_star
-                t_hist[2] = t
+                a_hist[3] = a_star
+                t_hist[3] = t
                 _clear(acc_sec)
     # budget spent or numerical failure
     out[OB_NSTEPS] = st[S_N]
     if status == codes.UNCONVERGED or status == codes.STEP_BUDGET:
         if n_sec >= 3:
-            _write_cycle(out, acc_last, t_last_sec, t_hist[2], omega, codes.R_UNCONVERGED)
+            _write_cycle(out, acc_last, t_last_sec, t_hist[3], omega, codes.R_UNCONVERGED)
         out[OB_REGIME] = codes.R_UNCONVERGED
         out[OB_STATUS] = status
         return

@@ -1,0 +1,327 @@
+"""Grids of parameter sets for :func:`sweepcore.sweep`, validated before any work.
+
+A :class:`Grid` is either the outer product of its 1-D axes (``Grid(...)``) or a list
+of scattered parameter sets (``Grid.points(...)``). It never materialises the full
+grid: :meth:`Grid.rows` builds the kernel rows (layout ``layout.M ... layout.XD0``) of
+one range of flat indices at a time, from the 1-D axes.
+"""
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import xarray as xr
+
+from ._kernels import layout
+from .params import LONG_NAMES, UNITS, check_real
+
+# axes in dimension order, with their kernel column and their check_real rule
+AXES = ("m", "k", "r_y", "v", "alpha1", "alpha2", "x0", "xdot0")
+COLUMNS = {"m": layout.M, "k": layout.K, "r_y": layout.RY, "v": layout.V,
+           "alpha1": layout.A1, "alpha2": layout.A2, "x0": layout.X0,
+           "xdot0": layout.XD0}
+RULES = {"m": {"positive": True}, "k": {"positive": True}, "r_y": {"nonnegative": True},
+         "v": {}, "alpha1": {}, "alpha2": {"nonnegative": True}, "x0": {}, "xdot0": {}}
+POINT_DIM = "point"
+
+
+def _check_scalar(name: str, value) -> float:
+    return check_real(name, value, **RULES[name])
+
+
+def _check_array(name: str, value: np.ndarray, unique: bool) -> np.ndarray:
+    """Validate one 1-D axis; errors name the axis, the element and its value."""
+    if value.ndim != 1:
+        raise ValueError(f"{name} must be a scalar or a 1-D array, got an array of "
+                         f"shape {value.shape}")
+    if value.size == 0:
+        raise ValueError(f"{name} axis is empty: give at least one value")
+    if value.dtype.kind not in "iuf":
+        bad = next((x for x in value.flat if isinstance(x, (bool, np.bool_))
+                    or not isinstance(x, (int, float, np.integer, np.floating))),
+                   value.flat[0])
+        raise TypeError(f"{name} must hold real numbers, got {bad!r} of type "
+                        f"{type(bad).__name__} (array dtype {value.dtype})")
+    a = np.array(value, dtype=np.float64)
+    rule = RULES[name]
+    ok = np.isfinite(a)
+    if rule.get("positive"):
+        ok &= a > 0.0
+    if rule.get("nonnegative"):
+        ok &= a >= 0.0
+    if not ok.all():
+        i = int(np.flatnonzero(~ok)[0])
+        try:
+            check_real(name, value[i], **rule)
+        except (TypeError, ValueError) as err:
+            raise type(err)(f"{err} (element {i} of the {name} axis)") from None
+    if unique:
+        vals, counts = np.unique(a, return_counts=True)
+        if (counts > 1).any():
+            raise ValueError(f"{name} axis has the duplicated value "
+                             f"{vals[counts > 1][0]!r}: the values of a swept axis "
+                             "must be distinct (they become a coordinate)")
+    a.setflags(write=False)
+    return a
+
+
+def _check_axis(name: str, value, unique: bool):
+    """A validated scalar (float), 1-D array (read-only float64) or None (xdot0)."""
+    if value is None and name == "xdot0":
+        return None
+    if isinstance(value, (list, tuple)):
+        # np.asarray would silently turn True into 1.0 beside other numbers
+        for i, x in enumerate(value):
+            if isinstance(x, (bool, np.bool_)):
+                raise TypeError(f"{name} must hold real numbers, got {x!r} of type "
+                                f"{type(x).__name__} (element {i} of the {name} axis)")
+    if isinstance(value, (list, tuple, np.ndarray)):
+        try:
+            arr = np.asarray(value)
+        except ValueError as err:   # ragged nested lists
+            raise ValueError(f"{name} must be a scalar or a 1-D array: {err}") from None
+        if arr.ndim == 0:
+            return _check_scalar(name, arr[()])
+        return _check_array(name, arr, unique)
+    return _check_scalar(name, value)
+
+
+@dataclass(frozen=True, eq=False)
+class Grid:
+    """Parameter sets of a sweep: the outer product of 1-D axes, or scattered points.
+
+    Each axis is a scalar (fixed parameter) or a 1-D array (swept parameter). Units
+    are the paper's: kN, cm, s.
+
+    Parameters
+    ----------
+    m : float or 1-D array
+        Mass [kN s^2/cm], > 0.
+    k : float or 1-D array
+        Stiffness [kN/cm], > 0.
+    r_y : float or 1-D array
+        Friction bound [kN], >= 0.
+    v : float or 1-D array
+        Belt speed [cm/s].
+    alpha1 : float or 1-D array
+        Linear friction-speed coefficient of eq. (40) [kN s/cm].
+    alpha2 : float or 1-D array
+        Cubic friction-speed coefficient of eq. (40) [kN s^3/cm^3], >= 0.
+    x0 : float or 1-D array
+        Initial position [cm].
+    xdot0 : float, 1-D array or None
+        Initial velocity [cm/s]; None starts every point stuck on the belt
+        (xdot0 = v), as in the paper's figures.
+    mode : {"product", "points"}
+        "product" (default): the array axes span an outer product, one dimension per
+        array axis in the order of the parameters above. "points": the array axes
+        have equal lengths and are read together, one parameter set per index
+        (dimension ``point``); use :meth:`Grid.points`.
+
+    Notes
+    -----
+    Everything is validated here, before a sweep starts: finite values, m > 0,
+    k > 0, r_y >= 0, alpha2 >= 0, 1-D non-empty axes of real numbers, distinct values
+    along a product axis, equal lengths of point axes. Errors name the axis and the
+    offending value. Arrays are copied and frozen (read-only float64).
+    """
+
+    m: object
+    k: object
+    r_y: object
+    v: object
+    alpha1: object = 0.0
+    alpha2: object = 0.0
+    x0: object = 0.0
+    xdot0: object = None
+    mode: str = field(default="product", kw_only=True)
+
+    def __post_init__(self):
+        if self.mode not in ("product", "points"):
+            raise ValueError(f"mode must be 'product' or 'points', got {self.mode!r}")
+        for name in AXES:
+            value = _check_axis(name, getattr(self, name), unique=self.mode == "product")
+            object.__setattr__(self, name, value)
+        if self.mode == "points":
+            lengths = {n: len(self.axis(n)) for n in self.swept}
+            if len(set(lengths.values())) > 1:
+                shown = ", ".join(f"{n}: {n_}" for n, n_ in lengths.items())
+                raise ValueError("the array axes of Grid.points must have equal "
+                                 f"lengths, got {shown}")
+
+    @classmethod
+    def points(cls, m, k, r_y, v, alpha1=0.0, alpha2=0.0, x0=0.0, xdot0=None) -> Grid:
+        """Scattered parameter sets: equal-length 1-D arrays, read index by index.
+
+        Scalars are shared by every point. The result has one dimension, ``point``.
+        """
+        return cls(m, k, r_y, v, alpha1, alpha2, x0, xdot0, mode="points")
+
+    # ------------------------------------------------------------------ shape
+    def axis(self, name: str):
+        """The validated value of one axis: float, read-only 1-D array or None."""
+        if name not in AXES:
+            raise KeyError(f"unknown axis {name!r}; axes are {AXES}")
+        return getattr(self, name)
+
+    @property
+    def swept(self) -> tuple[str, ...]:
+        """Names of the array axes, in dimension order."""
+        return tuple(n for n in AXES if isinstance(self.axis(n), np.ndarray))
+
+    @property
+    def fixed(self) -> tuple[str, ...]:
+        """Names of the scalar axes (xdot0 = None excluded)."""
+        return tuple(n for n in AXES if isinstance(self.axis(n), float))
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        """Dimension names of the sweep's Dataset."""
+        if self.mode == "points":
+            return (POINT_DIM,)
+        return self.swept
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        if self.mode == "points":
+            swept = self.swept
+            return (len(self.axis(swept[0])) if swept else 1,)
+        return tuple(len(self.axis(n)) for n in self.swept)
+
+    @property
+    def size(self) -> int:
+        """Number of parameter sets (grid points)."""
+        return math.prod(self.shape)
+
+    def __len__(self) -> int:
+        return self.size
+
+    def __repr__(self) -> str:
+        parts = []
+        for name in AXES:
+            val = self.axis(name)
+            if isinstance(val, np.ndarray):
+                parts.append(f"{name}=<{val.size} values in [{val.min():.6g}, "
+                             f"{val.max():.6g}]>")
+            else:
+                parts.append(f"{name}={val!r}")
+        kind = "Grid.points" if self.mode == "points" else "Grid"
+        return f"{kind}({', '.join(parts)})"
+
+    # ------------------------------------------------------------------- rows
+    def rows(self, start: int, stop: int) -> np.ndarray:
+        """Kernel rows of the flat (C-order) indices ``start <= i < stop``.
+
+        Returns
+        -------
+        numpy.ndarray
+            float64, C-contiguous, shape ``(stop - start, layout.NP)``, columns
+            ``layout.M ... layout.XD0``; ``xdot0=None`` gives xdot0 = v.
+        """
+        if not 0 <= start <= stop <= self.size:
+            raise IndexError(f"flat index range [{start}, {stop}) outside the grid "
+                             f"of {self.size} points")
+        n = stop - start
+        P = np.empty((n, layout.NP))
+        if self.mode == "points":
+            index = {name: slice(start, stop) for name in self.swept}
+        else:
+            flat = np.arange(start, stop)
+            multi = np.unravel_index(flat, self.shape) if self.shape else ()
+            index = dict(zip(self.swept, multi))
+        for name in AXES:
+            val = self.axis(name)
+            col = COLUMNS[name]
+            if val is None:   # xdot0 = None: start stuck on the belt
+                P[:, col] = P[:, layout.V]
+            elif isinstance(val, np.ndarray):
+                P[:, col] = val[index[name]]
+            else:
+                P[:, col] = val
+        return P
+
+    # ---------------------------------------------------------------- labels
+    def coords(self) -> dict[str, xr.Variable]:
+        """Coordinates of the sweep's Dataset, with CF ``units`` and ``long_name``.
+
+        Swept axes are 1-D coordinates (dimension coordinates in product mode,
+        coordinates along ``point`` in points mode); fixed ones are 0-d.
+        """
+        out = {}
+        if self.mode == "points":
+            out[POINT_DIM] = xr.Variable(POINT_DIM, np.arange(self.size),
+                                         {"units": "1", "long_name": "parameter set index"})
+        for name in AXES:
+            val = self.axis(name)
+            if val is None:
+                continue
+            attrs = {"units": UNITS[name], "long_name": LONG_NAMES[name]}
+            if isinstance(val, np.ndarray):
+                dim = POINT_DIM if self.mode == "points" else name
+                out[name] = xr.Variable(dim, np.array(val), attrs)
+            else:
+                out[name] = xr.Variable((), val, attrs)
+        return out
+
+    def fingerprint(self) -> str:
+        """SHA-256 of the grid's exact values (for matching a resumed sweep)."""
+        h = hashlib.sha256(self.mode.encode())
+        for name in AXES:
+            val = self.axis(name)
+            h.update(name.encode())
+            if isinstance(val, np.ndarray):
+                h.update(b"array")
+                h.update(val.astype("<f8").tobytes())
+            else:
+                h.update(repr(val).encode())
+        return h.hexdigest()
+
+
+# ------------------------------------------------------ derived quantities
+# Vectorised twins of the Params properties (same formulas, same operation order, so
+# the values agree bit for bit); arguments broadcast like numpy arrays.
+def omega(m, k):
+    """Natural frequency sqrt(k/m) [1/s]."""
+    return np.sqrt(np.asarray(k, np.float64) / m)
+
+
+def hopf_q(m, v, alpha1, alpha2):
+    """Hopf quantity q = (alpha1 - 3 alpha2 v^2)/m [1/s], eq. (46)."""
+    return (np.asarray(alpha1, np.float64) - 3.0 * alpha2 * np.asarray(v) ** 2) / m
+
+
+def v_star(alpha1, alpha2):
+    """Hopf belt speed sqrt(alpha1/(3 alpha2)) [cm/s], below eq. (51).
+
+    inf when alpha2 = 0 < alpha1, NaN when alpha2 = 0 >= alpha1 or alpha1 < 0
+    (no crossing of q = 0), as :attr:`sweepcore.Params.v_star`.
+    """
+    a1, a2 = np.broadcast_arrays(np.asarray(alpha1, np.float64),
+                                 np.asarray(alpha2, np.float64))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        root = np.sqrt(a1 / (3.0 * a2))
+    none = np.where(a1 > 0.0, np.inf, np.nan)
+    return np.where(a2 == 0.0, none, np.where(a1 < 0.0, np.nan, root))
+
+
+def x_eq(k, r_y, v, alpha1, alpha2):
+    """Steady-sliding position sgn(v)(r_y - alpha1|v| + alpha2|v|^3)/k [cm], eq. (43).
+
+    0 for v = 0 (the middle of the band of rest positions), as
+    :attr:`sweepcore.Params.x_eq`.
+    """
+    v = np.asarray(v, np.float64)
+    va = np.abs(v)
+    x = np.sign(v) * (r_y - alpha1 * va + alpha2 * va ** 3) / k
+    return np.where(v == 0.0, 0.0, x)
+
+
+# name -> (function, the axes it takes, in order)
+ANALYTIC = {
+    "q": (hopf_q, ("m", "v", "alpha1", "alpha2")),
+    "v_star": (v_star, ("alpha1", "alpha2")),
+    "x_eq": (x_eq, ("k", "r_y", "v", "alpha1", "alpha2")),
+    "omega": (omega, ("m", "k")),
+}
