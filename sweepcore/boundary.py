@@ -39,6 +39,13 @@ def _switch(before, after, x):
     return mid, half
 
 
+def _labelled(da: xr.DataArray, **attrs) -> xr.DataArray:
+    """``da`` with exactly these attributes (inputs' flag attributes dropped)."""
+    da = da.copy(deep=False)
+    da.attrs = attrs
+    return da
+
+
 def hopf_boundary(ds: xr.Dataset, axis: str = "v") -> xr.Dataset:
     """Measured Hopf and stick boundaries along the belt speed, with the analytic v*.
 
@@ -74,9 +81,10 @@ def hopf_boundary(ds: xr.Dataset, axis: str = "v") -> xr.Dataset:
     if ds.sizes[axis] < 2:
         raise ValueError(f"axis={axis!r} needs >= 2 values to locate a boundary, got "
                          f"{ds.sizes[axis]}")
-    ds = ds.sortby(axis)
-    x = ds[axis].values
     regime = ds["regime"]
+    if not (np.diff(regime[axis].values) > 0).all():
+        regime = regime.sortby(axis)
+    x = regime[axis].values
     units = ds[axis].attrs.get("units", "")
 
     def measured(before, after):
@@ -90,23 +98,23 @@ def hopf_boundary(ds: xr.Dataset, axis: str = "v") -> xr.Dataset:
         regime.isin((codes.R_SLIP_CYCLE, codes.R_EQUILIBRIUM)))
     rule = ("midpoint between the largest {a} with {b} and the next larger {a} with "
             "{c}; NaN where there is no such switch")
+    half = "half the distance between the two speeds across the switch"
     out = xr.Dataset({
-        "v_hopf_measured": hopf.assign_attrs(
-            units=units, long_name="measured Hopf belt speed",
+        "v_hopf_measured": _labelled(
+            hopf, units=units, long_name="measured Hopf belt speed",
             comment=rule.format(a=axis, b="a cycle (slip_cycle or stick_slip)",
                                 c="equilibrium")),
-        "v_hopf_resolution": hopf_res.assign_attrs(
-            units=units, long_name="resolution of the measured Hopf belt speed",
-            comment="half the grid spacing across the switch"),
-        "v_stick_onset": stick.assign_attrs(
-            units=units, long_name="measured end of stick-slip",
-            comment=rule.format(a=axis, b="stick_slip",
-                                c="slip_cycle or equilibrium")),
-        "v_stick_onset_resolution": stick_res.assign_attrs(
-            units=units, long_name="resolution of the measured end of stick-slip",
-            comment="half the grid spacing across the switch"),
+        "v_hopf_resolution": _labelled(
+            hopf_res, units=units, comment=half,
+            long_name="resolution of the measured Hopf belt speed"),
+        "v_stick_onset": _labelled(
+            stick, units=units, long_name="measured end of stick-slip",
+            comment=rule.format(a=axis, b="stick_slip", c="slip_cycle or equilibrium")),
+        "v_stick_onset_resolution": _labelled(
+            stick_res, units=units, comment=half,
+            long_name="resolution of the measured end of stick-slip"),
     })
     vs_units, vs_long_name, vs_comment = variables.ANALYTIC["v_star"]
-    out["v_star"] = xr.apply_ufunc(v_star, ds["alpha1"], ds["alpha2"]).assign_attrs(
-        units=vs_units, long_name=vs_long_name, comment=vs_comment)
+    out["v_star"] = _labelled(xr.apply_ufunc(v_star, ds["alpha1"], ds["alpha2"]),
+                              units=vs_units, long_name=vs_long_name, comment=vs_comment)
     return out

@@ -25,7 +25,7 @@ def start_row(params: Params, x0: float, xdot0: float | None) -> np.ndarray:
 def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None = None,
              method: str = "auto", output_dt: float | None = None, tol: float = 1e-10,
              dt: float | None = None, max_steps: int = 10_000_000,
-             max_events: int = 100_000) -> xr.Dataset:
+             max_events: int = 1_000_000) -> xr.Dataset:
     """Simulate one slider from (x0, xdot0) to ``t_end`` [s].
 
     Parameters

@@ -296,11 +296,11 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
 # ------------------------------------------------------------------ labels
 def _call_repr(grid, method, tol, chunks, client, path, scheduler, options) -> str:
     args = [repr(grid), f"method={method!r}", f"tol={tol!r}"]
-    for name, val in (("chunks", chunks), ("path", path), ("scheduler", scheduler)):
+    if chunks is not None:
+        args.append(f"chunks={chunks!r}")
+    for name, val in (("path", path), ("scheduler", scheduler), ("client", client)):
         if val is not None:
             args.append(f"{name}={str(val)!r}")
-    if client is not None:
-        args.append(f"client={str(client)!r}")
     args += [f"{k}={v!r}" for k, v in options.items()]
     return f"sweepcore.sweep({', '.join(args)})"
 
@@ -322,15 +322,17 @@ def _flag_attrs(meta: dict) -> dict:
     return {**meta, "flag_values": np.array(meta["flag_values"], dtype=np.int8)}
 
 
+def _attrs(units: str, long_name: str, comment: str) -> dict:
+    attrs = {"units": units, "long_name": long_name}
+    return {**attrs, "comment": comment} if comment else attrs
+
+
 def _dataset(grid: Grid, cols: np.ndarray, o: np.ndarray, method: str,
              call: str) -> xr.Dataset:
     dims, shape = grid.dims, grid.shape
     data = {}
-    for name, (col, units, long_name, comment) in variables.OBSERVABLES.items():
-        attrs = {"units": units, "long_name": long_name}
-        if comment:
-            attrs["comment"] = comment
-        data[name] = xr.Variable(dims, cols[col].reshape(shape), attrs)
+    for name, (col, *meta) in variables.OBSERVABLES.items():
+        data[name] = xr.Variable(dims, cols[col].reshape(shape), _attrs(*meta))
     status = cols[layout.OB_STATUS].astype(np.int8).reshape(shape)
     data["regime"] = xr.Variable(dims, cols[layout.OB_REGIME].astype(np.int8).reshape(shape),
                                  _flag_attrs(variables.REGIME))
@@ -343,16 +345,13 @@ def _dataset(grid: Grid, cols: np.ndarray, o: np.ndarray, method: str,
     ds = xr.Dataset(data, grid.coords())
 
     for name, (func, args) in _grid.ANALYTIC.items():
-        units, long_name, comment = variables.ANALYTIC[name]
-        da = xr.apply_ufunc(func, *(ds[a] for a in args))
+        da = xr.apply_ufunc(func, *(ds[a] for a in args), keep_attrs=False)
         da = da.transpose(*(d for d in dims if d in da.dims))
-        ds[name] = da.variable
-        ds[name].attrs.update(units=units, long_name=long_name,
-                              **({"comment": comment} if comment else {}))
+        ds[name] = xr.Variable(da.dims, da.data, _attrs(*variables.ANALYTIC[name]))
 
     if "v" in ds.dims and ds.sizes["v"] >= 2:
         bd = hopf_boundary(ds)
-        ds = ds.assign({n: bd[n] for n in BOUNDARY_VARIABLES})
+        ds = ds.assign({n: bd[n].variable for n in BOUNDARY_VARIABLES})
 
     now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     ds.attrs.update({

@@ -54,6 +54,7 @@ GPS_DENOMINATOR = 4   # GPS denominator ||u||^2 - tau^2 ||f||^2 not safely posit
 STEP_UNDERFLOW = 5    # adaptive step fell below the floating-point resolution of t
 EVENT_FAILURE = 6     # an event could not be located (root polish failed)
 BAD_METHOD = 7        # method not applicable (e.g. exact with alpha2 > 0)
+STEP_TOO_LARGE = 8    # fixed step dt > 1/omega: gps/rk4 cannot resolve the oscillation
 
 STATUS_NAMES = {
     OK: "ok",
@@ -64,6 +65,7 @@ STATUS_NAMES = {
     STEP_UNDERFLOW: "step_size_underflow",
     EVENT_FAILURE: "event_location_failed",
     BAD_METHOD: "method_not_applicable",
+    STEP_TOO_LARGE: "fixed_step_too_large",
 }
 
 # --- regimes of an attractor -------------------------------------------------

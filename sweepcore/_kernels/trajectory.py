@@ -3,6 +3,7 @@ import numpy as np
 from numba import njit
 
 from . import codes
+from .attractor import method_status
 from .driver import advance, init_state
 from .layout import NA, NS, S_MODE, S_N, S_T, S_X, S_ZD, A_XMAX, A_XMIN, A_XDMAX, A_XDMIN
 
@@ -32,7 +33,7 @@ def run_trajectory(p, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind, ev_x
     init_state(st, p[6], p[7], p, o)
     n_ev = 0
     cap = ev_t.shape[0]
-    status = codes.OK
+    status = method_status(p, o)
     for i in range(t_samples.shape[0]):
         ts = t_samples[i]
         while st[S_T] < ts and status == codes.OK:

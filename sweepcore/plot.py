@@ -1,0 +1,582 @@
+"""Pictures of results: time histories, phase planes, regime and amplitude maps.
+
+Every function builds a :class:`matplotlib.figure.Figure` directly (no pyplot, no
+global state, no display needed) and returns it; :func:`save` writes a PNG
+atomically. :func:`figure_for` picks the natural picture of any result:
+
+* a simulation (has a ``time`` dimension): the paper's Fig. 3 layout, time histories
+  of z, zdot, x, xdot and the phase planes (z, zdot) and (x, xdot);
+* a 1-D sweep: amplitude and mean against the swept parameter;
+* a 2-D sweep: the regime as a categorical map with a legend, the amplitude map, the
+  analytic Hopf speed v* = sqrt(alpha1/(3 alpha2)) drawn over both, and the measured
+  boundaries of :mod:`sweepcore.boundary` when they can be computed.
+
+Axis labels carry the units of the data (kN, cm, s); geometric axes are drawn on a
+log scale.
+"""
+from __future__ import annotations
+
+import math
+import os
+import uuid
+import warnings
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from matplotlib.colors import BoundaryNorm, ListedColormap
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
+
+from ._kernels import codes
+
+# colour-blind-safe (Okabe-Ito) colours, one per regime code
+REGIME_COLOURS = {
+    codes.R_EQUILIBRIUM: "#56B4E9",    # sky blue: steady sliding
+    codes.R_SLIP_CYCLE: "#E69F00",     # orange: cycle that never sticks
+    codes.R_STICK_SLIP: "#D55E00",     # vermillion: stick-slip cycle
+    codes.R_NEUTRAL: "#009E73",        # green: neutral circle (constant friction)
+    codes.R_STUCK: "#999999",          # grey
+    codes.R_UNBOUNDED: "#CC79A7",      # purple
+    codes.R_UNCONVERGED: "#F0E442",    # yellow
+    codes.R_FAILED: "#000000",         # black
+}
+
+SYMBOLS = {
+    "m": "m", "k": "k", "r_y": "r_y", "v": "v", "alpha1": r"\alpha_1",
+    "alpha2": r"\alpha_2", "x0": "x_0", "xdot0": r"\dot{x}_0", "x": "x",
+    "xdot": r"\dot{x}", "z": "z", "zdot": r"\dot{z}", "time": "t", "r_a": "r_a",
+    "amplitude": "A", "mean": r"\bar{x}", "velocity_amplitude": r"A_{\dot{x}}",
+    "cycle_size": "R", "period": "T", "q": "q", "v_star": "v^*", "x_eq": "x_{eq}",
+    "omega": r"\omega",
+}
+
+DPI = 150
+
+
+# ------------------------------------------------------------------- labels
+def pretty_units(units: str | None) -> str:
+    """UDUNITS string to a label: ``"kN s3 cm-3"`` -> ``kN s$^3$/cm$^3$``.
+
+    ``"1"`` and empty units give ``""`` (dimensionless).
+    """
+    if not units or units.strip() == "1":
+        return ""
+    num, den = [], []
+    for tok in units.split():
+        base = tok.rstrip("-0123456789")
+        power = tok[len(base):]
+        p = int(power) if power not in ("", "-") else 1
+        (num if p > 0 else den).append(base + (f"$^{abs(p)}$" if abs(p) != 1 else ""))
+    text = " ".join(num) if num else "1"
+    if den:
+        text += "/" + (den[0] if len(den) == 1 else "(" + " ".join(den) + ")")
+    return text
+
+
+def label(var, name: str | None = None) -> str:
+    """Axis label ``long name $symbol$ [units]`` of a DataArray or Variable."""
+    name = name if name is not None else getattr(var, "name", None)
+    attrs = getattr(var, "attrs", {})
+    text = attrs.get("long_name", str(name))
+    if name in SYMBOLS:
+        text += f" ${SYMBOLS[name]}$"
+    units = pretty_units(attrs.get("units"))
+    return f"{text} [{units}]" if units else text
+
+
+def is_geometric(values) -> bool:
+    """True when ``values`` (> 0, 3 or more) are evenly spaced in log, not linearly."""
+    a = np.asarray(values, dtype=float)
+    if a.ndim != 1 or a.size < 3 or not np.all(a > 0):
+        return False
+    dl, d = np.diff(np.log(a)), np.diff(a)
+    log_even = np.allclose(dl, dl[0], rtol=1e-6, atol=0)
+    lin_even = np.allclose(d, d[0], rtol=1e-6, atol=0)
+    return bool(log_even and not lin_even)
+
+
+def _axis_scale(ds: xr.Dataset, dim: str) -> str:
+    spacing = ds[dim].attrs.get("spacing")
+    if spacing is not None:
+        return "log" if spacing == "geometric" else "linear"
+    return "log" if is_geometric(ds[dim].values) else "linear"
+
+
+def fixed_parameters(ds: xr.Dataset) -> str:
+    """``m = 5, k = 50, ...`` for the 0-d coordinates (the fixed parameters)."""
+    parts = []
+    for name in ("m", "k", "r_y", "v", "alpha1", "alpha2", "x0", "xdot0"):
+        if name in ds.coords and ds[name].ndim == 0:
+            parts.append(f"${SYMBOLS[name]}$ = {float(ds[name]):.4g}")
+    if "xdot0" not in ds.coords and "x0" in ds.coords:
+        parts.append("start stuck")
+    return ", ".join(parts)
+
+
+# --------------------------------------------------------------------- save
+def save(fig: Figure, path, dpi: int = DPI) -> Path:
+    """Write ``fig`` as PNG to ``path`` atomically (temporary file, then rename)."""
+    path = Path(path)
+    tmp = path.parent / f".{path.name}.{uuid.uuid4().hex}.tmp.png"
+    try:
+        fig.savefig(tmp, dpi=dpi, format="png")
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
+    return path
+
+
+def figure_for(ds: xr.Dataset, **kwargs) -> Figure:
+    """The natural picture of a result Dataset (simulation, 1-D or 2-D sweep).
+
+    Keyword arguments go to :func:`trajectory_figure`, :func:`line_figure` or
+    :func:`map_figure`.
+    """
+    if "time" in ds.dims:
+        return trajectory_figure(ds, **kwargs)
+    dims = [d for d in ds.dims if ds.sizes[d] > 1]
+    if not dims:
+        raise ValueError("the result has a single point: nothing to plot against")
+    if len(dims) == 1:
+        return line_figure(ds, dims[0], **kwargs)
+    return map_figure(ds, **kwargs)
+
+
+# ---------------------------------------------------------- trajectories
+_EVENT_STYLE = {
+    "slip": dict(marker="^", color="#009E73", label="slip (eq. 27)"),
+    "stick": dict(marker="s", color="#0072B2", label="stick"),
+    "normal_stop": dict(marker="v", color="#CC79A7", label="normal stop (eq. 30)"),
+    "abnormal_stop": dict(marker="o", color="#D55E00", label="abnormal stop (eq. 31)"),
+}
+
+
+def _events(ds: xr.Dataset) -> dict:
+    """``{kind name: (t, x, xdot)}`` of the simulation's event log."""
+    if "event_kind" not in ds or ds.sizes.get("event", 0) == 0:
+        return {}
+    values = np.atleast_1d(ds.event_kind.attrs["flag_values"])
+    names = ds.event_kind.attrs["flag_meanings"].split()
+    kind = ds.event_kind.values
+    out = {}
+    for val, name in zip(values, names):
+        sel = kind == val
+        if sel.any():
+            out[name] = (ds.event_time.values[sel], ds.event_x.values[sel],
+                         ds.event_xdot.values[sel])
+    return out
+
+
+def _mark_events(ax, events: dict, v: float, relative: bool) -> None:
+    for name, (t, x, xd) in events.items():
+        style = _EVENT_STYLE.get(name)
+        if style is None:
+            continue
+        px, py = (x - v * t, xd - v) if relative else (x, xd)
+        ax.plot(px, py, linestyle="none", markersize=5, markeredgecolor="white",
+                markeredgewidth=0.5, zorder=3, **{**style, "label": f"{style['label']}"
+                                                  f" \u00d7{len(t)}"})
+
+
+def trajectory_figure(ds: xr.Dataset, title: str | None = None) -> Figure:
+    """Fig. 3 of the paper for one simulation: histories and both phase planes.
+
+    Panels: (a) z(t), (b) zdot(t), (c) phase plane (z, zdot); (d) x(t), (e) xdot(t),
+    (f) phase plane (x, xdot), with the belt speed and the events (slip, stick,
+    normal and abnormal stops) marked.
+    """
+    fig = Figure(figsize=(13, 7.2), layout="constrained")
+    axs = fig.subplots(2, 3)
+    v = float(ds.attrs.get("v", np.nan))
+    t = ds.time.values
+    events = _events(ds)
+    rows = (("z", "zdot", True), ("x", "xdot", False))
+    for r, (pos, vel, relative) in enumerate(rows):
+        a_pos, a_vel, a_phase = axs[r]
+        a_pos.plot(t, ds[pos].values, lw=1.0, color="#0072B2")
+        a_vel.plot(t, ds[vel].values, lw=1.0, color="#0072B2")
+        a_phase.plot(ds[pos].values, ds[vel].values, lw=0.9, color="#0072B2",
+                     label="orbit")
+        belt = 0.0 if relative else v
+        for ax in (a_vel, a_phase):
+            ax.axhline(belt, color="0.5", lw=0.8, ls="--",
+                       label=("$\\dot{z} = 0$ (sticking)" if relative
+                              else f"belt speed $v$ = {v:g}"))
+        _mark_events(a_phase, events, v, relative)
+        a_pos.set(xlabel=label(ds.time, "time"), ylabel=label(ds[pos], pos))
+        a_vel.set(xlabel=label(ds.time, "time"), ylabel=label(ds[vel], vel))
+        a_phase.set(xlabel=label(ds[pos], pos), ylabel=label(ds[vel], vel))
+        a_phase.legend(fontsize=7.5, loc="best")
+    for ax, letter in zip(axs.flat, "abcdef"):
+        ax.set_title(f"({letter})", loc="left", fontsize=10)
+        ax.grid(alpha=0.3)
+    fig.suptitle(title or _trajectory_title(ds), fontsize=11)
+    return fig
+
+
+def _trajectory_title(ds: xr.Dataset) -> str:
+    a = ds.attrs
+    p = ", ".join(f"${SYMBOLS[n]}$ = {a[n]:.4g}" for n in
+                  ("m", "k", "r_y", "v", "alpha1", "alpha2") if n in a)
+    start = f"start ($x_0$, $\\dot{{x}}_0$) = ({a.get('x0', 0):.4g}, {a.get('xdot0', 0):.4g})"
+    return f"Single slider: {p}; {start}; method {a.get('method', '?')}"
+
+
+def cases_figure(runs, labels, title: str | None = None,
+                 equilibria=None) -> Figure:
+    """Fig. 5 of the paper: x(t), xdot(t) and (x, xdot) for several runs (one row each).
+
+    Parameters
+    ----------
+    runs : sequence of xarray.Dataset
+        Simulations (:func:`sweepcore.simulate`).
+    labels : sequence of str
+        Row titles.
+    equilibria : sequence of float, optional
+        Equilibrium x_eq of each run [cm], marked in the phase plane.
+    """
+    n = len(runs)
+    fig = Figure(figsize=(13, 3.3 * n + 0.6), layout="constrained")
+    axs = np.atleast_2d(fig.subplots(n, 3))
+    letters = iter("abcdefghijklmnopqrstuvwxyz")
+    for i, (ds, text) in enumerate(zip(runs, labels)):
+        v = float(ds.attrs["v"])
+        t = ds.time.values
+        ax_x, ax_v, ax_p = axs[i]
+        ax_x.plot(t, ds.x.values, lw=0.9, color="#0072B2")
+        ax_v.plot(t, ds.xdot.values, lw=0.9, color="#0072B2")
+        ax_p.plot(ds.x.values, ds.xdot.values, lw=0.8, color="#0072B2", label="orbit")
+        ax_p.plot(ds.x.values[-1], ds.xdot.values[-1], "o", color="#0072B2", ms=4,
+                  label=f"state at t = {t[-1]:g} s")
+        for ax in (ax_v, ax_p):
+            ax.axhline(v, color="0.5", lw=0.8, ls="--", label=f"belt speed $v$ = {v:g}")
+        if equilibria is not None:
+            ax_p.plot(equilibria[i], 0.0, "x", color="#D55E00", ms=8, mew=2,
+                      label=f"equilibrium $x_{{eq}}$ = {equilibria[i]:.3g} (eq. 43)")
+        ax_x.set(xlabel=label(ds.time, "time"), ylabel=label(ds.x, "x"))
+        ax_v.set(xlabel=label(ds.time, "time"), ylabel=label(ds.xdot, "xdot"))
+        ax_p.set(xlabel=label(ds.x, "x"), ylabel=label(ds.xdot, "xdot"))
+        ax_p.legend(fontsize=7.5, loc="lower right")
+        for ax in axs[i]:
+            ax.set_title(f"({next(letters)}) {text}" if ax is ax_x
+                         else f"({next(letters)})", loc="left", fontsize=10)
+            ax.grid(alpha=0.3)
+    if title:
+        fig.suptitle(title, fontsize=11)
+    return fig
+
+
+def friction_figure(r_y: float, alpha1: float, alpha2: float,
+                    zdot_max: float | None = None) -> Figure:
+    """Fig. 4 of the paper: the friction law r_a(zdot) of eq. (40), with v* marked.
+
+    r_a = r_y sgn(zdot) - alpha1 zdot + alpha2 zdot^3 while sliding; at zdot = 0 the
+    force is anywhere in [-r_y, r_y] (eq. 6), drawn as a vertical segment. The slope
+    is negative for |zdot| < v* = sqrt(alpha1/(3 alpha2)), where r_a has its
+    minimum r_y - (2/3) alpha1 v*.
+    """
+    v_star = math.sqrt(alpha1 / (3 * alpha2)) if alpha2 > 0 and alpha1 > 0 else math.nan
+    if zdot_max is None:
+        zdot_max = 2.2 * v_star if math.isfinite(v_star) else 10.0
+    fig = Figure(figsize=(7.5, 5.2), layout="constrained")
+    ax = fig.subplots()
+    for sgn in (1, -1):
+        zd = sgn * np.linspace(1e-9, zdot_max, 400)
+        ra = r_y * sgn - alpha1 * zd + alpha2 * zd ** 3
+        ax.plot(zd, ra, color="#0072B2", lw=2,
+                label=(r"$r_a = r_y\,\mathrm{sgn}(\dot z) - \alpha_1\dot z "
+                       r"+ \alpha_2\dot z^3$ (eq. 40)") if sgn == 1 else None)
+    ax.plot([0, 0], [-r_y, r_y], color="#0072B2", lw=2, ls=":",
+            label=r"sticking: $r_a \in [-r_y, r_y]$ (eq. 6)")
+    if math.isfinite(v_star):
+        r_min = r_y - 2 * alpha1 * v_star / 3
+        for sgn in (1, -1):
+            ax.plot(sgn * v_star, sgn * r_min, "o", color="#D55E00", ms=7, zorder=3)
+            ax.axvline(sgn * v_star, color="#D55E00", lw=0.8, ls="--")
+        ax.annotate(f"$v^* = \\sqrt{{\\alpha_1/3\\alpha_2}}$ = {v_star:.3g} cm/s\n"
+                    f"min $r_a$ = {r_min:.3g} kN",
+                    (v_star, r_min), xytext=(12, -34), textcoords="offset points",
+                    fontsize=9, color="#D55E00")
+        ax.axvspan(-v_star, v_star, color="#D55E00", alpha=0.07,
+                   label=r"negative slope $|\dot z| < v^*$: energy input")
+    ax.axhline(0, color="0.6", lw=0.6)
+    ax.axvline(0, color="0.6", lw=0.6)
+    ax.set(xlabel=r"relative velocity $\dot z$ [cm/s]", ylabel="friction force $r_a$ [kN]",
+           title=f"Friction-speed law: $r_y$ = {r_y:g} kN, $\\alpha_1$ = {alpha1:g} kN s/cm, "
+                 f"$\\alpha_2$ = {alpha2:g} kN s$^3$/cm$^3$")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8.5, loc="upper left")
+    return fig
+
+
+# ------------------------------------------------------------------ sweeps
+def _observable_reference(ds: xr.Dataset, dim: str, name: str):
+    """Paper's reference curve for ``name`` along ``dim``: (values, label) or None."""
+    if name == "amplitude" and "v" in ds and "omega" in ds:
+        ref = np.abs(ds["v"]) / ds["omega"]
+        return ref, r"$v/\omega$ (paper, eq. 39)"
+    if name == "mean" and "x_eq" in ds:
+        return ds["x_eq"], r"equilibrium $x_{eq}$ (eq. 43)"
+    return None
+
+
+def _regime_codes(ds: xr.Dataset) -> tuple[list, list]:
+    attrs = ds["regime"].attrs
+    values = [int(x) for x in np.atleast_1d(attrs.get("flag_values",
+                                                      sorted(codes.REGIME_NAMES)))]
+    names = attrs.get("flag_meanings", " ".join(codes.REGIME_NAMES[k] for k in values))
+    return values, names.split()
+
+
+def line_figure(ds: xr.Dataset, dim: str, variables=("amplitude", "mean"),
+                title: str | None = None) -> Figure:
+    """Observables of a 1-D sweep against ``dim``, points coloured by regime.
+
+    The paper's reference curves are drawn beside the measurement: v/omega for the
+    amplitude (eq. 39), x_eq for the mean (eq. 43); v* as a vertical line when ``dim``
+    is v and alpha1, alpha2 are fixed.
+    """
+    variables = [v for v in variables if v in ds]
+    if not variables:
+        raise ValueError(f"none of the variables {variables} is in the result")
+    fig = Figure(figsize=(8, 2.9 * len(variables) + 0.8), layout="constrained")
+    axs = np.atleast_1d(fig.subplots(len(variables), 1, sharex=True))
+    x = ds[dim].values
+    order = np.argsort(x)
+    regime = ds["regime"].values if "regime" in ds else None
+    handles = {}
+    for ax, name in zip(axs, variables):
+        y = ds[name].values
+        ax.plot(x[order], y[order], color="0.35", lw=1, zorder=1)
+        if regime is not None:
+            values, names = _regime_codes(ds)
+            for val, rname in zip(values, names):
+                sel = regime == val
+                if sel.any():
+                    h = ax.scatter(x[sel], y[sel], s=14, zorder=2,
+                                   color=REGIME_COLOURS.get(val, "k"),
+                                   label=rname.replace("_", " "))
+                    handles[rname] = h
+        ref = _observable_reference(ds, dim, name)
+        if ref is not None:
+            ref_vals = np.broadcast_to(ref[0].values, x.shape) if ref[0].ndim else \
+                np.full(x.shape, float(ref[0]))
+            style = dict(ls="--", color="#0072B2") if name == "amplitude" else \
+                dict(ls="-.", color="#009E73")
+            handles[ref[1]] = ax.plot(x[order], ref_vals[order], lw=1.1, zorder=1,
+                                      label=ref[1], **style)[0]
+        _vstar_line(ax, ds, dim, handles)
+        ax.set_ylabel(label(ds[name], name))
+        ax.grid(alpha=0.3)
+        ax.set_xscale(_axis_scale(ds, dim))
+    axs[-1].set_xlabel(label(ds[dim], dim))
+    axs[0].legend(handles=list(handles.values()), fontsize=8, loc="best")
+    fig.suptitle(title or _sweep_title(ds), fontsize=10)
+    return fig
+
+
+def _sweep_title(ds: xr.Dataset) -> str:
+    """Study title (or the file's title) over the fixed parameters."""
+    head = ds.attrs.get("study_title") or ds.attrs.get("title", "sweep")
+    return f"{head}\n{fixed_parameters(ds)}"
+
+
+def _vstar_line(ax, ds, dim, handles):
+    if dim != "v" or "v_star" not in ds:
+        return
+    vs = np.unique(ds["v_star"].values)
+    if vs.size == 1 and np.isfinite(vs[0]):
+        handles["v*"] = ax.axvline(vs[0], color="#D55E00", ls=":", lw=1.2,
+                                   label=f"analytic $v^*$ = {vs[0]:.3g}")
+
+
+def _edges(values: np.ndarray, log: bool) -> np.ndarray:
+    """Cell edges around sorted centres (geometric midpoints on a log axis)."""
+    c = np.log(values) if log else values
+    if c.size == 1:
+        e = np.array([c[0] - 0.5, c[0] + 0.5])
+    else:
+        mid = 0.5 * (c[1:] + c[:-1])
+        e = np.concatenate([[2 * c[0] - mid[0]], mid, [2 * c[-1] - mid[-1]]])
+    return np.exp(e) if log else e
+
+
+def _plane(ds: xr.Dataset, x: str | None, y: str | None):
+    """Choose the map's axes and reduce the other dimensions (first index)."""
+    dims = [d for d in ds.dims if ds.sizes[d] > 1]
+    if x is None or y is None:
+        rest = [d for d in dims if d not in (x, y)]
+        if x is None:
+            x = "v" if "v" in rest else rest.pop(0)
+            rest = [d for d in rest if d != x]
+        if y is None:
+            y = rest.pop(0)
+    for d in (x, y):
+        if d not in dims:
+            raise ValueError(f"{d!r} is not a swept dimension of the result "
+                             f"(swept: {', '.join(dims)})")
+    others = [d for d in dims if d not in (x, y)]
+    note = ""
+    if others:
+        ds = ds.isel({d: 0 for d in others})
+        note = "; " + ", ".join(f"${SYMBOLS.get(d, d)}$ = {float(ds[d]):.4g}"
+                                for d in others) + " (first value)"
+    ds = ds.squeeze(drop=False).sortby([x, y])
+    return ds.transpose(y, x, ...), x, y, note
+
+
+def map_figure(ds: xr.Dataset, x: str | None = None, y: str | None = None,
+               variables=("regime", "amplitude"), title: str | None = None,
+               boundary: bool = True) -> Figure:
+    """Maps of a 2-D sweep: categorical regime map and colour maps of observables.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A sweep result with at least two swept dimensions; further dimensions are
+        reduced to their first value (said in the title).
+    x, y : str, optional
+        Dimensions on the horizontal and vertical axes; default v (if swept) across.
+    variables : sequence of str
+        Panels, left to right: ``"regime"`` (categorical, legend of regime names) or
+        any numeric data variable (colour bar with units).
+    boundary : bool
+        Draw the analytic v* curve and, when x or y is v, the measured Hopf
+        boundary and stick-slip onset (:mod:`sweepcore.boundary`).
+    """
+    ds, x, y, note = _plane(ds, x, y)
+    variables = [v for v in variables if v in ds]
+    if not variables:
+        raise ValueError("none of the requested variables is in the result")
+    n = len(variables)
+    fig = Figure(figsize=(5.6 * n + 0.6, 5.4), layout="constrained")
+    axs = np.atleast_1d(fig.subplots(1, n, sharex=True, sharey=True))
+    xlog, ylog = _axis_scale(ds, x) == "log", _axis_scale(ds, y) == "log"
+    xe, ye = _edges(ds[x].values, xlog), _edges(ds[y].values, ylog)
+    overlays = _overlays(ds, x, y) if boundary else []
+    for ax, name in zip(axs, variables):
+        if name == "regime":
+            _regime_panel(fig, ax, ds, xe, ye)
+        else:
+            _value_panel(fig, ax, ds, name, xe, ye)
+        for draw in overlays:
+            # on the regime map the measured boundaries are the colour edges
+            if name != "regime" or draw.analytic:
+                draw(ax)
+        ax.set_xscale("log" if xlog else "linear")
+        ax.set_yscale("log" if ylog else "linear")
+        ax.set_xlim(xe[0], xe[-1])
+        ax.set_ylim(ye[0], ye[-1])
+        ax.set_xlabel(label(ds[x], x))
+    axs[0].set_ylabel(label(ds[y], y))
+    if overlays:
+        handles = [h for h in (getattr(d, "handle", None) for d in overlays) if h]
+        axs[-1].legend(handles=handles, fontsize=8, loc="upper right",
+                       framealpha=0.85)
+    fig.suptitle((title or _sweep_title(ds)) + note, fontsize=10)
+    return fig
+
+
+def _regime_panel(fig, ax, ds, xe, ye):
+    values, names = _regime_codes(ds)
+    data = ds["regime"].values.astype(int)
+    cmap = ListedColormap([REGIME_COLOURS.get(v, "k") for v in values])
+    norm = BoundaryNorm(np.arange(len(values) + 1) - 0.5, len(values))
+    index = np.searchsorted(values, data)
+    ax.pcolormesh(xe, ye, index, cmap=cmap, norm=norm, rasterized=True)
+    total = data.size
+    patches = [Patch(facecolor=REGIME_COLOURS.get(v, "k"), edgecolor="0.3", lw=0.5,
+                     label=f"{nm.replace('_', ' ')} ({100 * np.mean(data == v):.3g} %)")
+               for v, nm in zip(values, names) if (data == v).any()]
+    ax.legend(handles=patches, title=f"regime ({total} points)", fontsize=8,
+              title_fontsize=8.5, loc="upper left", framealpha=0.85)
+    ax.set_title("attractor regime", fontsize=10)
+
+
+def _value_panel(fig, ax, ds, name, xe, ye):
+    da = ds[name]
+    data = np.ma.masked_invalid(da.values.astype(float))
+    mesh = ax.pcolormesh(xe, ye, data, cmap="viridis", shading="flat", rasterized=True)
+    cb = fig.colorbar(mesh, ax=ax, shrink=0.9, pad=0.01)
+    cb.set_label(label(da, name))
+    ax.set_title(da.attrs.get("long_name", name), fontsize=10)
+
+
+class _Overlay:
+    """A curve drawn on every panel, with one legend handle."""
+
+    def __init__(self, xs, ys, handle: Line2D, analytic: bool = False):
+        self.xs, self.ys, self.handle, self.analytic = xs, ys, handle, analytic
+
+    def __call__(self, ax):
+        ax.plot(self.xs, self.ys, color=self.handle.get_color(),
+                ls=self.handle.get_linestyle(), lw=self.handle.get_linewidth(),
+                marker=self.handle.get_marker(), ms=self.handle.get_markersize(),
+                markerfacecolor=self.handle.get_markerfacecolor(), zorder=4)
+
+
+def _overlays(ds: xr.Dataset, x: str, y: str) -> list:
+    out = []
+    vstar = _analytic_vstar(ds, x, y)
+    if vstar is not None:
+        out.append(vstar)
+    if "v" in (x, y):
+        out.extend(_measured_boundaries(ds, x, y))
+    return out
+
+
+def _analytic_vstar(ds, x, y):
+    """v* = sqrt(alpha1/(3 alpha2)) as a curve in the (x, y) plane, if v is an axis."""
+    handle = Line2D([], [], color="white", ls="--", lw=2.0,
+                    label=r"analytic $v^* = \sqrt{\alpha_1/3\alpha_2}$ ($q = 0$)")
+    other = y if x == "v" else x if y == "v" else None
+    if other in ("alpha1", "alpha2"):
+        fixed = "alpha2" if other == "alpha1" else "alpha1"
+        if fixed not in ds.coords or ds[fixed].ndim != 0:
+            return None
+        s = np.geomspace(*ds[other].values[[0, -1]], 400) \
+            if is_geometric(ds[other].values) else np.linspace(*ds[other].values[[0, -1]],
+                                                              400)
+        a1, a2 = (s, float(ds[fixed])) if other == "alpha1" else (float(ds[fixed]), s)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            vs = np.sqrt(np.asarray(a1) / (3 * np.asarray(a2)))
+        inside = (vs >= ds.v.values.min()) & (vs <= ds.v.values.max())
+        vs = np.where(inside, vs, np.nan)
+        return _Overlay(*((vs, s) if x == "v" else (s, vs)), handle, analytic=True)
+    return None
+
+
+def _measured_boundaries(ds, x, y) -> list:
+    """The measured Hopf boundary and end of stick-slip along v (sweepcore.boundary).
+
+    Taken from the result when the sweep stored them, else measured here.
+    """
+    names = ("v_hopf_measured", "v_stick_onset")
+    if all(n in ds for n in names):
+        bd = ds
+    else:
+        try:
+            from .boundary import hopf_boundary
+            bd = hopf_boundary(ds, axis="v")
+        except Exception as err:  # a picture must not fail for an overlay
+            warnings.warn(f"measured boundary not drawn: {err}", stacklevel=3)
+            return []
+    other = y if x == "v" else x
+    styles = {
+        "v_hopf_measured": dict(color="black", ls="-", lw=1.3,
+                                label="measured boundary: cycle | equilibrium"),
+        "v_stick_onset": dict(color="#CC79A7", ls="-", lw=1.3,
+                              label="measured end of stick-slip"),
+    }
+    found = []
+    for name in names:
+        b = bd[name]
+        if b.dims != (other,) or not np.isfinite(b.values).any():
+            continue
+        b = b.sortby(other)
+        vals, coord = b.values, b[other].values
+        found.append(_Overlay(*((vals, coord) if x == "v" else (coord, vals)),
+                              Line2D([], [], **styles[name])))
+    return found

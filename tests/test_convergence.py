@@ -1,0 +1,93 @@
+"""Convergence order, measured on refinement ladders.
+
+Reference: the exact stepper when alpha2 = 0, a much tighter dopri5 run when alpha2 > 0.
+The order is the least-squares slope of log(error) against log(step); the bands
+follow from the methods (1 for GPS, 4 for RK4) with room for the constants.
+"""
+import math
+
+import numpy as np
+import pytest
+
+import sweepcore as sc
+
+T = 1.5     # inside the first sliding arc after the slip at 0.04 s: the smooth order
+P0 = sc.Params(5.0, 50.0, 10.0, 5.0, alpha1=1.0, alpha2=0.0)
+P1 = sc.Params(5.0, 50.0, 10.0, 5.0, alpha1=1.0, alpha2=0.01)
+
+
+def x_end(p, method, **kw):
+    return sc.simulate(p, T, method=method, output_dt=T, **kw).x.values[-1]
+
+
+def slope(h, e):
+    return np.polyfit(np.log(h), np.log(e), 1)[0]
+
+
+@pytest.fixture(scope="module")
+def refs():
+    return {P0: x_end(P0, "exact"), P1: x_end(P1, "dopri5", tol=1e-13)}
+
+
+@pytest.mark.parametrize("p", [P0, P1], ids=["alpha2=0 vs exact", "alpha2>0 vs tight"])
+@pytest.mark.parametrize("method,dts,lo,hi", [
+    ("gps", [2e-3, 1e-3, 5e-4, 2.5e-4], 0.9, 1.1),
+    ("rk4", [0.04, 0.02, 0.01, 0.005], 3.7, 5.0),
+])
+def test_fixed_step_order(refs, p, method, dts, lo, hi):
+    err = [abs(x_end(p, method, dt=d) - refs[p]) for d in dts]
+    assert lo < slope(dts, err) < hi
+
+
+@pytest.mark.parametrize("p", [P0, P1], ids=["alpha2=0 vs exact", "alpha2>0 vs tight"])
+def test_adaptive_error_tracks_tolerance(refs, p):
+    tols = [1e-6, 1e-8, 1e-10]
+    err = np.array([abs(x_end(p, "dopri5", tol=t) - refs[p]) for t in tols])
+    lx = p.r_y / p.k + abs(p.v) / p.omega          # the tolerance is relative to this
+    assert (err < 20 * np.array(tols) * lx).all()
+    assert 0.7 < slope(tols, err) < 1.3             # error proportional to tol
+
+
+@pytest.mark.parametrize("method,dts,lo,hi", [
+    ("gps", [1e-3, 5e-4, 2.5e-4], 0.85, 1.3),
+    ("rk4", [0.04, 0.02, 0.01], 3.6, 4.4),
+])
+def test_order_holds_across_events(method, dts, lo, hi):
+    """The stick-slip period (events located on re-steps) converges at the same order."""
+    ref = sc.attractor(P1, method="dopri5", tol=1e-12).period
+    err = [abs(sc.attractor(P1, method=method, dt=d).period - ref) for d in dts]
+    assert lo < slope(dts, err) < hi
+
+
+def test_events_are_located_to_1e_12_in_time():
+    """Event times do not move with the adaptive tolerance beyond the method's error."""
+    a = sc.simulate(P1, 10.0, method="dopri5", tol=1e-12)
+    b = sc.simulate(P1, 10.0, method="dopri5", tol=1e-13)
+    assert a.sizes["event"] == b.sizes["event"] >= 4
+    np.testing.assert_allclose(a.event_time.values, b.event_time.values, atol=1e-10)
+    np.testing.assert_array_equal(a.event_kind.values, b.event_kind.values)
+
+
+@pytest.mark.parametrize("dt", [1e-3, 5e-4])
+def test_gps_pumps_energy_at_the_forward_euler_rate(dt):
+    """GPS's first-order error: a neutral circle grows like exp(omega^2 dt t / 2).
+
+    Constant friction from rest: the exact orbit is a circle of radius r_y/k that
+    never reaches belt speed (no events), so any growth is the method's.
+    """
+    p = sc.Params(5.0, 50.0, 10.0, 5.0)
+    ds = sc.simulate(p, 20.0, x0=0.0, xdot0=0.0, method="gps", dt=dt, output_dt=1e-3)
+    r = np.hypot(ds.x.values - p.r_y / p.k, ds.xdot.values / p.omega)
+    rate = np.polyfit(ds.time.values, np.log(r), 1)[0]
+    assert rate == pytest.approx(p.omega ** 2 * dt / 2, rel=0.02)
+
+
+def test_paper_three_cases():
+    qs = []
+    for a2 in (0.05, 1 / 75, 0.01):
+        qs.append(sc.Params(5, 50, 10, 5, 1.0, a2).q)
+    np.testing.assert_allclose(qs, [-0.55, 0.0, 0.05], atol=1e-12)
+    eq = sc.attractor(sc.Params(5, 50, 10, 5, 1.0, 0.05))
+    assert eq.regime == "equilibrium" and eq.mean == pytest.approx(0.225, rel=1e-12)
+    cyc = sc.attractor(sc.Params(5, 50, 10, 5, 1.0, 0.01))
+    assert cyc.regime == "stick_slip" and cyc.converged
