@@ -54,14 +54,14 @@ def _check_array(name: str, value: np.ndarray, unique: bool) -> np.ndarray:
     if not ok.all():
         i = int(np.flatnonzero(~ok)[0])
         try:
-            check_real(name, value[i], **rule)
+            check_real(name, value[i].item(), **rule)
         except (TypeError, ValueError) as err:
             raise type(err)(f"{err} (element {i} of the {name} axis)") from None
     if unique:
         vals, counts = np.unique(a, return_counts=True)
         if (counts > 1).any():
             raise ValueError(f"{name} axis has the duplicated value "
-                             f"{vals[counts > 1][0]!r}: the values of a swept axis "
+                             f"{float(vals[counts > 1][0])!r}: the values of a swept axis "
                              "must be distinct (they become a coordinate)")
     a.setflags(write=False)
     return a

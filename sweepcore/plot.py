@@ -453,24 +453,15 @@ def map_figure(ds: xr.Dataset, x: str | None = None, y: str | None = None,
     n = len(variables)
     fig = Figure(figsize=(5.6 * n + 0.6, 5.4), layout="constrained")
     axs = np.atleast_1d(fig.subplots(1, n, sharex=True, sharey=True))
-    xlog, ylog = _axis_scale(ds, x) == "log", _axis_scale(ds, y) == "log"
-    xe, ye = _edges(ds[x].values, xlog), _edges(ds[y].values, ylog)
     overlays = _overlays(ds, x, y) if boundary else []
     for ax, name in zip(axs, variables):
-        if name == "regime":
-            _regime_panel(fig, ax, ds, xe, ye)
-        else:
-            _value_panel(fig, ax, ds, name, xe, ye)
+        map_panel(fig, ax, ds, name, x, y)
         for draw in overlays:
             # on the regime map the measured boundaries are the colour edges
             if name != "regime" or draw.analytic:
                 draw(ax)
-        ax.set_xscale("log" if xlog else "linear")
-        ax.set_yscale("log" if ylog else "linear")
-        ax.set_xlim(xe[0], xe[-1])
-        ax.set_ylim(ye[0], ye[-1])
-        ax.set_xlabel(label(ds[x], x))
-    axs[0].set_ylabel(label(ds[y], y))
+        if ax is not axs[0]:
+            ax.set_ylabel("")
     if overlays:
         handles = [h for h in (getattr(d, "handle", None) for d in overlays) if h]
         axs[-1].legend(handles=handles, fontsize=8, loc="upper right",
@@ -479,29 +470,65 @@ def map_figure(ds: xr.Dataset, x: str | None = None, y: str | None = None,
     return fig
 
 
+def map_panel(fig: Figure, ax, ds: xr.Dataset, name: str, x: str, y: str,
+              colorbar: bool = True, **kwargs):
+    """Draw variable ``name`` of a 2-D result on ``ax`` over dimensions (x, y).
+
+    ``"regime"`` is drawn as a categorical map with a legend of regime names and
+    shares; any other variable as a colour map (``kwargs`` go to ``pcolormesh``)
+    with a colour bar labelled with its units. Geometric axes get a log scale.
+    Returns the QuadMesh.
+    """
+    ds = ds.sortby([x, y]).transpose(y, x, ...)
+    xlog, ylog = _axis_scale(ds, x) == "log", _axis_scale(ds, y) == "log"
+    xe, ye = _edges(ds[x].values, xlog), _edges(ds[y].values, ylog)
+    if name == "regime":
+        mesh = _regime_panel(fig, ax, ds, xe, ye)
+    else:
+        mesh = _value_panel(fig, ax, ds, name, xe, ye, colorbar, **kwargs)
+    ax.set_xscale("log" if xlog else "linear")
+    ax.set_yscale("log" if ylog else "linear")
+    ax.set_xlim(xe[0], xe[-1])
+    ax.set_ylim(ye[0], ye[-1])
+    ax.set_xlabel(label(ds[x], x))
+    ax.set_ylabel(label(ds[y], y))
+    return mesh
+
+
 def _regime_panel(fig, ax, ds, xe, ye):
     values, names = _regime_codes(ds)
     data = ds["regime"].values.astype(int)
     cmap = ListedColormap([REGIME_COLOURS.get(v, "k") for v in values])
     norm = BoundaryNorm(np.arange(len(values) + 1) - 0.5, len(values))
     index = np.searchsorted(values, data)
-    ax.pcolormesh(xe, ye, index, cmap=cmap, norm=norm, rasterized=True)
+    mesh = ax.pcolormesh(xe, ye, index, cmap=cmap, norm=norm, rasterized=True)
     total = data.size
     patches = [Patch(facecolor=REGIME_COLOURS.get(v, "k"), edgecolor="0.3", lw=0.5,
-                     label=f"{nm.replace('_', ' ')} ({100 * np.mean(data == v):.3g} %)")
+                     label=f"{nm.replace('_', ' ')} ({_share(np.sum(data == v), total)})")
                for v, nm in zip(values, names) if (data == v).any()]
     ax.legend(handles=patches, title=f"regime ({total} points)", fontsize=8,
               title_fontsize=8.5, loc="upper left", framealpha=0.85)
     ax.set_title("attractor regime", fontsize=10)
+    return mesh
 
 
-def _value_panel(fig, ax, ds, name, xe, ye):
+def _share(count: int, total: int) -> str:
+    """``"38.4 %"``, or the count itself when it is under 0.1 %."""
+    if 1000 * count < total:
+        return f"{count} point{'s' if count > 1 else ''}"
+    return f"{100 * count / total:.3g} %"
+
+
+def _value_panel(fig, ax, ds, name, xe, ye, colorbar=True, **kwargs):
     da = ds[name]
     data = np.ma.masked_invalid(da.values.astype(float))
-    mesh = ax.pcolormesh(xe, ye, data, cmap="viridis", shading="flat", rasterized=True)
-    cb = fig.colorbar(mesh, ax=ax, shrink=0.9, pad=0.01)
-    cb.set_label(label(da, name))
+    kwargs.setdefault("cmap", "viridis")
+    mesh = ax.pcolormesh(xe, ye, data, shading="flat", rasterized=True, **kwargs)
+    if colorbar:
+        cb = fig.colorbar(mesh, ax=ax, shrink=0.9, pad=0.01)
+        cb.set_label(label(da, name))
     ax.set_title(da.attrs.get("long_name", name), fontsize=10)
+    return mesh
 
 
 class _Overlay:

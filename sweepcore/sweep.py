@@ -242,7 +242,7 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
     if method == "exact" and np.any(np.asarray(grid.alpha2) != 0.0):
         bad = np.asarray(grid.alpha2).ravel()
         raise ValueError("method='exact' needs alpha2 == 0 at every point; got "
-                         f"alpha2={bad[bad != 0.0][0]!r}")
+                         f"alpha2={float(bad[bad != 0.0][0])!r}")
     if chunks is not None and (isinstance(chunks, bool) or not isinstance(
             chunks, (int, np.integer)) or chunks < 1):
         raise ValueError(f"chunks must be an integer >= 1 (points per chunk), "

@@ -280,7 +280,10 @@ def attractor_point(p, o_in, out):
         # a cycle is accepted only when it is resolved: an orbit within 1e3 tol L of
         # x_eq cannot be told from the equilibrium at this tolerance
         amp = 0.5 * (acc_last[A_XMAX] - acc_last[A_XMIN])
-        if abs(d1) <= tol * lx and rem <= tol * lx and abs(T1 - T0) <= 10.0 * tol * T1 \
+        # (the conservative law has a neutral family, no contraction: a steady
+        # section is the answer, and rem is meaningless there)
+        if abs(d1) <= tol * lx and (rem <= tol * lx or conservative) \
+                and abs(T1 - T0) <= 10.0 * tol * T1 \
                 and (amp > 1e3 * tol * lx or conservative):
             regime = codes.R_NEUTRAL if conservative else codes.R_SLIP_CYCLE
             _write_cycle(out, acc_last, t_last_sec, t, omega, regime)

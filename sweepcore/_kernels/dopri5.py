@@ -9,7 +9,7 @@ import numpy as np
 from numba import njit
 
 from .friction import friction, zdd
-from .layout import K, M, O_RTOL, RY, V, X0, XD0
+from .layout import K, M, O_RTOL, RY, V
 
 ORDER = 5
 ERROR_ORDER = 4
@@ -41,9 +41,14 @@ TABLEAU_E = np.array([E1, 0, E3, E4, E5, E6, E7])
 
 @njit(cache=True, inline="always")
 def scales(p):
-    """Length scale [cm] and velocity scale [cm/s] of a point (error weights)."""
+    """Length scale [cm] and velocity scale [cm/s] of a point's attractor.
+
+    ``r_y/k + |v|/omega``: the size of the breakaway offset plus the constant-friction
+    cycle. The start does not enter: a far start is covered by the relative part of
+    the error weights, and must not loosen the tolerance of the attractor.
+    """
     omega = np.sqrt(p[K] / p[M])
-    lx = p[RY] / p[K] + abs(p[V]) / omega + abs(p[X0]) + abs(p[XD0]) / omega
+    lx = p[RY] / p[K] + abs(p[V]) / omega
     if not lx > 0.0:
         lx = 1.0
     return lx, omega * lx

@@ -329,7 +329,9 @@ def slide_until_event(st, p, o, acc, t_stop):
     adaptive = meth == codes.DOPRI5
     max_steps = o[O_MAX_STEPS]
     lx, lv = scales(p)
-    gtol = o[O_GRAZE] * lv
+    # a touch is decided at the method's own accuracy: the adaptive method's error
+    # over a period is ~100 local errors of rtol (fixed steps: the user's graze)
+    gtol = (max(o[O_GRAZE], 100.0 * o[O_RTOL]) if adaptive else o[O_GRAZE]) * lv
     near = max(gtol, 1e-3 * lv)
     omega = math.sqrt(p[K] / p[M])
     h_max = 0.5 / omega

@@ -1,0 +1,490 @@
+"""The ``sweepcore`` command: run study files, simulate one slider, plot, inspect.
+
+Units everywhere (the paper's): force kN, length cm, time s; mass kN s^2/cm,
+stiffness kN/cm, alpha1 kN s/cm, alpha2 kN s^3/cm^3.
+
+Exit codes: 0 success; 2 a refused input (bad study file, bad parameter, bad option;
+nothing is written); 1 a failure while running; 130 interrupted (a sweep with an
+output path resumes where it stopped when the same command is run again).
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+import traceback
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+UNITS_HELP = ("units: force kN, length cm, time s; mass kN s^2/cm, stiffness kN/cm, "
+              "alpha1 kN s/cm, alpha2 kN s^3/cm^3")
+THREAD_VARIABLES = ("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
+                    "OPENBLAS_NUM_THREADS")
+
+
+class UsageError(ValueError):
+    """A refused command line (exit code 2)."""
+
+
+# ------------------------------------------------------------------ threads
+def set_threads(n: int) -> None:
+    """Limit numba (and BLAS/OpenMP) to ``n`` threads, in this process and children.
+
+    The environment variables are set for worker processes; numba, already imported
+    by ``sweepcore``, is reconfigured before its thread pool starts.
+    """
+    for name in THREAD_VARIABLES:
+        os.environ[name] = str(n)
+    if "numba" in sys.modules:
+        import numba
+        numba.config.reload_config()
+        numba.set_num_threads(min(n, numba.config.NUMBA_NUM_THREADS))
+
+
+def _positive_int(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}") \
+            from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
+    return n
+
+
+# ------------------------------------------------------------------- parser
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``sweepcore`` (subcommands run, plot, simulate, info)."""
+    parser = argparse.ArgumentParser(
+        prog="sweepcore",
+        description="Parameter sweeps of the stick-slip friction oscillator (Liu): a "
+                    "slider of mass m on a belt of speed v, spring k, friction "
+                    "r_a = r_y sgn(zdot) - alpha1 zdot + alpha2 zdot^3. " + UNITS_HELP
+                    + ".",
+        epilog="Examples: sweepcore run studies/hopf_map.toml; sweepcore info "
+               "out/hopf_map.nc; sweepcore simulate --m 5 --k 50 --r-y 10 --v 5 "
+               "--png fig3.png. Exit codes: 0 ok, 1 failure, 2 refused input.")
+    parser.add_argument("--threads", type=_positive_int, metavar="N",
+                        help="numba threads (sets NUMBA_NUM_THREADS and friends); "
+                             "default: numba's (all cores)")
+    parser.add_argument("--traceback", action="store_true",
+                        help="show the full traceback of an error")
+    from . import __version__
+    parser.add_argument("--version", action="version", version=f"sweepcore {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    _add_run(sub)
+    _add_plot(sub)
+    _add_simulate(sub)
+    _add_info(sub)
+    return parser
+
+
+def _add_run(sub):
+    p = sub.add_parser(
+        "run", help="run the sweep of a TOML study file, write netCDF and its picture",
+        description="Run the sweep described by a TOML study file (format: "
+                    "docs/studies.md), write the result as netCDF and draw it. The "
+                    "study file is validated first: on any error nothing is written. "
+                    "An interrupted run resumes when rerun with the same output. "
+                    + UNITS_HELP + ".")
+    p.add_argument("study", metavar="STUDY.toml", help="study file")
+    p.add_argument("-o", "--output", metavar="OUT.nc",
+                   help="netCDF result; default [output] path of the study, else "
+                        "<study stem>.nc in the current directory")
+    png = p.add_mutually_exclusive_group()
+    png.add_argument("--png", metavar="FIG.png",
+                     help="picture; default [output] png of the study, else the "
+                          "result's path with .png")
+    png.add_argument("--no-png", action="store_true", help="draw no picture")
+    p.add_argument("--scheduler", metavar="ADDRESS|threads|processes|synchronous",
+                   help="dask scheduler (one task per chunk) or a distributed "
+                        "scheduler address tcp://host:port; default: numba threads "
+                        "in this process")
+    p.add_argument("--chunks", type=_positive_int, metavar="N",
+                   help="points per chunk (task and resume unit); default [solver] "
+                        "chunks, else sweepcore's choice")
+    p.add_argument("-q", "--quiet", action="store_true",
+                   help="no progress bar and no summary")
+    p.set_defaults(func=cmd_run)
+
+
+def _add_plot(sub):
+    p = sub.add_parser(
+        "plot", help="draw the natural picture of a result file",
+        description="Draw a result: a 2-D sweep as regime and amplitude maps with "
+                    "the analytic v* and the measured boundaries, a 1-D sweep as "
+                    "amplitude and mean against its axis, a simulation as time "
+                    "histories and phase planes (the paper's Fig. 3).")
+    p.add_argument("result", metavar="RESULT.nc", help="netCDF result of run/simulate")
+    p.add_argument("-o", "--output", metavar="FIG.png",
+                   help="picture; default the result's path with .png")
+    p.add_argument("--x", metavar="DIM", help="dimension across (maps); default v")
+    p.add_argument("--y", metavar="DIM", help="dimension up (maps)")
+    p.add_argument("--variables", metavar="NAME[,NAME...]",
+                   help="panels, e.g. regime,amplitude,mean (sweeps)")
+    p.set_defaults(func=cmd_plot)
+
+
+def _add_simulate(sub):
+    p = sub.add_parser(
+        "simulate", help="simulate one slider: time histories and phase planes",
+        description="Simulate one slider from (x0, xdot0) and draw z, zdot, x, xdot "
+                    "against time and the phase planes (z, zdot) and (x, xdot), as "
+                    "the paper's Fig. 3. " + UNITS_HELP + ".")
+    req = p.add_argument_group("slider (required)")
+    req.add_argument("--m", type=float, required=True, help="mass [kN s^2/cm], > 0")
+    req.add_argument("--k", type=float, required=True, help="stiffness [kN/cm], > 0")
+    req.add_argument("--r-y", dest="r_y", type=float, required=True,
+                     help="friction bound r_y [kN], >= 0")
+    req.add_argument("--v", type=float, required=True, help="belt speed [cm/s]")
+    p.add_argument("--alpha1", type=float, default=0.0,
+                   help="linear friction-speed coefficient [kN s/cm] (default 0)")
+    p.add_argument("--alpha2", type=float, default=0.0,
+                   help="cubic friction-speed coefficient [kN s^3/cm^3], >= 0 "
+                        "(default 0)")
+    p.add_argument("--x0", type=float, default=0.0, help="initial position [cm] "
+                                                         "(default 0)")
+    p.add_argument("--xdot0", type=float, default=None,
+                   help="initial velocity [cm/s] (default v: start stuck on the belt)")
+    p.add_argument("--t-end", dest="t_end", type=float, default=60.0,
+                   help="end time [s] (default 60)")
+    p.add_argument("--output-dt", dest="output_dt", type=float, default=None,
+                   help="sampling interval [s] (default a hundredth of 2 pi/omega)")
+    p.add_argument("--method", default="auto",
+                   choices=("auto", "exact", "gps", "rk4", "dopri5"),
+                   help="stepper (default auto: exact for alpha2 = 0, else dopri5)")
+    p.add_argument("--tol", type=float, default=1e-10,
+                   help="tolerance of dopri5 (default 1e-10)")
+    p.add_argument("--dt", type=float, default=None,
+                   help="fixed step of gps and rk4 [s] (default 2 pi/omega/50)")
+    p.add_argument("-o", "--output", metavar="RUN.nc", help="write the run as netCDF")
+    p.add_argument("--png", metavar="FIG.png", help="write the picture")
+    p.set_defaults(func=cmd_simulate)
+
+
+def _add_info(sub):
+    p = sub.add_parser("info", help="summarise a result file",
+                       description="Print the dimensions, axes with units, regime "
+                                   "and status counts, converged fraction and the "
+                                   "provenance attributes of a result file.")
+    p.add_argument("result", metavar="RESULT.nc")
+    p.set_defaults(func=cmd_info)
+
+
+# ---------------------------------------------------------------- commands
+def _resolve_outputs(study, args) -> tuple[Path, Path | None]:
+    out = Path(args.output or study.output_path or f"{study.stem}.nc")
+    if out.suffix != ".nc":
+        raise UsageError(f"output must end in .nc, got {str(out)!r}")
+    if args.no_png or (args.png is None and study.png is False):
+        png = None
+    elif args.png is not None:
+        png = Path(args.png)
+    elif isinstance(study.png, str):
+        png = Path(study.png)
+    else:
+        png = out.with_suffix(".png")
+    if png is not None and png.suffix.lower() != ".png":
+        raise UsageError(f"picture must end in .png, got {str(png)!r}")
+    return out, png
+
+
+def cmd_run(args) -> int:
+    """``sweepcore run``: validate, sweep, label, write, draw."""
+    from .grid import Grid
+    from .io import write_netcdf
+    from .options import make_options
+    from .study import load_study
+    from .sweep import sweep
+
+    study = load_study(args.study)
+    grid = Grid(**study.grid_kwargs())
+    make_options(study.method, tol=study.tol, **study.options)
+    out, png = _resolve_outputs(study, args)
+    for path in (out, png):
+        if path is not None:
+            path.parent.mkdir(parents=True, exist_ok=True)
+    if not args.quiet:
+        print(f"sweepcore run {args.study}: {grid.size} points "
+              f"({' x '.join(f'{d}: {n}' for d, n in zip(grid.dims, grid.shape))}), "
+              f"method {study.method}, tol {study.tol:g}", flush=True)
+    t0 = time.perf_counter()
+    ds = sweep(grid, method=study.method, tol=study.tol,
+               chunks=args.chunks or study.chunks, scheduler=args.scheduler, path=out,
+               progress=False if args.quiet else None, **study.options)
+    elapsed = time.perf_counter() - t0
+    ds = label_with_study(ds, study, _command_line(args))
+    write_netcdf(ds, out)
+    if not args.quiet:
+        print(f"wrote {out} ({grid.size} points in {elapsed:.1f} s)")
+        print(regime_line(ds))
+    if png is not None:
+        from .plot import figure_for, save
+        save(figure_for(ds, **study.plot), png)
+        if not args.quiet:
+            print(f"wrote {png}")
+    return 0
+
+
+def label_with_study(ds, study, command: str):
+    """Record the study (title, file, full text) and the command in ``ds``'s attrs.
+
+    The text of the study file plus the version in ``history`` reproduce the result.
+    Geometric axes get ``spacing = "geometric"`` (plots use a log scale for them).
+    """
+    ds.attrs["study_title"] = study.title
+    if study.description:
+        ds.attrs["study_description"] = study.description
+    ds.attrs["study_file"] = str(study.path) if study.path else ""
+    ds.attrs["study"] = study.text
+    ds.attrs["history"] = (ds.attrs.get("history", "") + "\n" + command).strip()
+    for name, spacing in study.spacing_attrs().items():
+        if name in ds.coords:
+            ds[name].attrs["spacing"] = spacing
+    return ds
+
+
+def _command_line(args) -> str:
+    from . import __version__
+    now = time.strftime("%Y-%m-%dT%H:%M:%S%z")
+    return f"{now} sweepcore {__version__}: {' '.join(['sweepcore'] + sys.argv[1:])}" \
+        if sys.argv and Path(sys.argv[0]).name in ("sweepcore", "__main__.py", "cli.py") \
+        else f"{now} sweepcore {__version__}: sweepcore {args.command}"
+
+
+def cmd_plot(args) -> int:
+    """``sweepcore plot``: the natural picture of a result file."""
+    from .plot import figure_for, save
+
+    ds = _open(args.result)
+    out = Path(args.output) if args.output else Path(args.result).with_suffix(".png")
+    if out.suffix.lower() != ".png":
+        raise UsageError(f"picture must end in .png, got {str(out)!r}")
+    kwargs = {}
+    if "time" not in ds.dims:
+        kwargs = {k: getattr(args, k) for k in ("x", "y") if getattr(args, k)}
+        ndim = sum(ds.sizes[d] > 1 for d in ds.dims)
+        if ndim < 2 and kwargs:
+            raise UsageError("--x/--y apply to maps; this result has one swept axis")
+        if args.variables:
+            names = [s.strip() for s in args.variables.split(",") if s.strip()]
+            missing = [n for n in names if n not in ds]
+            if missing:
+                raise UsageError(f"--variables: {', '.join(missing)} not in "
+                                 f"{args.result} (has {', '.join(ds.data_vars)})")
+            kwargs["variables"] = names
+        elif "study" in ds.attrs:
+            from .study import parse_study
+            kwargs = {**parse_study(ds.attrs["study"]).plot, **kwargs}
+    out.parent.mkdir(parents=True, exist_ok=True)
+    save(figure_for(ds, **kwargs), out)
+    print(f"wrote {out}")
+    return 0
+
+
+def cmd_simulate(args) -> int:
+    """``sweepcore simulate``: one slider, Fig. 3 style."""
+    from .io import write_netcdf
+    from .params import Params
+    from .simulate import simulate
+
+    p = Params(m=args.m, k=args.k, r_y=args.r_y, v=args.v, alpha1=args.alpha1,
+               alpha2=args.alpha2)
+    for path, suffix in ((args.output, ".nc"), (args.png, ".png")):
+        if path is not None and Path(path).suffix.lower() != suffix:
+            raise UsageError(f"{path!r} must end in {suffix}")
+    extra = {"dt": args.dt} if args.dt is not None else {}
+    ds = simulate(p, t_end=args.t_end, x0=args.x0, xdot0=args.xdot0, method=args.method,
+                  output_dt=args.output_dt, tol=args.tol, **extra)
+    ds.attrs["history"] = _command_line(args)
+    print(simulation_summary(ds, p))
+    for path in (args.output, args.png):
+        if path is not None:
+            Path(path).parent.mkdir(parents=True, exist_ok=True)
+    if args.output:
+        write_netcdf(ds, args.output)
+        print(f"wrote {args.output}")
+    if args.png:
+        from .plot import save, trajectory_figure
+        save(trajectory_figure(ds), args.png)
+        print(f"wrote {args.png}")
+    if not (args.output or args.png):
+        print("(nothing written: give -o RUN.nc and/or --png FIG.png)")
+    return 0 if ds.attrs.get("status") == "ok" else 1
+
+
+def cmd_info(args) -> int:
+    """``sweepcore info``: what a result file holds."""
+    ds = _open(args.result)
+    print(f"{args.result}:")
+    print(describe(ds))
+    return 0
+
+
+def _open(path):
+    from .io import open_result
+    if not Path(path).is_file():
+        raise UsageError(f"no such result file: {path}")
+    try:
+        return open_result(path)
+    except (OSError, ValueError) as err:
+        raise UsageError(f"cannot read {path} as netCDF: {err}") from None
+
+
+# ---------------------------------------------------------------- summaries
+def _units(var) -> str:
+    u = var.attrs.get("units", "")
+    return "" if u in ("", "1") else f" {u}"
+
+
+def _flag_counts(da) -> list[tuple[str, int]]:
+    values = np.atleast_1d(da.attrs.get("flag_values", []))
+    names = str(da.attrs.get("flag_meanings", "")).split()
+    counts = Counter(np.asarray(da.values).ravel().tolist())
+    out = [(name, counts.pop(int(val), 0)) for val, name in zip(values, names)]
+    out += [(f"code {code}", n) for code, n in sorted(counts.items())]
+    return out
+
+
+def regime_line(ds) -> str:
+    """One line of regime counts, e.g. ``regime: equilibrium 120, stick_slip 80``."""
+    if "regime" not in ds:
+        return ""
+    return "regime: " + ", ".join(f"{n} {c}" for n, c in _flag_counts(ds["regime"])
+                                  if c)
+
+
+def describe(ds) -> str:
+    """Multi-line summary of a sweep or simulation Dataset (``sweepcore info``)."""
+    if "time" in ds.dims:
+        return _describe_simulation(ds)
+    lines = []
+    size = int(np.prod([ds.sizes[d] for d in ds.dims])) if ds.dims else 1
+    shape = " x ".join(f"{d}: {n}" for d, n in ds.sizes.items())
+    lines.append(f"  sweep of {size} points ({shape})")
+    for key in ("study_title", "study_file"):
+        if ds.attrs.get(key):
+            lines.append(f"  {key.replace('_', ' ')}: {ds.attrs[key]}")
+    lines.append("  axes:")
+    for d in ds.dims:
+        c = ds[d]
+        vals = c.values
+        spacing = c.attrs.get("spacing", "")
+        lines.append(f"    {d:8s} {c.attrs.get('long_name', '')} [{c.attrs.get('units', '')}]"
+                     f": {vals.size} values in [{vals.min():.6g}, {vals.max():.6g}]"
+                     + (f" ({spacing})" if spacing else ""))
+    fixed = [n for n in ds.coords if ds[n].ndim == 0]
+    if fixed:
+        lines.append("  fixed: " + ", ".join(f"{n} = {float(ds[n]):.6g}{_units(ds[n])}"
+                                             for n in fixed))
+    if "initial_velocity" in ds.attrs:
+        lines.append(f"  start: {ds.attrs['initial_velocity']}")
+    for var in ("regime", "status"):
+        if var in ds:
+            lines.append(f"  {var} counts:")
+            for name, count in _flag_counts(ds[var]):
+                if count:
+                    lines.append(f"    {name:22s} {count:9d}  ({100 * count / size:.3g} %)")
+    if "converged" in ds:
+        n = int(np.asarray(ds["converged"].values).sum())
+        lines.append(f"  converged: {n} of {size} ({100 * n / size:.6g} %)")
+    for var in ("amplitude", "mean", "period"):
+        if var in ds:
+            vals = ds[var].values
+            if np.isfinite(vals).any():
+                lines.append(f"  {var}: [{np.nanmin(vals):.6g}, {np.nanmax(vals):.6g}]"
+                             f"{_units(ds[var])}")
+    lines.extend(_boundary_lines(ds))
+    lines.append("  attributes:")
+    for key in ("method", "tol", "max_steps", "max_periods", "dt", "graze",
+                "Conventions", "source", "history"):
+        if key in ds.attrs:
+            text = str(ds.attrs[key]).replace("\n", "\n" + " " * 16)
+            lines.append(f"    {key:12s}{text}")
+    return "\n".join(lines)
+
+
+def _boundary_lines(ds) -> list[str]:
+    if "v_hopf_measured" not in ds or "v_star" not in ds:
+        return []
+    measured = ds["v_hopf_measured"]
+    ok = np.isfinite(measured.values)
+    if not ok.any():
+        return ["  measured Hopf boundary: no switch from a cycle to equilibrium"]
+    vs = ds["v_star"]
+    other = [d for d in vs.dims if d != "v"]
+    vs = vs.isel(v=0) if "v" in vs.dims else vs
+    diff = (measured - vs).values
+    sel = ok & np.isfinite(diff)
+    res = ds["v_hopf_resolution"].values[sel] if "v_hopf_resolution" in ds else None
+    text = (f"  measured Hopf boundary: {int(ok.sum())} of {ok.size} rows switch; "
+            f"|v_measured - v*| <= {np.max(np.abs(diff[sel])):.3g} cm s-1"
+            if sel.any() else "")
+    if res is not None and res.size:
+        text += f" (grid resolution +-{np.max(res):.3g})"
+    return [text] if text else []
+
+
+def _describe_simulation(ds) -> str:
+    a = ds.attrs
+    t = ds.time.values
+    lines = [f"  simulation: {t.size} samples over t in [{t[0]:.6g}, {t[-1]:.6g}] s",
+             "  slider: " + ", ".join(f"{n} = {a[n]:.6g}" for n in
+                                      ("m", "k", "r_y", "v", "alpha1", "alpha2") if n in a),
+             f"  start: x0 = {a.get('x0', float('nan')):.6g} cm, "
+             f"xdot0 = {a.get('xdot0', float('nan')):.6g} cm s-1",
+             f"  method: {a.get('method', '?')}, status: {a.get('status', '?')}, "
+             f"steps: {a.get('n_steps', '?')}"]
+    if "event_kind" in ds:
+        counts = [(n, c) for n, c in _flag_counts(ds["event_kind"]) if c]
+        lines.append("  events: " + (", ".join(f"{n} {c}" for n, c in counts)
+                                     if counts else "none"))
+    x = ds.x.values
+    tail = t >= t[-1] - 0.2 * (t[-1] - t[0])
+    lines.append(f"  x over the last 20 % of the run: [{np.nanmin(x[tail]):.6g}, "
+                 f"{np.nanmax(x[tail]):.6g}] cm")
+    if "history" in a:
+        lines.append(f"  history: {a['history']}")
+    return "\n".join(lines)
+
+
+def simulation_summary(ds, p) -> str:
+    """Summary of a fresh simulation with the slider's analytic quantities."""
+    return (_describe_simulation(ds) + "\n"
+            f"  analytic: omega = {p.omega:.6g} s-1, q = {p.q:.6g} s-1 (eq. 46), "
+            f"v* = {p.v_star:.6g} cm s-1, x_eq = {p.x_eq:.6g} cm (eq. 43)")
+
+
+# --------------------------------------------------------------------- main
+def main(argv=None) -> int:
+    """Entry point of the ``sweepcore`` command; returns the exit code."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if args.threads:
+        set_threads(args.threads)
+    from .study import StudyError
+    try:
+        return args.func(args)
+    except KeyboardInterrupt:
+        print("sweepcore: interrupted (rerun the same command to resume a sweep)",
+              file=sys.stderr)
+        return 130
+    except (StudyError, UsageError, ValueError, TypeError) as err:
+        # refused input (Params, Grid, options, study file): one clean line
+        if args.traceback:
+            traceback.print_exc()
+        print(f"sweepcore {args.command}: error: {err}", file=sys.stderr)
+        return 2
+    except Exception as err:  # a failure while running
+        if args.traceback:
+            traceback.print_exc()
+        print(f"sweepcore {args.command}: failed: {type(err).__name__}: {err} "
+              "(--traceback shows where)", file=sys.stderr)
+        return 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
