@@ -25,7 +25,8 @@ def start_row(params: Params, x0: float, xdot0: float | None) -> np.ndarray:
 def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None = None,
              method: str = "auto", output_dt: float | None = None, tol: float = 1e-10,
              dt: float | None = None, max_steps: int = 10_000_000,
-             max_events: int = 1_000_000) -> xr.Dataset:
+             max_events: int = 1_000_000, gps_a: float | None = None,
+             graze: float = 1e-10) -> xr.Dataset:
     """Simulate one slider from (x0, xdot0) to ``t_end`` [s].
 
     Parameters
@@ -41,7 +42,7 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
         "exact" (closed-form arcs) needs alpha2 = 0; "auto" picks it then, else dopri5.
     output_dt : float, optional
         Sampling interval [s]; default 2 pi / omega / 100 (at most 10^6 samples).
-    tol, dt, max_steps :
+    tol, dt, max_steps, gps_a, graze :
         As in :func:`sweepcore.options.make_options`.
     max_events : int
         Size of the event log; a longer log raises (nothing is silently dropped).
@@ -68,7 +69,8 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
         raise ValueError("method='exact' needs alpha2 == 0 (the sliding phase has a "
                          f"closed form only for the piecewise-linear law); got "
                          f"alpha2={params.alpha2}")
-    o = resolve_options(row, make_options(method, tol=tol, dt=dt, max_steps=max_steps))
+    o = resolve_options(row, make_options(method, tol=tol, dt=dt, max_steps=max_steps,
+                                          gps_a=gps_a, graze=graze))
     t = np.arange(n) * output_dt
     if t[-1] < t_end:
         t = np.append(t, t_end)

@@ -146,3 +146,14 @@ def test_overdamped_laws():
     down = sc.attractor(sc.Params(**PAPER, alpha1=-100.0))
     assert down.regime == "equilibrium"
     assert down.mean == pytest.approx(sc.Params(**PAPER, alpha1=-100.0).x_eq, rel=1e-12)
+
+
+def test_gps_denominator_guard_stops_the_point_with_a_status():
+    """With the shift a = -r_y/k, ||u|| = 0 exactly at the breakaway point: the
+    denominator ||u||^2 - tau^2 ||f||^2 is negative at every step size."""
+    p = sc.Params(**PAPER, alpha1=1.0, alpha2=0.01)
+    a = sc.attractor(p, method="gps", dt=1e-3, gps_a=-p.r_y / p.k)
+    assert (a.regime, a.status) == ("failed", "gps_denominator_guard")
+    ds = sc.simulate(p, 1.0, method="gps", dt=1e-3, gps_a=-p.r_y / p.k)
+    assert ds.attrs["status"] == "gps_denominator_guard"
+    assert np.isnan(ds.x.values[-1])          # no plausible number after the failure

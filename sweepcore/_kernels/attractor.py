@@ -26,13 +26,15 @@ The search runs the hybrid driver and stops as soon as the answer is known:
 import math
 
 import numpy as np
-from numba import njit, prange
+from numba import prange
+
+from .jit import kernel
 
 from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
 from .layout import (A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
-                     A_XMIN, A1, A2, K, M, NA, NOBS, NS, O_DT, O_GPS_A, O_MAX_STEPS,
+                     A_XMIN, A1, A2, K, M, NA, NOBS, NS, O_DT, O_GPS_A, O_LV, O_LX, O_MAX_STEPS,
                      O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
                      OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS,
                      OB_STICK_FRACTION, OB_STICKS_PER_PERIOD, OB_T_SETTLE,
@@ -40,7 +42,7 @@ from .layout import (A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
                      S_ZD, V, X0, XD0)
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _clear(acc):
     for i in range(NA):
         acc[i] = 0.0
@@ -50,7 +52,7 @@ def _clear(acc):
     acc[A_XDMIN] = np.inf
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _merge(dst, src):
     for i in (A_IX, A_IXD2, 2, A_TSTICK, A_NSTICK):
         dst[i] += src[i]
@@ -60,7 +62,7 @@ def _merge(dst, src):
     dst[A_XDMIN] = min(dst[A_XDMIN], src[A_XDMIN])
 
 
-@njit(cache=True)
+@kernel
 def _write_cycle(out, acc, t0, t1, omega, regime):
     T = t1 - t0
     out[OB_AMPLITUDE] = 0.5 * (acc[A_XMAX] - acc[A_XMIN])
@@ -76,7 +78,7 @@ def _write_cycle(out, acc, t0, t1, omega, regime):
     out[OB_REGIME] = regime
 
 
-@njit(cache=True)
+@kernel
 def _write_rest(out, x, t, regime, stuck):
     out[OB_AMPLITUDE] = 0.0
     out[OB_MEAN] = x
@@ -91,7 +93,7 @@ def _write_rest(out, x, t, regime, stuck):
     out[OB_REGIME] = regime
 
 
-@njit(cache=True)
+@kernel
 def resolve_options(p, o_in):
     """Per-point option row: 'auto' method, default dt and GPS shift resolved."""
     o = o_in.copy()
@@ -100,13 +102,15 @@ def resolve_options(p, o_in):
     omega = math.sqrt(p[K] / p[M])
     if not o[O_DT] > 0.0:
         o[O_DT] = 2.0 * math.pi / omega / 50.0
+    lx, lv = scales(p)
+    o[O_LX] = lx
+    o[O_LV] = lv
     if np.isnan(o[O_GPS_A]):
-        lx, _lv = scales(p)
         o[O_GPS_A] = lx
     return o
 
 
-@njit(cache=True)
+@kernel
 def method_status(p, o):
     """A priori refusal: exact needs alpha2 = 0; fixed steps must resolve 1/omega."""
     meth = int(o[O_METHOD])
@@ -118,7 +122,7 @@ def method_status(p, o):
     return codes.OK
 
 
-@njit(cache=True)
+@kernel
 def x_equilibrium(p):
     """Steady-sliding position (eq. 43, mirrored for v < 0; 0 for v = 0) [cm]."""
     v = p[V]
@@ -129,7 +133,7 @@ def x_equilibrium(p):
     return sg * (p[RY] - p[A1] * va + p[A2] * va ** 3) / p[K]
 
 
-@njit(cache=True)
+@kernel
 def _certified_rest(x, zd, p):
     """True when (x, zdot) lies in a sublevel set of E that provably decays to x_eq."""
     v = p[V]
@@ -148,7 +152,7 @@ def _certified_rest(x, zd, p):
     return vel < lim
 
 
-@njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def attractor_point(p, o_in, out):
     """Fill ``out`` (layout OB_*) with the attractor observables of one point."""
     for i in range(NOBS):
@@ -323,14 +327,14 @@ def attractor_point(p, o_in, out):
     out[OB_STATUS] = status
 
 
-@njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def attractor_rows(P, o, out):
     """Serial loop over the rows of P (for dask tasks: dask owns the parallelism)."""
     for i in range(P.shape[0]):
         attractor_point(P[i], o, out[i])
 
 
-@njit(cache=True, parallel=True)
+@kernel(parallel=True)
 def attractor_rows_parallel(P, o, out):
     """numba-threaded loop over the rows of P (one prange, sequential inside)."""
     for i in prange(P.shape[0]):

@@ -6,10 +6,10 @@ table II.5.2. The error is measured per component against
 and its velocity ``omega L``), so the tolerance is relative and the units cancel.
 """
 import numpy as np
-from numba import njit
+from .jit import kernel
 
-from .friction import friction, zdd
-from .layout import K, M, O_RTOL, RY, V
+from .friction import friction, zdd_im
+from .layout import K, M, O_LV, O_LX, O_RTOL, RY, V
 
 ORDER = 5
 ERROR_ORDER = 4
@@ -39,7 +39,7 @@ TABLEAU_B = np.array([B1, 0, B3, B4, B5, B6, 0])
 TABLEAU_E = np.array([E1, 0, E3, E4, E5, E6, E7])
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def scales(p):
     """Length scale [cm] and velocity scale [cm/s] of a point's attractor.
 
@@ -54,39 +54,41 @@ def scales(p):
     return lx, omega * lx
 
 
-@njit(cache=True)
+@kernel
 def dopri5_step(x, zd, h, s, p, o, want_q):
     """One Dormand-Prince step of the sliding field; see ``stepper.py``."""
     v = p[V]
+    im = 1.0 / p[M]
     k1x = zd + v
-    k1z = zdd(x, zd, s, p)
+    k1z = zdd_im(x, zd, s, p, im)
     x2 = x + h * A21 * k1x
     z2 = zd + h * A21 * k1z
     k2x = z2 + v
-    k2z = zdd(x2, z2, s, p)
+    k2z = zdd_im(x2, z2, s, p, im)
     x3 = x + h * (A31 * k1x + A32 * k2x)
     z3 = zd + h * (A31 * k1z + A32 * k2z)
     k3x = z3 + v
-    k3z = zdd(x3, z3, s, p)
+    k3z = zdd_im(x3, z3, s, p, im)
     x4 = x + h * (A41 * k1x + A42 * k2x + A43 * k3x)
     z4 = zd + h * (A41 * k1z + A42 * k2z + A43 * k3z)
     k4x = z4 + v
-    k4z = zdd(x4, z4, s, p)
+    k4z = zdd_im(x4, z4, s, p, im)
     x5 = x + h * (A51 * k1x + A52 * k2x + A53 * k3x + A54 * k4x)
     z5 = zd + h * (A51 * k1z + A52 * k2z + A53 * k3z + A54 * k4z)
     k5x = z5 + v
-    k5z = zdd(x5, z5, s, p)
+    k5z = zdd_im(x5, z5, s, p, im)
     x6 = x + h * (A61 * k1x + A62 * k2x + A63 * k3x + A64 * k4x + A65 * k5x)
     z6 = zd + h * (A61 * k1z + A62 * k2z + A63 * k3z + A64 * k4z + A65 * k5z)
     k6x = z6 + v
-    k6z = zdd(x6, z6, s, p)
+    k6z = zdd_im(x6, z6, s, p, im)
     x1 = x + h * (B1 * k1x + B3 * k3x + B4 * k4x + B5 * k5x + B6 * k6x)
     zd1 = zd + h * (B1 * k1z + B3 * k3z + B4 * k4z + B5 * k5z + B6 * k6z)
     k7x = zd1 + v
-    k7z = zdd(x1, zd1, s, p)
+    k7z = zdd_im(x1, zd1, s, p, im)
     ex = h * (E1 * k1x + E3 * k3x + E4 * k4x + E5 * k5x + E6 * k6x + E7 * k7x)
     ez = h * (E1 * k1z + E3 * k3z + E4 * k4z + E5 * k5z + E6 * k6z + E7 * k7z)
-    lx, lv = scales(p)
+    lx = o[O_LX]
+    lv = o[O_LV]
     rtol = o[O_RTOL]
     err = max(abs(ex) / (rtol * (lx + max(abs(x), abs(x1)))),
               abs(ez) / (rtol * (lv + max(abs(zd), abs(zd1)))))

@@ -25,13 +25,13 @@ Rules (eq. numbers of Liu's paper):
 import math
 
 import numpy as np
-from numba import njit
+from .jit import kernel
 
 from . import codes
 from .dopri5 import scales
 from .friction import zdd, zddd
 from .layout import (A_IX, A_IXD2, A_NSTEPS, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
-                     A_XDMIN, A_XMAX, A_XMIN, K, M, O_GRAZE, O_MAX_STEPS, O_METHOD,
+                     A_XDMIN, A_XMAX, A_XMIN, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS, O_METHOD,
                      O_RTOL, RY, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
 from .stepper import proposal, step
 
@@ -42,7 +42,7 @@ _F_ZDD = 2
 
 
 # ---------------------------------------------------------------- small pieces
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _fun(which, x, zd, s, p):
     v = p[V]
     if which == _F_ZD:
@@ -52,7 +52,7 @@ def _fun(which, x, zd, s, p):
     return zdd(x, zd, s, p), zddd(x, zd, s, p, v)
 
 
-@njit(cache=True)
+@kernel
 def _polish(which, x, zd, s, p, o, lo, hi, sign_lo, guess, st):
     """Root in (lo, hi] of F(h) = fun(step(x, zd, h)); F(lo) has sign ``sign_lo``.
 
@@ -86,7 +86,7 @@ def _polish(which, x, zd, s, p, o, lo, hi, sign_lo, guess, st):
     return h, x1, z1
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _cubic(f0, f1, d0, d1, th):
     """Cubic Hermite interpolant on [0, 1] (values f, theta-derivatives d)."""
     a = 2.0 * (f0 - f1) + d0 + d1
@@ -94,7 +94,7 @@ def _cubic(f0, f1, d0, d1, th):
     return ((a * th + b) * th + d0) * th + f0
 
 
-@njit(cache=True)
+@kernel
 def _critical(f0, f1, d0, d1):
     """Critical points in (0, 1) of the Hermite cubic, sorted; (n, t1, t2)."""
     a = 3.0 * (2.0 * (f0 - f1) + d0 + d1)
@@ -133,7 +133,7 @@ def _critical(f0, f1, d0, d1):
     return n, t1, t2
 
 
-@njit(cache=True)
+@kernel
 def classify_zero(x, s, p, gtol):
     """Mode after zdot reached 0 while sliding with sign s, and the event kind.
 
@@ -172,7 +172,7 @@ def classify_zero(x, s, p, gtol):
     return new, codes.EV_NORMAL_STOP, xn
 
 
-@njit(cache=True)
+@kernel
 def initial_mode(x0, xd0, p, gtol):
     """Phase of a start (x0, xdot0): slide by the sign of zdot, else as at a stop."""
     zd0 = xd0 - p[V]
@@ -184,7 +184,7 @@ def initial_mode(x0, xd0, p, gtol):
     return new, xn
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _note_x(acc, x, xd):
     if x > acc[A_XMAX]:
         acc[A_XMAX] = x
@@ -196,7 +196,7 @@ def _note_x(acc, x, xd):
         acc[A_XDMIN] = xd
 
 
-@njit(cache=True)
+@kernel
 def init_state(st, x0, xd0, p, o):
     """Fill st for a start at t = 0; returns the start's mode."""
     mode, xs = initial_mode(x0, xd0, p, o[O_GRAZE])
@@ -212,7 +212,7 @@ def init_state(st, x0, xd0, p, o):
 
 
 # ---------------------------------------------------------------- the phases
-@njit(cache=True)
+@kernel
 def stick_until_slip(st, p, acc, t_stop):
     """Stick phase in closed form (x moves with the belt) until slip or t_stop."""
     v = p[V]
@@ -246,7 +246,7 @@ def stick_until_slip(st, p, acc, t_stop):
     return codes.EV_STOP_TIME, codes.OK
 
 
-@njit(cache=True)
+@kernel
 def _zd_event(g0, g1, d0, d1, armed, near):
     """Scan the Hermite cubic of g = s zdot over a step.
 
@@ -255,17 +255,14 @@ def _zd_event(g0, g1, d0, d1, armed, near):
     whose value is within ``near`` of 0 and must be checked on the integrator.
     """
     n, c1, c2 = _critical(g0, g1, d0, d1)
-    pts = np.empty(4)
-    pts[0] = 0.0
-    k = 1
-    if n >= 1:
-        pts[k] = c1
-        k += 1
-    if n == 2:
-        pts[k] = c2
-        k += 1
-    pts[k] = 1.0
-    k += 1
+    # candidate points 0 < critical points < 1; g is monotone between neighbours
+    if n == 0:
+        pts = (0.0, 1.0, 1.0, 1.0)
+    elif n == 1:
+        pts = (0.0, c1, 1.0, 1.0)
+    else:
+        pts = (0.0, c1, c2, 1.0)
+    k = n + 2
     start = 0
     if not armed:
         # A start on the switching line (g0 = 0) is never itself an event: skip to
@@ -300,7 +297,7 @@ def _zd_event(g0, g1, d0, d1, armed, near):
     return 0, 0.0, 0.0, 0.0, armed
 
 
-@njit(cache=True)
+@kernel
 def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
     """Book the partial step to a zdot = 0 event at h and apply the stop rules."""
     _x, _z, qx, qv, qw, _e, _ok = step(x0, zd0, h, s, p, o, True)
@@ -320,7 +317,7 @@ def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
     return ev
 
 
-@njit(cache=True)
+@kernel
 def slide_until_event(st, p, o, acc, t_stop):
     """Integrate the sliding phase until zdot = 0, an extremum of x, or t_stop."""
     v = p[V]
@@ -328,7 +325,8 @@ def slide_until_event(st, p, o, acc, t_stop):
     meth = int(o[O_METHOD])
     adaptive = meth == codes.DOPRI5
     max_steps = o[O_MAX_STEPS]
-    lx, lv = scales(p)
+    lx = o[O_LX]
+    lv = o[O_LV]
     # a touch is decided at the method's own accuracy: the adaptive method's error
     # over a period is ~100 local errors of rtol (fixed steps: the user's graze)
     gtol = (max(o[O_GRAZE], 100.0 * o[O_RTOL]) if adaptive else o[O_GRAZE]) * lv
@@ -467,7 +465,7 @@ def slide_until_event(st, p, o, acc, t_stop):
             return codes.EV_STOP_TIME, codes.OK
 
 
-@njit(cache=True)
+@kernel
 def _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1):
     """Record an extremum of xdot (zdd = 0) inside [0, h] of the step from (x, zd)."""
     if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
@@ -476,7 +474,7 @@ def _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1):
         _note_x(acc, xv, zv + p[V])
 
 
-@njit(cache=True)
+@kernel
 def advance(st, p, o, acc, t_stop):
     """Advance to the next event or to t_stop; returns (event, status)."""
     if st[S_MODE] == codes.STICK:

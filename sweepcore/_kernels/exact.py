@@ -23,7 +23,7 @@ Quadratures use 8-point Gauss-Legendre on arcs of at most half an oscillation
 import math
 
 import numpy as np
-from numba import njit
+from .jit import kernel
 
 from .friction import friction
 from .layout import A1, K, M, RY, V
@@ -36,7 +36,7 @@ ORDER = 0  # no truncation error
 _SAME_POINT = 1e-9
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def arc_constants(s, p):
     """Sliding centre c [cm], growth rate sigma [1/s] and beta^2 [1/s^2]."""
     c = (-p[RY] * s - p[A1] * p[V]) / p[K]
@@ -45,7 +45,7 @@ def arc_constants(s, p):
     return c, sig, b2
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def _cs(b2, t):
     if b2 > 0.0:
         b = math.sqrt(b2)
@@ -56,7 +56,7 @@ def _cs(b2, t):
     return 1.0, t
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def arc_eval(y0, yd0, sig, b2, t):
     """(y, y') at time t on the arc that starts at (y0, y0')."""
     C, S = _cs(b2, t)
@@ -65,7 +65,7 @@ def arc_eval(y0, yd0, sig, b2, t):
     return e * (y0 * C + bb * S), e * (yd0 * C + (sig * bb - b2 * y0) * S)
 
 
-@njit(cache=True)
+@kernel
 def exact_step(x, zd, h, s, p, want_q):
     """Closed-form state after h [s]; see ``stepper.py`` for the contract."""
     v = p[V]
@@ -87,7 +87,7 @@ def exact_step(x, zd, h, s, p, want_q):
     return c + y1, yd1 - v, qx, qv, qw, 0.0, True
 
 
-@njit(cache=True)
+@kernel
 def exact_proposal(x, zd, s, p):
     """Time [s] to the next extremum of zdot on the current arc (capped)."""
     v = p[V]

@@ -10,24 +10,31 @@ without bound, x does not):
     xdot    = zdot + v
     zdotdot = (-k x - r_a) / m .
 """
-from numba import njit
+from .jit import kernel
 
 from .layout import A1, A2, K, M, RY
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def friction(zd, s, p):
     """Friction force r_a on the slider while sliding [kN], eq. (40)."""
     return p[RY] * s - p[A1] * zd + p[A2] * zd * zd * zd
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
 def zdd(x, zd, s, p):
     """Relative (= absolute) acceleration while sliding [cm/s^2], eq. (41)."""
     return (-p[K] * x - friction(zd, s, p)) / p[M]
 
 
-@njit(cache=True, inline="always")
+@kernel(inline="always")
+def zdd_im(x, zd, s, p, im):
+    """``zdd`` with ``im = 1/m`` given: steppers take the reciprocal once per step, so
+    no division sits on the chain of dependent stages."""
+    return (-p[K] * x - friction(zd, s, p)) * im
+
+
+@kernel(inline="always")
 def zddd(x, zd, s, p, v):
     """Time derivative of zdd along the sliding flow [cm/s^3]."""
     a = zdd(x, zd, s, p)

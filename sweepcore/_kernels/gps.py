@@ -16,7 +16,7 @@ forward Euler, which pumps energy into an oscillator (growth ~ omega^2 h / 2 per
 time). When the denominator is not safely positive (``<= ||u||^2 / 2``) the step is
 refused (``ok = False``) and the driver halves it.
 """
-from numba import njit
+from .jit import kernel
 
 from .friction import friction, zdd
 from .layout import O_GPS_A, V
@@ -24,7 +24,7 @@ from .layout import O_GPS_A, V
 ORDER = 1
 
 
-@njit(cache=True)
+@kernel
 def gps_step(x, zd, h, s, p, o, want_q):
     """One GPS step of the sliding field; see ``stepper.py`` for the contract."""
     v = p[V]

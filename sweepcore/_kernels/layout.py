@@ -17,7 +17,9 @@ O_MAX_STEPS = 3  # step budget of one run (accepted + rejected + polish steps)
 O_MAX_TIME = 4   # time budget of one attractor search [periods 2 pi / omega]
 O_GPS_A = 5      # shift constant a of the GPS coordinates [cm]; NaN -> length scale
 O_GRAZE = 6      # relative tolerance of tangential touches (graze) and exit snaps
-NO = 7
+O_LX = 7         # the point's length scale [cm]   } filled per point by
+O_LV = 8         # the point's velocity scale [cm/s] } attractor.resolve_options
+NO = 9
 
 # simulation state st
 S_T, S_X, S_ZD, S_MODE, S_ARMED, S_H, S_N = range(7)   # S_N: stepper calls so far

@@ -1,30 +1,31 @@
 """Classical fourth-order Runge-Kutta, fixed step (method "rk4")."""
-from numba import njit
+from .jit import kernel
 
-from .friction import friction, zdd
-from .layout import V
+from .friction import friction, zdd_im
+from .layout import M, V
 
 ORDER = 4
 
 
-@njit(cache=True)
+@kernel
 def rk4_step(x, zd, h, s, p, want_q):
     """One RK4 step of the sliding field; see ``stepper.py`` for the contract."""
     v = p[V]
+    im = 1.0 / p[M]
     k1x = zd + v
-    k1z = zdd(x, zd, s, p)
+    k1z = zdd_im(x, zd, s, p, im)
     x2 = x + 0.5 * h * k1x
     z2 = zd + 0.5 * h * k1z
     k2x = z2 + v
-    k2z = zdd(x2, z2, s, p)
+    k2z = zdd_im(x2, z2, s, p, im)
     x3 = x + 0.5 * h * k2x
     z3 = zd + 0.5 * h * k2z
     k3x = z3 + v
-    k3z = zdd(x3, z3, s, p)
+    k3z = zdd_im(x3, z3, s, p, im)
     x4 = x + h * k3x
     z4 = zd + h * k3z
     k4x = z4 + v
-    k4z = zdd(x4, z4, s, p)
+    k4z = zdd_im(x4, z4, s, p, im)
     x1 = x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x)
     zd1 = zd + h / 6.0 * (k1z + 2.0 * k2z + 2.0 * k3z + k4z)
     qx = 0.0

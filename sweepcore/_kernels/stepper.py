@@ -18,7 +18,7 @@ from the state ``(x, zdot)`` over a step ``h`` [s]:
    the integrator's own state, not an interpolant's.
 5. ``proposal(x, zd, s, p, o, h_prev)`` returns the next step size to try.
 """
-from numba import njit
+from .jit import kernel
 
 from . import codes
 from .dopri5 import dopri5_step
@@ -28,7 +28,7 @@ from .rk4 import rk4_step
 from .layout import O_DT, O_METHOD
 
 
-@njit(cache=True)
+@kernel
 def step(x, zd, h, s, p, o, want_q):
     """Dispatch one step to the method in ``o[O_METHOD]`` (see module docstring)."""
     meth = int(o[O_METHOD])
@@ -41,7 +41,7 @@ def step(x, zd, h, s, p, o, want_q):
     return dopri5_step(x, zd, h, s, p, o, want_q)
 
 
-@njit(cache=True)
+@kernel
 def proposal(x, zd, s, p, o, h_prev):
     """Next step size [s]: fixed for gps/rk4, controller's for dopri5, arc for exact."""
     meth = int(o[O_METHOD])

@@ -1,6 +1,6 @@
 """One run of the hybrid driver, sampled at given times, with its event log."""
 import numpy as np
-from numba import njit
+from .jit import kernel
 
 from . import codes
 from .attractor import method_status
@@ -8,7 +8,7 @@ from .driver import advance, init_state
 from .layout import NA, NS, S_MODE, S_N, S_T, S_X, S_ZD, A_XMAX, A_XMIN, A_XDMAX, A_XDMIN
 
 
-@njit(cache=True)
+@kernel
 def fresh_acc():
     """Accumulators with empty extrema."""
     acc = np.zeros(NA)
@@ -19,7 +19,7 @@ def fresh_acc():
     return acc
 
 
-@njit(cache=True)
+@kernel
 def run_trajectory(p, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind, ev_x,
                    ev_zd, acc):
     """Run from (p[X0], p[XD0]) and fill the sample and event arrays.

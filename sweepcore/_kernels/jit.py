@@ -1,0 +1,21 @@
+"""Compile options of every kernel, decided once, here.
+
+* ``cache=True``: compiled once per machine and reused by later processes (tests,
+  benchmarks, dask workers), in a directory keyed by a hash of all kernel sources
+  (``__init__.py``), so a change anywhere never runs with stale inlined code.
+* ``error_model="numpy"``: a division by zero gives inf/nan instead of raising.
+  Kernels never raise (failure is a status code), and the Python error model puts a
+  zero check on every division of the hot loop.
+* no ``fastmath``: results must be bit-identical whatever the chunking, scheduler or
+  number of workers.
+"""
+from numba import njit
+
+
+def kernel(fn=None, **options):
+    """``numba.njit`` with the project's options; extra options (inline, nogil,
+    parallel) are passed on."""
+    opts = {"cache": True, "error_model": "numpy", **options}
+    if fn is not None:
+        return njit(**opts)(fn)
+    return njit(**opts)
