@@ -254,6 +254,12 @@ def _zd_event(g0, g1, d0, d1, armed, near):
     in [th_a, th_b], 2 a turning point th_c (local min of g, bracketed by th_a, th_b)
     whose value is within ``near`` of 0 and must be checked on the integrator.
     """
+    # The cubic is linear interpolation plus th (1 - th) [A (1 - th) - B th] with
+    # A = d0 - (g1 - g0), B = d1 - (g1 - g0): it stays above min(g0, g1) - max|A, B|/4.
+    # When that bound is above `near` nothing can be found: skip the scan.
+    dg = g1 - g0
+    if armed and min(g0, g1) - 0.25 * max(abs(d0 - dg), abs(d1 - dg)) > near:
+        return 0, 0.0, 0.0, 0.0, armed
     n, c1, c2 = _critical(g0, g1, d0, d1)
     # candidate points 0 < critical points < 1; g is monotone between neighbours
     if n == 0:
