@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import shlex
 import sys
 import time
 import traceback
@@ -195,18 +196,40 @@ def _resolve_outputs(study, args) -> tuple[Path, Path | None]:
 def cmd_run(args) -> int:
     """``sweepcore run``: validate, sweep, label, write, draw."""
     from .grid import Grid
-    from .io import write_netcdf
     from .options import make_options
     from .study import load_study
-    from .sweep import sweep
 
     study = load_study(args.study)
     grid = Grid(**study.grid_kwargs())
     make_options(study.method, tol=study.tol, **study.options)
     out, png = _resolve_outputs(study, args)
-    for path in (out, png):
-        if path is not None:
-            path.parent.mkdir(parents=True, exist_ok=True)
+    made = _make_parents(out, png)
+    try:
+        return _run(args, study, grid, out, png)
+    except BaseException:
+        for d in reversed(made):          # leave no empty directory behind
+            if d.is_dir() and not any(d.iterdir()):
+                d.rmdir()
+        raise
+
+
+def _make_parents(*paths) -> list[Path]:
+    """Create the missing parent directories of ``paths``; return those created."""
+    made = []
+    for path in paths:
+        if path is None:
+            continue
+        missing = [d for d in [path.parent, *path.parent.parents] if not d.exists()]
+        for d in reversed(missing):
+            d.mkdir()
+            made.append(d)
+    return made
+
+
+def _run(args, study, grid, out, png) -> int:
+    from .io import write_netcdf
+    from .sweep import sweep
+
     if not args.quiet:
         print(f"sweepcore run {args.study}: {grid.size} points "
               f"({' x '.join(f'{d}: {n}' for d, n in zip(grid.dims, grid.shape))}), "
@@ -248,11 +271,10 @@ def label_with_study(ds, study, command: str):
 
 
 def _command_line(args) -> str:
+    """``history`` line: time, version and the command as typed."""
     from . import __version__
     now = time.strftime("%Y-%m-%dT%H:%M:%S%z")
-    return f"{now} sweepcore {__version__}: {' '.join(['sweepcore'] + sys.argv[1:])}" \
-        if sys.argv and Path(sys.argv[0]).name in ("sweepcore", "__main__.py", "cli.py") \
-        else f"{now} sweepcore {__version__}: sweepcore {args.command}"
+    return f"{now} sweepcore {__version__}: " + shlex.join(["sweepcore", *args.argv])
 
 
 def cmd_plot(args) -> int:
@@ -266,8 +288,12 @@ def cmd_plot(args) -> int:
     kwargs = {}
     if "time" not in ds.dims:
         kwargs = {k: getattr(args, k) for k in ("x", "y") if getattr(args, k)}
-        ndim = sum(ds.sizes[d] > 1 for d in ds.dims)
-        if ndim < 2 and kwargs:
+        swept = [d for d in ds.dims if ds.sizes[d] > 1 and ds[d].dtype.kind in "iuf"]
+        for key, dim in kwargs.items():
+            if dim not in swept:
+                raise UsageError(f"--{key} {dim}: not a swept axis of {args.result} "
+                                 f"(swept: {', '.join(swept)})")
+        if len(swept) < 2 and kwargs:
             raise UsageError("--x/--y apply to maps; this result has one swept axis")
         if args.variables:
             names = [s.strip() for s in args.variables.split(",") if s.strip()]
@@ -277,8 +303,11 @@ def cmd_plot(args) -> int:
                                  f"{args.result} (has {', '.join(ds.data_vars)})")
             kwargs["variables"] = names
         elif "study" in ds.attrs:
-            from .study import parse_study
-            kwargs = {**parse_study(ds.attrs["study"]).plot, **kwargs}
+            from .study import StudyError, parse_study
+            try:
+                kwargs = {**parse_study(ds.attrs["study"]).plot, **kwargs}
+            except StudyError:    # a study of another version: default picture
+                pass
     out.parent.mkdir(parents=True, exist_ok=True)
     save(figure_for(ds, **kwargs), out)
     print(f"wrote {out}")
@@ -373,8 +402,8 @@ def describe(ds) -> str:
         c = ds[d]
         vals = c.values
         spacing = c.attrs.get("spacing", "")
-        lines.append(f"    {d:8s} {c.attrs.get('long_name', '')} [{c.attrs.get('units', '')}]"
-                     f": {vals.size} values in [{vals.min():.6g}, {vals.max():.6g}]"
+        name = f"{c.attrs.get('long_name', '')} [{c.attrs.get('units', '')}]"
+        lines.append(f"    {d:8s} {name}: {vals.size} values in [{vals.min():.6g}, {vals.max():.6g}]"
                      + (f" ({spacing})" if spacing else ""))
     fixed = [n for n in ds.coords if ds[n].ndim == 0]
     if fixed:
@@ -462,7 +491,9 @@ def simulation_summary(ds, p) -> str:
 def main(argv=None) -> int:
     """Entry point of the ``sweepcore`` command; returns the exit code."""
     parser = build_parser()
+    argv = sys.argv[1:] if argv is None else list(map(str, argv))
     args = parser.parse_args(argv)
+    args.argv = argv
     if args.threads:
         set_threads(args.threads)
     from .study import StudyError
@@ -473,17 +504,25 @@ def main(argv=None) -> int:
               file=sys.stderr)
         return 130
     except (StudyError, UsageError, ValueError, TypeError) as err:
-        # refused input (Params, Grid, options, study file): one clean line
+        # refused input (Params, Grid, options, study file): one clean line. plot and
+        # info validate their input themselves (UsageError); a ValueError deeper in
+        # them is a failure, not a refusal.
+        if args.command in ("plot", "info") and not isinstance(err, UsageError):
+            return _failed(args, err)
         if args.traceback:
             traceback.print_exc()
         print(f"sweepcore {args.command}: error: {err}", file=sys.stderr)
         return 2
     except Exception as err:  # a failure while running
-        if args.traceback:
-            traceback.print_exc()
-        print(f"sweepcore {args.command}: failed: {type(err).__name__}: {err} "
-              "(--traceback shows where)", file=sys.stderr)
-        return 1
+        return _failed(args, err)
+
+
+def _failed(args, err) -> int:
+    if args.traceback:
+        traceback.print_exc()
+    print(f"sweepcore {args.command}: failed: {type(err).__name__}: {err} "
+          "(--traceback shows where)", file=sys.stderr)
+    return 1
 
 
 if __name__ == "__main__":

@@ -6,10 +6,14 @@ atomically. :func:`figure_for` picks the natural picture of any result:
 
 * a simulation (has a ``time`` dimension): the paper's Fig. 3 layout, time histories
   of z, zdot, x, xdot and the phase planes (z, zdot) and (x, xdot);
-* a 1-D sweep: amplitude and mean against the swept parameter;
+* a 1-D sweep: amplitude and mean against the swept parameter (a second axis of at
+  most four values, or a categorical one, gives one series per value);
 * a 2-D sweep: the regime as a categorical map with a legend, the amplitude map, the
   analytic Hopf speed v* = sqrt(alpha1/(3 alpha2)) drawn over both, and the measured
-  boundaries of :mod:`sweepcore.boundary` when they can be computed.
+  boundaries of :mod:`sweepcore.boundary` when they can be computed; a third swept
+  axis of at most six values gives one row of maps per value;
+* simulations stacked along a parameter: one row of x(t), xdot(t), (x, xdot) each
+  (the paper's Fig. 5 layout); any other 1-D file: its variables against its axis.
 
 Axis labels carry the units of the data (kN, cm, s); geometric axes are drawn on a
 log scale.
@@ -135,13 +139,56 @@ def figure_for(ds: xr.Dataset, **kwargs) -> Figure:
     :func:`map_figure`.
     """
     if "time" in ds.dims:
+        extra = [d for d in ds.dims if d not in ("time", "event") and ds.sizes[d] > 1]
+        if extra:          # several runs stacked along a parameter: one row each
+            d = extra[0]
+            runs = [ds.isel({d: i}) for i in range(ds.sizes[d])]
+            return cases_figure(runs, [f"${SYMBOLS.get(d, d)}$ = {_fmt(r[d])}"
+                                       for r in runs], title=ds.attrs.get("title"))
         return trajectory_figure(ds, **kwargs)
     dims = [d for d in ds.dims if ds.sizes[d] > 1]
     if not dims:
         raise ValueError("the result has a single point: nothing to plot against")
-    if len(dims) == 1:
-        return line_figure(ds, dims[0], **kwargs)
+    if "amplitude" not in ds and "regime" not in ds:
+        return generic_figure(ds)
+    numeric = [d for d in dims if ds[d].dtype.kind in "iuf"]
+    few = [d for d in numeric if ds.sizes[d] <= 4]
+    if len(numeric) == 2 and len(few) == 1 and not ("x" in kwargs or "y" in kwargs):
+        numeric.remove(few[0])   # a map 2-4 cells wide reads better as a few lines
+    if len(numeric) == 1:
+        kwargs = {k: v for k, v in kwargs.items() if k not in ("x", "y")}
+        series = [d for d in dims if d != numeric[0]]
+        return line_figure(ds, numeric[0], series=series[0] if series else None,
+                           **kwargs)
     return map_figure(ds, **kwargs)
+
+
+def _fmt(value) -> str:
+    """A coordinate value for a title: numbers with 4 digits, strings as they are."""
+    v = np.asarray(value).item()
+    return f"{v:.4g}" if isinstance(v, (int, float)) else str(v)
+
+
+def generic_figure(ds: xr.Dataset, max_panels: int = 6) -> Figure:
+    """Every numeric 1-D data variable against the result's one dimension."""
+    dims = [d for d in ds.dims if ds.sizes[d] > 1]
+    if len(dims) != 1:
+        raise ValueError("no picture for this result: it is neither a simulation nor "
+                         "a sweep, and it has more than one dimension")
+    dim = dims[0]
+    names = [n for n, v in ds.data_vars.items()
+             if v.dims == (dim,) and v.dtype.kind in "iuf"][:max_panels]
+    if not names:
+        raise ValueError(f"no numeric variable along {dim!r} to draw")
+    fig = Figure(figsize=(8, 2.9 * len(names) + 0.8), layout="constrained")
+    axs = np.atleast_1d(fig.subplots(len(names), 1, sharex=True))
+    for ax, name in zip(axs, names):
+        ax.plot(ds[dim].values, ds[name].values, ".", ms=3, color="#0072B2")
+        ax.set_ylabel(label(ds[name], name))
+        ax.grid(alpha=0.3)
+    axs[-1].set_xlabel(label(ds[dim], dim))
+    fig.suptitle(ds.attrs.get("title", ""), fontsize=10)
+    return fig
 
 
 # ---------------------------------------------------------- trajectories
@@ -220,7 +267,8 @@ def _trajectory_title(ds: xr.Dataset) -> str:
     a = ds.attrs
     p = ", ".join(f"${SYMBOLS[n]}$ = {a[n]:.4g}" for n in
                   ("m", "k", "r_y", "v", "alpha1", "alpha2") if n in a)
-    start = f"start ($x_0$, $\\dot{{x}}_0$) = ({a.get('x0', 0):.4g}, {a.get('xdot0', 0):.4g})"
+    start = (f"start ($x_0$, $\\dot{{x}}_0$) = ({a.get('x0', 0):.4g}, "
+             f"{a.get('xdot0', 0):.4g})")
     return f"Single slider: {p}; {start}; method {a.get('method', '?')}"
 
 
@@ -254,15 +302,21 @@ def cases_figure(runs, labels, title: str | None = None,
             ax.axhline(v, color="0.5", lw=0.8, ls="--", label=f"belt speed $v$ = {v:g}")
         if equilibria is not None:
             ax_p.plot(equilibria[i], 0.0, "x", color="#D55E00", ms=8, mew=2,
-                      label=f"equilibrium $x_{{eq}}$ = {equilibria[i]:.3g} (eq. 43)")
+                      label="equilibrium $x_{eq}$ (eq. 43)")
+            ax_p.annotate(f"$x_{{eq}}$ = {equilibria[i]:.3g}", (equilibria[i], 0.0),
+                          xytext=(6, 6), textcoords="offset points", fontsize=8,
+                          color="#D55E00")
         ax_x.set(xlabel=label(ds.time, "time"), ylabel=label(ds.x, "x"))
         ax_v.set(xlabel=label(ds.time, "time"), ylabel=label(ds.xdot, "xdot"))
         ax_p.set(xlabel=label(ds.x, "x"), ylabel=label(ds.xdot, "xdot"))
-        ax_p.legend(fontsize=7.5, loc="lower right")
         for ax in axs[i]:
             ax.set_title(f"({next(letters)}) {text}" if ax is ax_x
                          else f"({next(letters)})", loc="left", fontsize=10)
             ax.grid(alpha=0.3)
+    handles, names = axs[0, 2].get_legend_handles_labels()
+    names = [f"state at the end, t = {t[-1]:g} s" if n.startswith("state") else n
+             for n in names]
+    fig.legend(handles, names, loc="outside lower center", ncol=len(names), fontsize=9)
     if title:
         fig.suptitle(title, fontsize=11)
     return fig
@@ -303,9 +357,10 @@ def friction_figure(r_y: float, alpha1: float, alpha2: float,
                    label=r"negative slope $|\dot z| < v^*$: energy input")
     ax.axhline(0, color="0.6", lw=0.6)
     ax.axvline(0, color="0.6", lw=0.6)
-    ax.set(xlabel=r"relative velocity $\dot z$ [cm/s]", ylabel="friction force $r_a$ [kN]",
-           title=f"Friction-speed law: $r_y$ = {r_y:g} kN, $\\alpha_1$ = {alpha1:g} kN s/cm, "
-                 f"$\\alpha_2$ = {alpha2:g} kN s$^3$/cm$^3$")
+    ax.set(xlabel=r"relative velocity $\dot z$ [cm/s]",
+           ylabel="friction force $r_a$ [kN]",
+           title=f"Friction-speed law: $r_y$ = {r_y:g} kN, $\\alpha_1$ = {alpha1:g} "
+                 f"kN s/cm, $\\alpha_2$ = {alpha2:g} kN s$^3$/cm$^3$")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8.5, loc="upper left")
     return fig
@@ -330,36 +385,42 @@ def _regime_codes(ds: xr.Dataset) -> tuple[list, list]:
     return values, names.split()
 
 
+_MARKERS = "osD^vP"
+
+
 def line_figure(ds: xr.Dataset, dim: str, variables=("amplitude", "mean"),
-                title: str | None = None) -> Figure:
+                title: str | None = None, series: str | None = None) -> Figure:
     """Observables of a 1-D sweep against ``dim``, points coloured by regime.
 
     The paper's reference curves are drawn beside the measurement: v/omega for the
     amplitude (eq. 39), x_eq for the mean (eq. 43); v* as a vertical line when ``dim``
-    is v and alpha1, alpha2 are fixed.
+    is v and alpha1, alpha2 are fixed. ``series``: a second dimension (e.g. several
+    starts), one marker per value (at most six; further dimensions at their first
+    value).
     """
     variables = [v for v in variables if v in ds]
     if not variables:
         raise ValueError(f"none of the variables {variables} is in the result")
+    keep = (dim, series) if series else (dim,)
+    ds = ds.isel({d: 0 for d in ds.dims if d not in keep and ds.sizes[d] > 1})
+    ds = ds.isel({series: slice(0, len(_MARKERS))}) if series else ds
     fig = Figure(figsize=(8, 2.9 * len(variables) + 0.8), layout="constrained")
     axs = np.atleast_1d(fig.subplots(len(variables), 1, sharex=True))
     x = ds[dim].values
     order = np.argsort(x)
-    regime = ds["regime"].values if "regime" in ds else None
     handles = {}
     for ax, name in zip(axs, variables):
-        y = ds[name].values
-        ax.plot(x[order], y[order], color="0.35", lw=1, zorder=1)
-        if regime is not None:
-            values, names = _regime_codes(ds)
-            for val, rname in zip(values, names):
-                sel = regime == val
-                if sel.any():
-                    h = ax.scatter(x[sel], y[sel], s=14, zorder=2,
-                                   color=REGIME_COLOURS.get(val, "k"),
-                                   label=rname.replace("_", " "))
-                    handles[rname] = h
+        for k, sub in enumerate(_series(ds, series)):
+            _regime_points(ax, sub, dim, name, x, order, _MARKERS[k], handles)
+            if series:
+                handles[f"s{k}"] = Line2D([], [], color="0.35", marker=_MARKERS[k],
+                                          ls="-", mfc="none",
+                                          label=f"{series} = {_fmt(sub[series])}")
         ref = _observable_reference(ds, dim, name)
+        if ref is not None and series in ref[0].dims:
+            same = (ref[0] == ref[0].isel({series: 0})).all()
+            # drawn only when it is the same for every series
+            ref = (ref[0].isel({series: 0}), ref[1]) if bool(same) else None
         if ref is not None:
             ref_vals = np.broadcast_to(ref[0].values, x.shape) if ref[0].ndim else \
                 np.full(x.shape, float(ref[0]))
@@ -368,13 +429,39 @@ def line_figure(ds: xr.Dataset, dim: str, variables=("amplitude", "mean"),
             handles[ref[1]] = ax.plot(x[order], ref_vals[order], lw=1.1, zorder=1,
                                       label=ref[1], **style)[0]
         _vstar_line(ax, ds, dim, handles)
+        if name == "amplitude":
+            _small_cycle(ax, ds, dim, handles)
         ax.set_ylabel(label(ds[name], name))
         ax.grid(alpha=0.3)
         ax.set_xscale(_axis_scale(ds, dim))
     axs[-1].set_xlabel(label(ds[dim], dim))
-    axs[0].legend(handles=list(handles.values()), fontsize=8, loc="best")
+    regimes = [h for k, h in handles.items() if k in codes.REGIME_NAMES.values()]
+    rest = [h for k, h in handles.items() if k not in codes.REGIME_NAMES.values()]
+    axs[0].legend(handles=regimes + rest, fontsize=8, loc="best")
     fig.suptitle(title or _sweep_title(ds), fontsize=10)
     return fig
+
+
+def _series(ds, series):
+    if series is None:
+        return [ds]
+    return [ds.isel({series: i}) for i in range(ds.sizes[series])]
+
+
+def _regime_points(ax, ds, dim, name, x, order, marker, handles):
+    """One series: a grey line through the points, each point coloured by regime."""
+    y = ds[name].values
+    ax.plot(x[order], y[order], color="0.35", lw=1, zorder=1)
+    if "regime" not in ds:
+        return
+    regime = ds["regime"].values
+    values, names = _regime_codes(ds)
+    for val, rname in zip(values, names):
+        sel = regime == val
+        if sel.any():
+            handles[rname] = ax.scatter(x[sel], y[sel], s=14, zorder=2, marker=marker,
+                                        color=REGIME_COLOURS.get(val, "k"),
+                                        label=rname.replace("_", " "))
 
 
 def _sweep_title(ds: xr.Dataset) -> str:
@@ -392,6 +479,26 @@ def _vstar_line(ax, ds, dim, handles):
                                    label=f"analytic $v^*$ = {vs[0]:.3g}")
 
 
+def _small_cycle(ax, ds, dim, handles):
+    """Averaging estimate A = 2 sqrt(v*^2 - v^2)/omega for 2 v*/sqrt(5) < v < v*.
+
+    First-order averaging of eq. (41) about x_eq gives the velocity amplitude
+    2 sqrt(v*^2 - v^2) of the small slip cycle; it reaches the belt speed (and the
+    cycle starts to stick) at v = 2 v*/sqrt(5). See docs/studies.md.
+    """
+    if dim != "v" or "v_star" not in ds or "omega" not in ds:
+        return
+    vs, om = np.unique(ds["v_star"].values), np.unique(ds["omega"].values)
+    if vs.size != 1 or om.size != 1 or not np.isfinite(vs[0]):
+        return
+    v = np.linspace(2 * vs[0] / math.sqrt(5), vs[0], 200)
+    v = v[(v >= ds.v.values.min()) & (v <= ds.v.values.max())]
+    if v.size:
+        handles["small"] = ax.plot(v, 2 * np.sqrt(vs[0] ** 2 - v ** 2) / om[0],
+                                   color="k", lw=1.2, ls=":", zorder=3,
+                                   label=r"averaging: $2\sqrt{v^{*2} - v^2}/\omega$")[0]
+
+
 def _edges(values: np.ndarray, log: bool) -> np.ndarray:
     """Cell edges around sorted centres (geometric midpoints on a log axis)."""
     c = np.log(values) if log else values
@@ -404,27 +511,29 @@ def _edges(values: np.ndarray, log: bool) -> np.ndarray:
 
 
 def _plane(ds: xr.Dataset, x: str | None, y: str | None):
-    """Choose the map's axes and reduce the other dimensions (first index)."""
+    """Choose the map's axes (numeric swept dimensions; v across by default), a
+    facet dimension for rows (the first other swept one, at most six values), and
+    reduce any further dimensions to their first value (said in ``note``)."""
     dims = [d for d in ds.dims if ds.sizes[d] > 1]
-    if x is None or y is None:
-        rest = [d for d in dims if d not in (x, y)]
-        if x is None:
-            x = "v" if "v" in rest else rest.pop(0)
-            rest = [d for d in rest if d != x]
-        if y is None:
-            y = rest.pop(0)
+    numeric = [d for d in dims if ds[d].dtype.kind in "iuf"]
+    rest = [d for d in numeric if d not in (x, y)]
+    if x is None:
+        x = "v" if "v" in rest else rest.pop(0) if rest else None
+        rest = [d for d in rest if d != x]
+    if y is None:
+        y = rest.pop(0) if rest else None
     for d in (x, y):
-        if d not in dims:
-            raise ValueError(f"{d!r} is not a swept dimension of the result "
-                             f"(swept: {', '.join(dims)})")
+        if d is None or d not in numeric:
+            raise ValueError(f"{d!r} is not a numeric swept dimension of the result "
+                             f"(numeric swept: {', '.join(numeric) or 'none'})")
     others = [d for d in dims if d not in (x, y)]
+    facet = others.pop(0) if others and ds.sizes[others[0]] <= 6 else None
     note = ""
     if others:
         ds = ds.isel({d: 0 for d in others})
-        note = "; " + ", ".join(f"${SYMBOLS.get(d, d)}$ = {float(ds[d]):.4g}"
+        note = "; " + ", ".join(f"${SYMBOLS.get(d, d)}$ = {_fmt(ds[d])}"
                                 for d in others) + " (first value)"
-    ds = ds.squeeze(drop=False).sortby([x, y])
-    return ds.transpose(y, x, ...), x, y, note
+    return ds, x, y, facet, note
 
 
 def map_figure(ds: xr.Dataset, x: str | None = None, y: str | None = None,
@@ -435,37 +544,45 @@ def map_figure(ds: xr.Dataset, x: str | None = None, y: str | None = None,
     Parameters
     ----------
     ds : xarray.Dataset
-        A sweep result with at least two swept dimensions; further dimensions are
-        reduced to their first value (said in the title).
+        A sweep result with at least two numeric swept dimensions. A third swept
+        dimension of at most six values (e.g. a friction law or a start) gives one
+        row per value; further dimensions are reduced to their first value (said in
+        the title).
     x, y : str, optional
         Dimensions on the horizontal and vertical axes; default v (if swept) across.
     variables : sequence of str
         Panels, left to right: ``"regime"`` (categorical, legend of regime names) or
         any numeric data variable (colour bar with units).
     boundary : bool
-        Draw the analytic v* curve and, when x or y is v, the measured Hopf
-        boundary and stick-slip onset (:mod:`sweepcore.boundary`).
+        Draw the analytic v* curve (and the estimate 2 v*/sqrt(5) of the end of
+        stick-slip) and, when x or y is v, the measured Hopf boundary and end of
+        stick-slip (:mod:`sweepcore.boundary`).
     """
-    ds, x, y, note = _plane(ds, x, y)
+    ds, x, y, facet, note = _plane(ds, x, y)
     variables = [v for v in variables if v in ds]
     if not variables:
         raise ValueError("none of the requested variables is in the result")
+    rows = [ds.isel({facet: i}) for i in range(ds.sizes[facet])] if facet else [ds]
     n = len(variables)
-    fig = Figure(figsize=(5.6 * n + 0.6, 5.4), layout="constrained")
-    axs = np.atleast_1d(fig.subplots(1, n, sharex=True, sharey=True))
-    overlays = _overlays(ds, x, y) if boundary else []
-    for ax, name in zip(axs, variables):
-        map_panel(fig, ax, ds, name, x, y)
-        for draw in overlays:
-            # on the regime map the measured boundaries are the colour edges
-            if name != "regime" or draw.analytic:
-                draw(ax)
-        if ax is not axs[0]:
-            ax.set_ylabel("")
-    if overlays:
-        handles = [h for h in (getattr(d, "handle", None) for d in overlays) if h]
-        axs[-1].legend(handles=handles, fontsize=8, loc="upper right",
-                       framealpha=0.85)
+    fig = Figure(figsize=(5.6 * n + 0.6, 5.0 * len(rows) + 0.4), layout="constrained")
+    axs = np.atleast_2d(fig.subplots(len(rows), n, sharex=True, sharey=True))
+    for row_axs, sub in zip(axs, rows):
+        overlays = _overlays(sub, x, y) if boundary else []
+        for ax, name in zip(row_axs, variables):
+            map_panel(fig, ax, sub, name, x, y)
+            for draw in overlays:
+                # on the regime map the measured boundaries are the colour edges
+                if name != "regime" or draw.analytic:
+                    draw(ax)
+            if ax is not row_axs[0]:
+                ax.set_ylabel("")
+            if facet:
+                ax.set_title(f"{facet} = {_fmt(sub[facet])}: {ax.get_title()}",
+                             fontsize=10)
+        if overlays:
+            handles = [d.handle for d in overlays]
+            row_axs[-1].legend(handles=handles, fontsize=8, loc="upper right",
+                               framealpha=0.85)
     fig.suptitle((title or _sweep_title(ds)) + note, fontsize=10)
     return fig
 
@@ -519,10 +636,31 @@ def _share(count: int, total: int) -> str:
     return f"{100 * count / total:.3g} %"
 
 
+def _uniform(data, rel: float = 1e-6):
+    """(value, spread) when ``data`` is constant up to ``rel``, else None."""
+    if data.count() == 0:
+        return None
+    lo, hi = float(data.min()), float(data.max())
+    scale = max(abs(lo), abs(hi))
+    if hi - lo <= rel * scale or scale == 0.0:
+        return 0.5 * (lo + hi), hi - lo
+    return None
+
+
 def _value_panel(fig, ax, ds, name, xe, ye, colorbar=True, **kwargs):
     da = ds[name]
     data = np.ma.masked_invalid(da.values.astype(float))
     kwargs.setdefault("cmap", "viridis")
+    uniform = _uniform(data)
+    if uniform is not None and "norm" not in kwargs and "vmin" not in kwargs:
+        # a colour scale stretched over rounding noise would invent structure
+        c, spread = uniform
+        half = max(0.05 * abs(c), 1e-12)
+        kwargs.update(vmin=c - half, vmax=c + half)
+        ax.text(0.5, 0.5, f"uniform: {c:.6g} {pretty_units(da.attrs.get('units'))}\n"
+                          f"(spread {spread:.2g})", transform=ax.transAxes,
+                ha="center", va="center", fontsize=10,
+                bbox=dict(facecolor="white", alpha=0.8, edgecolor="0.5"))
     mesh = ax.pcolormesh(xe, ye, data, shading="flat", rasterized=True, **kwargs)
     if colorbar:
         cb = fig.colorbar(mesh, ax=ax, shrink=0.9, pad=0.01)
@@ -545,34 +683,49 @@ class _Overlay:
 
 
 def _overlays(ds: xr.Dataset, x: str, y: str) -> list:
-    out = []
-    vstar = _analytic_vstar(ds, x, y)
-    if vstar is not None:
-        out.append(vstar)
+    out = _analytic_curves(ds, x, y)
     if "v" in (x, y):
         out.extend(_measured_boundaries(ds, x, y))
     return out
 
 
-def _analytic_vstar(ds, x, y):
-    """v* = sqrt(alpha1/(3 alpha2)) as a curve in the (x, y) plane, if v is an axis."""
-    handle = Line2D([], [], color="white", ls="--", lw=2.0,
-                    label=r"analytic $v^* = \sqrt{\alpha_1/3\alpha_2}$ ($q = 0$)")
+# v* and the averaging estimate of the end of stick-slip, 2 v*/sqrt(5): the small
+# cycle has velocity amplitude 2 sqrt(v*^2 - v^2) (first-order averaging of eq. 41
+# about x_eq), which reaches the belt speed v when v = 2 v*/sqrt(5); see
+# docs/studies.md, "hopf_map".
+_ANALYTIC = (
+    (1.0, dict(color="white", ls="--", lw=2.0,
+               label=r"analytic $v^* = \sqrt{\alpha_1/3\alpha_2}$ ($q = 0$)")),
+    (2.0 / math.sqrt(5.0), dict(color="white", ls=":", lw=2.0,
+                                label=r"estimate: stick-slip below $2v^*/\sqrt{5}$")),
+)
+
+
+def _analytic_curves(ds, x, y) -> list:
+    """v* = sqrt(alpha1/(3 alpha2)) and 2 v*/sqrt(5) in the (x, y) plane.
+
+    Drawn when one axis is v and the other alpha1 or alpha2 (the other fixed).
+    """
     other = y if x == "v" else x if y == "v" else None
-    if other in ("alpha1", "alpha2"):
-        fixed = "alpha2" if other == "alpha1" else "alpha1"
-        if fixed not in ds.coords or ds[fixed].ndim != 0:
-            return None
-        s = np.geomspace(*ds[other].values[[0, -1]], 400) \
-            if is_geometric(ds[other].values) else np.linspace(*ds[other].values[[0, -1]],
-                                                              400)
-        a1, a2 = (s, float(ds[fixed])) if other == "alpha1" else (float(ds[fixed]), s)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            vs = np.sqrt(np.asarray(a1) / (3 * np.asarray(a2)))
-        inside = (vs >= ds.v.values.min()) & (vs <= ds.v.values.max())
-        vs = np.where(inside, vs, np.nan)
-        return _Overlay(*((vs, s) if x == "v" else (s, vs)), handle, analytic=True)
-    return None
+    if other not in ("alpha1", "alpha2"):
+        return []
+    fixed = "alpha2" if other == "alpha1" else "alpha1"
+    if fixed not in ds.coords or ds[fixed].ndim != 0:
+        return []
+    ends = ds[other].values[[0, -1]]
+    s = np.geomspace(*ends, 400) if is_geometric(ds[other].values) \
+        else np.linspace(*ends, 400)
+    a1, a2 = (s, float(ds[fixed])) if other == "alpha1" else (float(ds[fixed]), s)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        vs = np.sqrt(np.asarray(a1) / (3 * np.asarray(a2)))
+    out = []
+    for factor, style in _ANALYTIC:
+        vv = factor * vs
+        vv = np.where((vv >= ds.v.values.min()) & (vv <= ds.v.values.max()), vv, np.nan)
+        if np.isfinite(vv).any():
+            out.append(_Overlay(*((vv, s) if x == "v" else (s, vv)),
+                                Line2D([], [], **style), analytic=True))
+    return out
 
 
 def _measured_boundaries(ds, x, y) -> list:

@@ -1,0 +1,45 @@
+"""Paper Fig. 4: the friction-speed law (40) with r_y = 10, alpha1 = 1, alpha2 = 0.01.
+
+r_a = r_y sgn(zdot) - alpha1 zdot + alpha2 zdot^3 while sliding, anything in
+[-r_y, r_y] while sticking (eq. 6). The slope dr_a/dzdot = -alpha1 + 3 alpha2 zdot^2
+is negative for |zdot| < v* = sqrt(alpha1/(3 alpha2)) = 5.77 cm/s: there friction
+feeds energy into the vibration. The curve's minimum there is r_y - (2/3) alpha1 v*.
+
+    python studies/paper_fig4.py [--out out/]   ->  paper_fig4.nc, paper_fig4.png
+"""
+import math
+
+import numpy as np
+import xarray as xr
+
+from sweepcore.io import write_netcdf
+from sweepcore.plot import friction_figure, save
+
+from _common import Timer, output_dir
+
+R_Y, ALPHA1, ALPHA2 = 10.0, 1.0, 0.01      # kN, kN s/cm, kN s^3/cm^3
+
+
+def main(out):
+    with Timer("paper_fig4"):
+        v_star = math.sqrt(ALPHA1 / (3 * ALPHA2))
+        zd = np.linspace(-2.2 * v_star, 2.2 * v_star, 881)
+        zd = zd[zd != 0.0]
+        ra = R_Y * np.sign(zd) - ALPHA1 * zd + ALPHA2 * zd ** 3
+        ds = xr.Dataset(
+            {"r_a": ("zdot", ra, {"units": "kN", "long_name": "friction force",
+                                  "comment": "eq. (40), sliding branches"})},
+            coords={"zdot": ("zdot", zd, {"units": "cm s-1",
+                                          "long_name": "relative velocity"})},
+            attrs={"title": "Liu, Fig. 4: friction-speed law", "r_y": R_Y,
+                   "alpha1": ALPHA1, "alpha2": ALPHA2, "v_star": v_star,
+                   "r_a_min": R_Y - 2 * ALPHA1 * v_star / 3})
+        write_netcdf(ds, out / "paper_fig4.nc")
+        save(friction_figure(R_Y, ALPHA1, ALPHA2), out / "paper_fig4.png")
+    print(f"  v* = {v_star:.6g} cm/s, minimum sliding friction "
+          f"{R_Y - 2 * ALPHA1 * v_star / 3:.6g} kN")
+    return [out / "paper_fig4.nc", out / "paper_fig4.png"]
+
+
+if __name__ == "__main__":
+    main(output_dir(__doc__))
