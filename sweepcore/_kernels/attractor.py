@@ -33,7 +33,7 @@ from .jit import kernel
 from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
-from .layout import (A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
+from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
                      A_XMIN, A1, A2, K, M, NA, NOBS, NS, O_DT, O_GPS_A, O_LV, O_LX, O_MAX_STEPS,
                      O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
                      OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS,
@@ -54,7 +54,7 @@ def _clear(acc):
 
 @kernel(inline="always")
 def _merge(dst, src):
-    for i in (A_IX, A_IXD2, 2, A_TSTICK, A_NSTICK):
+    for i in (A_IX, A_IXD2, 2, A_TSTICK, A_NSTICK, A_DT):
         dst[i] += src[i]
     dst[A_XMAX] = max(dst[A_XMAX], src[A_XMAX])
     dst[A_XMIN] = min(dst[A_XMIN], src[A_XMIN])
@@ -63,8 +63,8 @@ def _merge(dst, src):
 
 
 @kernel
-def _write_cycle(out, acc, t0, t1, omega, regime):
-    T = t1 - t0
+def _write_cycle(out, acc, t0, omega, regime):
+    T = acc[A_DT]
     out[OB_AMPLITUDE] = 0.5 * (acc[A_XMAX] - acc[A_XMIN])
     out[OB_MEAN] = acc[A_IX] / T
     out[OB_VAMPLITUDE] = 0.5 * (acc[A_XDMAX] - acc[A_XDMIN])
@@ -195,7 +195,13 @@ def attractor_point(p, o_in, out):
     n_ev_sec = 0
     t_last_sec = 0.0
     status = codes.OK
-    t_stuck = 0.0             # stuck time is closed form: it does not count
+    # Clocks: st[S_T] is local and set back to 0 after every stick (absolute times
+    # after a stick of 2e5 s or 1e15 s would eat the digits of a 2 s period);
+    # t_off is the absolute time of the local origin. Only sliding time counts
+    # against the budget: sticking is closed form.
+    t_off = 0.0
+    t_slide = 0.0
+    exhausted = True
     if v == 0.0 and st[S_MODE] == codes.STICK:
         _write_rest(out, st[S_X], 0.0, codes.R_STUCK, True)
         out[OB_STATUS] = codes.OK
@@ -204,12 +210,16 @@ def attractor_point(p, o_in, out):
     for _it in range(int(o[O_MAX_STEPS]) + 10):
         if st[S_MODE] == codes.STICK:
             ev, status = advance(st, p, o, acc, np.inf)
-            t_stuck += acc[A_TSTICK]
+            if ev == codes.EV_SLIP:
+                t_off += st[S_T]
+                st[S_T] = 0.0
         else:
             # control returns at least once per natural period, so that approaches
             # without maxima of x (overdamped) still meet the equilibrium certificate
-            t_end = t_budget + t_stuck
-            ev, status = advance(st, p, o, acc, min(st[S_T] + t_nat, t_end))
+            t_start = st[S_T]
+            ev, status = advance(st, p, o, acc,
+                                 t_start + min(t_nat, t_budget - t_slide))
+            t_slide += st[S_T] - t_start
         _merge(acc_cyc, acc)
         _merge(acc_sec, acc)
         _clear(acc)
@@ -218,16 +228,17 @@ def attractor_point(p, o_in, out):
             break
         if ev == codes.EV_STOP_TIME:
             if st[S_MODE] != codes.STICK and _certified_rest(st[S_X], st[S_ZD], p):
-                _write_rest(out, x_equilibrium(p), t, codes.R_EQUILIBRIUM, False)
+                _write_rest(out, x_equilibrium(p), t_off + t, codes.R_EQUILIBRIUM, False)
                 out[OB_STATUS] = codes.OK
                 out[OB_NSTEPS] = st[S_N]
                 return
-            if t >= t_budget + t_stuck:
+            if t_slide >= t_budget:
                 status = codes.UNCONVERGED
+                exhausted = False
                 break
             continue
         if v == 0.0 and ev == codes.EV_STICK:
-            _write_rest(out, st[S_X], t, codes.R_STUCK, True)
+            _write_rest(out, st[S_X], t_off + t, codes.R_STUCK, True)
             out[OB_STATUS] = codes.OK
             out[OB_NSTEPS] = st[S_N]
             return
@@ -236,12 +247,12 @@ def attractor_point(p, o_in, out):
         if is_reset:
             if reset_seen:
                 regime = codes.R_STICK_SLIP if acc_cyc[A_NSTICK] > 0 else codes.R_SLIP_CYCLE
-                _write_cycle(out, acc_cyc, t_cyc, t, omega, regime)
+                _write_cycle(out, acc_cyc, t_cyc, omega, regime)
                 out[OB_STATUS] = codes.OK
                 out[OB_NSTEPS] = st[S_N]
                 return
             reset_seen = True
-            t_cyc = t
+            t_cyc = t_off + t
             _clear(acc_cyc)
             _clear(acc_sec)
             n_sec = 0
@@ -253,7 +264,7 @@ def attractor_point(p, o_in, out):
                 n_ev_sec += 1
             continue
         if _certified_rest(st[S_X], st[S_ZD], p):
-            _write_rest(out, x_equilibrium(p), t, codes.R_EQUILIBRIUM, False)
+            _write_rest(out, x_equilibrium(p), t_off + t, codes.R_EQUILIBRIUM, False)
             out[OB_STATUS] = codes.OK
             out[OB_NSTEPS] = st[S_N]
             return
@@ -271,7 +282,7 @@ def attractor_point(p, o_in, out):
         if n_sec >= 2:
             for i in range(NA):
                 acc_last[i] = acc_sec[i]
-            t_last_sec = t_hist[2]
+            t_last_sec = t_off + t_hist[2]
         _clear(acc_sec)
         if n_sec < 3:
             continue
@@ -286,11 +297,15 @@ def attractor_point(p, o_in, out):
         amp = 0.5 * (acc_last[A_XMAX] - acc_last[A_XMIN])
         # (the conservative law has a neutral family, no contraction: a steady
         # section is the answer, and rem is meaningless there)
+        # A neutral circle must also have gone round without touching the belt: one
+        # that touches is a transient of the conservative law, not a member of the
+        # neutral family.
         if abs(d1) <= tol * lx and (rem <= tol * lx or conservative) \
                 and abs(T1 - T0) <= 10.0 * tol * T1 \
-                and (amp > 1e3 * tol * lx or conservative):
+                and (amp > 1e3 * tol * lx or conservative) \
+                and not (conservative and p[RY] > 0.0 and e_hist[2] > 0):
             regime = codes.R_NEUTRAL if conservative else codes.R_SLIP_CYCLE
-            _write_cycle(out, acc_last, t_last_sec, t, omega, regime)
+            _write_cycle(out, acc_last, t_last_sec, omega, regime)
             out[OB_STATUS] = codes.OK
             out[OB_NSTEPS] = st[S_N]
             return
@@ -313,10 +328,12 @@ def attractor_point(p, o_in, out):
                 t_hist[3] = t
                 _clear(acc_sec)
     # budget spent or numerical failure
+    if exhausted and status == codes.OK:
+        status = codes.STEP_BUDGET        # the loop itself ran out
     out[OB_NSTEPS] = st[S_N]
     if status == codes.UNCONVERGED or status == codes.STEP_BUDGET:
         if n_sec >= 3:
-            _write_cycle(out, acc_last, t_last_sec, t_hist[3], omega, codes.R_UNCONVERGED)
+            _write_cycle(out, acc_last, t_last_sec, omega, codes.R_UNCONVERGED)
         out[OB_REGIME] = codes.R_UNCONVERGED
         out[OB_STATUS] = status
         return

@@ -30,7 +30,7 @@ from .jit import kernel
 from . import codes
 from .dopri5 import scales
 from .friction import zdd, zddd
-from .layout import (A_IX, A_IXD2, A_NSTEPS, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
+from .layout import (A_DT, A_IX, A_IXD2, A_NSTEPS, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS, O_METHOD,
                      O_RTOL, RY, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
 from .stepper import proposal, step
@@ -220,21 +220,23 @@ def stick_until_slip(st, p, acc, t_stop):
     t = st[S_T]
     x = st[S_X]
     if v > 0.0:
-        t_slip = t + max(xs - x, 0.0) / v
+        dt_slip = max(xs - x, 0.0) / v
     elif v < 0.0:
-        t_slip = t + min(-xs - x, 0.0) / v
+        dt_slip = min(-xs - x, 0.0) / v
     else:
-        t_slip = np.inf
-    t1 = min(t_slip, t_stop)
-    dt = t1 - t
+        dt_slip = np.inf
+    slips = dt_slip <= t_stop - t
+    dt = dt_slip if slips else t_stop - t     # a duration, not a difference of times
+    t1 = t + dt if slips else t_stop
     x1 = x + v * dt
     ix = dt * (x + 0.5 * v * dt)
     acc[A_IX] += ix
     acc[A_IXD2] += v * v * dt
     acc[A_WF] += -p[K] * v * ix       # r_a = -k x while stuck
     acc[A_TSTICK] += dt
+    acc[A_DT] += dt
     st[S_T] = t1
-    if t_slip <= t_stop:
+    if slips:
         st[S_X] = xs if v > 0.0 else -xs
         st[S_ZD] = 0.0
         st[S_MODE] = codes.SLIDE_NEG if v > 0.0 else codes.SLIDE_POS
@@ -311,6 +313,7 @@ def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
     acc[A_IX] += qx
     acc[A_IXD2] += qv
     acc[A_WF] += qw
+    acc[A_DT] += h
     st[S_T] += h
     new, ev, xn = classify_zero(xe, s, p, o[O_GRAZE])
     st[S_X] = xn
@@ -336,6 +339,9 @@ def slide_until_event(st, p, o, acc, t_stop):
     # a touch is decided at the method's own accuracy: the adaptive method's error
     # over a period is ~100 local errors of rtol (fixed steps: the user's graze)
     gtol = (max(o[O_GRAZE], 100.0 * o[O_RTOL]) if adaptive else o[O_GRAZE]) * lv
+    if v != 0.0:
+        # never so wide that sliding at rest (zdot = -v) looks like a touch
+        gtol = min(gtol, 1e-2 * abs(v))
     near = max(gtol, 1e-3 * lv)
     omega = math.sqrt(p[K] / p[M])
     h_max = 0.5 / omega
@@ -356,7 +362,9 @@ def slide_until_event(st, p, o, acc, t_stop):
             h = t_stop - t
             last = True
         if h <= EPS * max(abs(t), 1.0):
-            if adaptive and not last:
+            # below the resolution of t: only the remainder up to t_stop may be
+            # dropped; a step that cannot advance the clock is a failure, not a jump
+            if not last:
                 return codes.EV_STOP_TIME, codes.STEP_UNDERFLOW
             st[S_T] = t_stop
             return codes.EV_STOP_TIME, codes.OK
@@ -432,8 +440,11 @@ def slide_until_event(st, p, o, acc, t_stop):
                 tau = -gp / gpp
                 h_ev, xe, _zc = _polish(_F_ZDD, x, zd, s, p, o, h_ev, h_ev + 2.0 * tau,
                                         -s, h_ev + tau, st)
-        if kind == 0 and 0.0 < g1 <= gtol and s * a1 * h >= -gtol and st[S_ARMED] > 0.0:
-            h_ev = h                    # the step ends on a touch (exact arcs)
+        if kind == 0 and 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol \
+                and st[S_ARMED] > 0.0:
+            # the step ends on a touch (exact arcs end on turning points): zdot came
+            # down to within gtol of 0 and stopped falling (not a creep away from 0)
+            h_ev = h
             xe = x1
         # --- extremum of x (Poincare section) inside the step
         h_xe = -1.0
@@ -450,6 +461,7 @@ def slide_until_event(st, p, o, acc, t_stop):
             acc[A_IX] += qx
             acc[A_IXD2] += qv
             acc[A_WF] += qw
+            acc[A_DT] += h_xe
             st[S_T] = t + h_xe
             st[S_X] = xx
             st[S_ZD] = -v               # xdot = 0 exactly at the section
@@ -462,6 +474,7 @@ def slide_until_event(st, p, o, acc, t_stop):
         acc[A_IX] += qx
         acc[A_IXD2] += qv
         acc[A_WF] += qw
+        acc[A_DT] += h
         _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1)
         st[S_T] = t + h if not last else t_stop
         st[S_X] = x1

@@ -36,7 +36,8 @@ A_XDMAX = 6
 A_XDMIN = 7
 A_NSTEPS = 8    # integrator steps taken (all kinds)
 A_NSTICK = 9    # finite sticks begun
-A_T0 = 10       # start time of the interval
+A_DT = 10       # duration of the interval [s], summed from step lengths so that it
+                # keeps its digits when absolute times are large (after long sticks)
 NA = 11
 
 # observables row written by the attractor kernel
