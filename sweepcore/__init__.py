@@ -5,17 +5,22 @@ Units throughout: force kN, length cm, time s (mass kN s^2/cm).
 Public API::
 
     Params, simulate, attractor, Attractor, Grid, sweep, hopf_boundary,
-    open_result, write_netcdf
+    open_result, write_netcdf, check_cf
 """
 from importlib.metadata import PackageNotFoundError, version
 
 from .attractor import Attractor, attractor
+from .boundary import hopf_boundary
+from .grid import Grid
+from .io import check_cf, open_result, write_netcdf
 from .params import Params
 from .simulate import simulate
+from .sweep import sweep
 
 try:
     __version__ = version("sweepcore")
 except PackageNotFoundError:  # running from a source tree without install
     __version__ = "0.1.0"
 
-__all__ = ["Params", "simulate", "attractor", "Attractor", "__version__"]
+__all__ = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep",
+           "hopf_boundary", "open_result", "write_netcdf", "check_cf", "__version__"]

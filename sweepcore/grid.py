@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -31,6 +32,20 @@ def _check_scalar(name: str, value) -> float:
     return check_real(name, value, **RULES[name])
 
 
+def _first_non_real(value: np.ndarray) -> int | None:
+    """Index of the first element that is not a real number (bools are not), or None.
+
+    Object arrays of Python numbers (what pandas hands out) are checked element by
+    element.
+    """
+    if value.dtype.kind in "iuf":
+        return None
+    if value.dtype.kind != "O":
+        return 0
+    return next((i for i, x in enumerate(value) if isinstance(x, (bool, np.bool_))
+                 or not isinstance(x, numbers.Real)), None)
+
+
 def _check_array(name: str, value: np.ndarray, unique: bool) -> np.ndarray:
     """Validate one 1-D axis; errors name the axis, the element and its value."""
     if value.ndim != 1:
@@ -38,10 +53,9 @@ def _check_array(name: str, value: np.ndarray, unique: bool) -> np.ndarray:
                          f"shape {value.shape}")
     if value.size == 0:
         raise ValueError(f"{name} axis is empty: give at least one value")
-    if value.dtype.kind not in "iuf":
-        bad = next((x for x in value.flat if isinstance(x, (bool, np.bool_))
-                    or not isinstance(x, (int, float, np.integer, np.floating))),
-                   value.flat[0])
+    i = _first_non_real(value)
+    if i is not None:
+        bad = value[i].item() if isinstance(value[i], np.generic) else value[i]
         raise TypeError(f"{name} must hold real numbers, got {bad!r} of type "
                         f"{type(bad).__name__} (array dtype {value.dtype})")
     a = np.array(value, dtype=np.float64)
@@ -60,9 +74,10 @@ def _check_array(name: str, value: np.ndarray, unique: bool) -> np.ndarray:
     if unique:
         vals, counts = np.unique(a, return_counts=True)
         if (counts > 1).any():
-            raise ValueError(f"{name} axis has the duplicated value "
-                             f"{float(vals[counts > 1][0])!r}: the values of a swept axis "
-                             "must be distinct (they become a coordinate)")
+            dup = float(vals[counts > 1][0])
+            raise ValueError(f"{name} axis has the duplicated value {dup!r}: the values "
+                             "of a swept axis must be distinct (they become a "
+                             "coordinate)")
     a.setflags(write=False)
     return a
 
@@ -242,6 +257,19 @@ class Grid:
                 P[:, col] = val
         return P
 
+    def block(self, start: int, stop: int) -> tuple[Grid, int, int]:
+        """``(grid, lo, hi)`` with ``grid.rows(lo, hi) == self.rows(start, stop)``,
+        small enough to ship with one task.
+
+        A product grid is its 1-D axes (small): itself. A points grid is cut down to
+        the points of the range.
+        """
+        if self.mode == "product":
+            return self, start, stop
+        cut = {n: self.axis(n)[start:stop] if n in self.swept else self.axis(n)
+               for n in AXES}
+        return Grid.points(**cut), 0, stop - start
+
     # ---------------------------------------------------------------- labels
     def coords(self) -> dict[str, xr.Variable]:
         """Coordinates of the sweep's Dataset, with CF ``units`` and ``long_name``.
@@ -251,8 +279,9 @@ class Grid:
         """
         out = {}
         if self.mode == "points":
-            out[POINT_DIM] = xr.Variable(POINT_DIM, np.arange(self.size),
-                                         {"units": "1", "long_name": "parameter set index"})
+            out[POINT_DIM] = xr.Variable(
+                POINT_DIM, np.arange(self.size),
+                {"units": "1", "long_name": "parameter set index"})
         for name in AXES:
             val = self.axis(name)
             if val is None:

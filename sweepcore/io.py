@@ -15,6 +15,11 @@ import shutil
 import uuid
 from pathlib import Path
 
+try:
+    import fcntl
+except ImportError:  # not POSIX: no lock against two sweeps on one path
+    fcntl = None
+
 import numpy as np
 import xarray as xr
 
@@ -156,23 +161,61 @@ def _check_flags(name, var) -> list[str]:
 
 
 # ----------------------------------------------------------- working store
+class StoreBusy(RuntimeError):
+    """Another sweep is running on the same path (its working store is locked)."""
+
+
+def _lock(directory: Path):
+    """An exclusive lock on ``directory/lock``, held until the returned file closes.
+
+    The kernel drops the lock when its process dies, even by SIGKILL, so a killed
+    sweep never blocks its resume. (No locking where ``fcntl`` is missing.)
+    """
+    handle = open(directory / "lock", "a")
+    if fcntl is None:
+        return handle
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        handle.close()
+        target = directory.with_name(directory.stem)
+        raise StoreBusy(f"another sweep is running on {target}: its working store "
+                        f"{directory} is locked; wait for it to finish, or stop it "
+                        "and rerun to resume") from None
+    return handle
+
+
 class WorkingStore:
     """Finished chunks of a sweep in progress, in ``<path>.partial/``.
 
     One ``chunk-NNNNNN.npy`` file per finished chunk, each written to a temporary
     name and renamed into place, so a chunk file that exists is complete: its
     presence is the chunk's ``done`` flag. ``config.json`` holds the SHA-256 of the
-    resolved configuration (grid values, option row, version) and the chunk size;
-    a resume with another configuration is refused.
+    resolved configuration (grid values, option row, version, kernel sources) and
+    the chunk size; a resume with another configuration is refused. The sweep that
+    opened the store holds a lock on it until :meth:`close` (or :meth:`remove`): a
+    second sweep on the same path meanwhile raises :class:`StoreBusy` at once.
+    Use as a context manager.
     """
 
     FORMAT = 1
 
-    def __init__(self, directory: Path, chunk: int, n_points: int, ncols: int):
+    def __init__(self, directory: Path, chunk: int, n_points: int, ncols: int, lock):
         self.directory = directory
         self.chunk = chunk
         self.n_points = n_points
         self.ncols = ncols
+        self._lock = lock
+
+    def __enter__(self) -> WorkingStore:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        """Release the lock (the store stays on disk for a resume)."""
+        self._lock.close()
 
     @staticmethod
     def location(path) -> Path:
@@ -183,25 +226,50 @@ class WorkingStore:
     @classmethod
     def open(cls, path, digest: str, config: dict, n_points: int, ncols: int,
              chunk: int | None, default_chunk: int) -> WorkingStore:
-        """Resume the store of ``path``, or create it.
+        """Resume the store of ``path`` (locked), or create it (locked).
 
         ``chunk`` None adopts the stored chunk size on resume (``default_chunk`` on
         creation); an explicit ``chunk`` must match the stored one.
         """
         directory = cls.location(path)
-        if directory.exists():
-            return cls._resume(directory, digest, n_points, ncols, chunk)
-        chunk = default_chunk if chunk is None else chunk
-        tmp = directory.parent / f".{directory.name}.{uuid.uuid4().hex}.tmp"
-        tmp.mkdir()
-        meta = {"sweepcore_working_store": cls.FORMAT, "sha256": digest, "chunk": chunk,
+        meta = {"sweepcore_working_store": cls.FORMAT, "sha256": digest,
+                "chunk": default_chunk if chunk is None else chunk,
                 "n_points": n_points, "ncols": ncols, "config": config}
-        (tmp / "config.json").write_text(json.dumps(meta, indent=1))
-        os.rename(tmp, directory)
-        return cls(directory, chunk, n_points, ncols)
+        for _attempt in range(3):   # the store may appear or vanish meanwhile
+            if not directory.exists():
+                store = cls._create(directory, meta)
+                if store is not None:
+                    return store
+            try:
+                lock = _lock(directory)
+            except FileNotFoundError:     # removed by the sweep that just finished
+                continue
+            try:
+                return cls._resume(directory, lock, digest, n_points, ncols, chunk)
+            except BaseException:
+                lock.close()
+                raise
+        raise StoreBusy(f"working store {directory} keeps appearing and vanishing: "
+                        "another sweep is running on the same path")
 
     @classmethod
-    def _resume(cls, directory, digest, n_points, ncols, chunk) -> WorkingStore:
+    def _create(cls, directory: Path, meta: dict) -> WorkingStore | None:
+        """Build the store under a temporary name, locked, then rename it into place;
+        None if another sweep created it first."""
+        tmp = directory.parent / f".{directory.name}.{uuid.uuid4().hex}.tmp"
+        tmp.mkdir()
+        (tmp / "config.json").write_text(json.dumps(meta, indent=1, default=str))
+        lock = _lock(tmp)
+        try:
+            os.rename(tmp, directory)
+        except OSError:
+            lock.close()
+            shutil.rmtree(tmp)
+            return None
+        return cls(directory, meta["chunk"], meta["n_points"], meta["ncols"], lock)
+
+    @classmethod
+    def _resume(cls, directory, lock, digest, n_points, ncols, chunk) -> WorkingStore:
         try:
             meta = json.loads((directory / "config.json").read_text())
         except (OSError, ValueError) as err:
@@ -211,13 +279,13 @@ class WorkingStore:
                 or meta.get("ncols") != ncols:
             raise ValueError(
                 f"working store {directory} was made by a sweep with different "
-                "arguments (grid, method, tolerance, options or sweepcore version); "
+                "arguments (grid, method, tolerance, options, or the kernels changed); "
                 "resume with the same arguments, or remove the store to start afresh")
         if chunk is not None and chunk != meta["chunk"]:
             raise ValueError(f"working store {directory} holds chunks of "
                              f"{meta['chunk']} points, got chunks={chunk}; pass "
                              f"chunks={meta['chunk']} (or None) to resume")
-        return cls(directory, meta["chunk"], n_points, ncols)
+        return cls(directory, meta["chunk"], n_points, ncols, lock)
 
     def _file(self, i: int) -> Path:
         return self.directory / f"chunk-{i:06d}.npy"
@@ -246,4 +314,10 @@ class WorkingStore:
             tmp.unlink(missing_ok=True)
 
     def remove(self) -> None:
-        shutil.rmtree(self.directory)
+        """Delete the store (moved aside first, so no sweep sees it half deleted),
+        then release the lock."""
+        name = self.directory.name
+        doomed = self.directory.with_name(f".{name}.{uuid.uuid4().hex}.del")
+        os.rename(self.directory, doomed)
+        shutil.rmtree(doomed)
+        self.close()

@@ -40,13 +40,16 @@ interruption computes only the chunks not yet stored.
 from __future__ import annotations
 
 import datetime
+import functools
 import hashlib
 import json
 import math
 import sys
 import uuid
 from importlib.metadata import PackageNotFoundError, version
+from pathlib import Path
 
+import numba
 import numpy as np
 import xarray as xr
 from tqdm.auto import tqdm
@@ -84,23 +87,23 @@ def default_chunk(size: int) -> int:
 
 
 # ----------------------------------------------------------------- one chunk
+def _observables(kernel, grid: Grid, start: int, stop: int, o: np.ndarray) -> np.ndarray:
+    out = np.empty((stop - start, layout.NOBS))
+    kernel(grid.rows(start, stop), o, out)
+    return out
+
+
 def run_chunk(grid: Grid, start: int, stop: int, o: np.ndarray) -> np.ndarray:
     """Observables ``(stop - start, layout.NOBS)`` of flat points [start, stop).
 
     Serial kernel (releases the GIL): the task that dask schedulers run.
     """
-    P = grid.rows(start, stop)
-    out = np.empty((stop - start, layout.NOBS))
-    attractor_rows(P, o, out)
-    return out
+    return _observables(attractor_rows, grid, start, stop, o)
 
 
 def run_chunk_parallel(grid: Grid, start: int, stop: int, o: np.ndarray) -> np.ndarray:
     """As :func:`run_chunk`, with numba threads over the points (no-dask path)."""
-    P = grid.rows(start, stop)
-    out = np.empty((stop - start, layout.NOBS))
-    attractor_rows_parallel(P, o, out)
-    return out
+    return _observables(attractor_rows_parallel, grid, start, stop, o)
 
 
 # ----------------------------------------------------------------- executors
@@ -119,13 +122,14 @@ def _run_dask_local(scheduler, grid, o, bounds, todo, handle):
     from dask.callbacks import Callback
 
     token = uuid.uuid4().hex
-    shared = dask.delayed(grid, name=f"sweepcore-grid-{token}", traverse=False)
     keys = {}
     tasks = []
     for i in todo:
         key = f"sweepcore-chunk-{i}-{token}"
         keys[key] = i
-        tasks.append(dask.delayed(run_chunk, pure=True)(shared, *bounds[i], o,
+        block, a, b = grid.block(*bounds[i])
+        block = dask.delayed(block, name=f"sweepcore-grid-{i}-{token}", traverse=False)
+        tasks.append(dask.delayed(run_chunk, pure=True)(block, a, b, o,
                                                          dask_key_name=key))
 
     def posttask(key, result, dsk, state, worker_id):
@@ -137,15 +141,16 @@ def _run_dask_local(scheduler, grid, o, bounds, todo, handle):
 
 
 def _run_distributed(client, grid, o, bounds, todo, handle):
+    """One future per chunk, each carrying its own (small) grid block: data
+    scattered to a worker would be lost with it, a task's arguments are not."""
     from distributed import as_completed
 
     token = uuid.uuid4().hex
-    shared = client.scatter(grid, hash=False)
-    futures = {client.submit(run_chunk, shared, *bounds[i], o, pure=False,
+    futures = {client.submit(run_chunk, *grid.block(*bounds[i]), o, pure=False,
                              key=f"sweepcore-chunk-{i}-{token}"): i for i in todo}
     pending = set(futures)
     try:
-        for fut in as_completed(futures):
+        for fut in as_completed(futures, loop=client.loop):
             handle(futures[fut], fut.result())
             pending.discard(fut)
             fut.release()
@@ -213,7 +218,9 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
         Write the result to this netCDF4 file (atomically, at the end) and keep
         finished chunks in ``<path>.partial/`` meanwhile; rerunning the same call
         after an interruption resumes from there. Another call on the same path
-        with different arguments raises, naming the store.
+        with different arguments raises, naming the store; so does one started
+        while another sweep on the same path is running
+        (:class:`sweepcore.io.StoreBusy`).
     progress : bool, optional
         Show a tqdm bar; default: only when stderr is a terminal (and the sweep
         lasts more than half a second).
@@ -236,34 +243,27 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
         Hopf boundary of :func:`sweepcore.boundary.hopf_boundary`. CF-1.11
         attributes record the call, the version and the resolved options.
     """
-    if not isinstance(grid, Grid):
-        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
-    o = make_options(method, tol=tol, **options)
-    if method == "exact" and np.any(np.asarray(grid.alpha2) != 0.0):
-        bad = np.asarray(grid.alpha2).ravel()
-        raise ValueError("method='exact' needs alpha2 == 0 at every point; got "
-                         f"alpha2={float(bad[bad != 0.0][0])!r}")
-    if chunks is not None and (isinstance(chunks, bool) or not isinstance(
-            chunks, (int, np.integer)) or chunks < 1):
-        raise ValueError(f"chunks must be an integer >= 1 (points per chunk), "
-                         f"got {chunks!r}")
+    o = _checked_arguments(grid, method, tol, chunks, path, options)
     kind, target = _executor(client, scheduler)
+    call = _call_repr(grid, method, tol, chunks, client, path, scheduler, options)
+    requested = None if chunks is None else min(int(chunks), grid.size)
+    if path is None:
+        chunk = default_chunk(grid.size) if requested is None else requested
+        cols = _compute(grid, o, kind, target, chunk, None, progress)
+        return _dataset(grid, cols, o, method, call)
+    with _working_store(path, grid, o, method, tol, options, requested) as store:
+        cols = _compute(grid, o, kind, target, store.chunk, store, progress)
+        ds = _dataset(grid, cols, o, method, call)
+        write_netcdf(ds, path)
+        store.remove()
+    return ds
+
+
+def _compute(grid, o, kind, target, chunk, store, progress) -> np.ndarray:
+    """Observables ``(layout.NOBS, grid.size)``: stored chunks read back, the others
+    computed (and stored as they finish when there is a store)."""
     size = grid.size
-
-    store = None
-    if path is not None:
-        config = {"grid": grid.fingerprint(), "options": o.tolist(),
-                  "layout": [layout.NP, layout.NOBS], "version": _version()}
-        digest = hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()
-        readable = {"grid": repr(grid), "method": method, "tol": tol, **options}
-        store = WorkingStore.open(path, digest, readable, size, layout.NOBS,
-                                  None if chunks is None else min(int(chunks), size),
-                                  default_chunk(size))
-        chunk = store.chunk
-    else:
-        chunk = default_chunk(size) if chunks is None else min(int(chunks), size)
     bounds = [(a, min(a + chunk, size)) for a in range(0, size, chunk)]
-
     cols = np.empty((layout.NOBS, size))     # one contiguous row per observable
     finished = store.done(len(bounds)) if store is not None else []
     for i in finished:
@@ -272,7 +272,7 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
     todo = sorted(set(range(len(bounds))) - set(finished))
 
     show = sys.stderr.isatty() if progress is None else bool(progress)
-    with tqdm(total=size, initial=sum(b - a for a, b in map(bounds.__getitem__, finished)),
+    with tqdm(total=size, initial=sum(bounds[i][1] - bounds[i][0] for i in finished),
               unit="pt", unit_scale=True, desc="sweep", disable=not show,
               delay=0.5 if progress is None else 0.0, file=sys.stderr) as bar:
         def handle(i, result):
@@ -284,13 +284,50 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
 
         if todo:
             _execute(kind, target, grid, o, bounds, todo, handle)
+    return cols
 
-    call = _call_repr(grid, method, tol, chunks, client, path, scheduler, options)
-    ds = _dataset(grid, cols, o, method, call)
+
+def _checked_arguments(grid, method, tol, chunks, path, options) -> np.ndarray:
+    """Validate everything before work starts; return the kernel option row."""
+    if not isinstance(grid, Grid):
+        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
+    o = make_options(method, tol=tol, **options)
+    alpha2 = np.atleast_1d(grid.alpha2)
+    if method == "exact" and (alpha2 != 0.0).any():
+        raise ValueError("method='exact' needs alpha2 == 0 at every point; got "
+                         f"alpha2={float(alpha2[alpha2 != 0.0][0])!r}")
+    if chunks is not None and (isinstance(chunks, bool) or not isinstance(
+            chunks, (int, np.integer)) or chunks < 1):
+        raise ValueError(f"chunks must be an integer >= 1 (points per chunk), "
+                         f"got {chunks!r}")
     if path is not None:
-        write_netcdf(ds, path)
-        store.remove()
-    return ds
+        target = Path(path)
+        if str(path) == "" or target.is_dir():
+            raise ValueError(f"path={str(path)!r} is a directory; give the name of "
+                             "the result file (e.g. 'map.nc')")
+        if not target.parent.is_dir():
+            raise FileNotFoundError(f"path={str(path)!r}: directory {target.parent} "
+                                    "does not exist")
+    return o
+
+
+@functools.lru_cache(maxsize=1)
+def _kernel_digest() -> str:
+    """SHA-256 of the kernels' source: a resume must not mix two kernel versions."""
+    h = hashlib.sha256(numba.__version__.encode())
+    for src in sorted(Path(layout.__file__).parent.glob("*.py")):
+        h.update(src.name.encode() + src.read_bytes())
+    return h.hexdigest()
+
+
+def _working_store(path, grid, o, method, tol, options, chunk) -> WorkingStore:
+    """The resumable store of ``path``, keyed by a hash of what fixes the results."""
+    config = {"grid": grid.fingerprint(), "options": o.tolist(), "version": _version(),
+              "kernels": _kernel_digest()}
+    digest = hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()
+    readable = {"grid": repr(grid), "method": method, "tol": tol, **options}
+    return WorkingStore.open(path, digest, readable, grid.size, layout.NOBS, chunk,
+                             default_chunk(grid.size))
 
 
 # ------------------------------------------------------------------ labels
@@ -313,7 +350,8 @@ def _option_attrs(o: np.ndarray) -> dict:
         "max_steps": int(o[layout.O_MAX_STEPS]),
         "max_periods": float(o[layout.O_MAX_TIME]),
         "dt": float(dt) if dt > 0 else "per point: 2 pi / omega / 50 s",
-        "gps_a": float(gps_a) if np.isfinite(gps_a) else "per point: r_y/k + |v|/omega cm",
+        "gps_a": (float(gps_a) if np.isfinite(gps_a)
+                  else "per point: r_y/k + |v|/omega cm"),
         "graze": float(o[layout.O_GRAZE]),
     }
 
@@ -334,8 +372,8 @@ def _dataset(grid: Grid, cols: np.ndarray, o: np.ndarray, method: str,
     for name, (col, *meta) in variables.OBSERVABLES.items():
         data[name] = xr.Variable(dims, cols[col].reshape(shape), _attrs(*meta))
     status = cols[layout.OB_STATUS].astype(np.int8).reshape(shape)
-    data["regime"] = xr.Variable(dims, cols[layout.OB_REGIME].astype(np.int8).reshape(shape),
-                                 _flag_attrs(variables.REGIME))
+    regime = cols[layout.OB_REGIME].astype(np.int8).reshape(shape)
+    data["regime"] = xr.Variable(dims, regime, _flag_attrs(variables.REGIME))
     data["status"] = xr.Variable(dims, status, _flag_attrs(variables.STATUS))
     data["converged"] = xr.Variable(
         dims, (status == codes.OK).astype(np.int8),

@@ -30,3 +30,25 @@ def omega(m, k):
 def radius(x, xdot, centre, w):
     """Distance from (centre, 0) in the (x, xdot/omega) plane."""
     return np.hypot(np.asarray(x) - centre, np.asarray(xdot) / w)
+
+
+@pytest.fixture(scope="session")
+def warm_sweep():
+    """Compile the sweep's two kernels (serial ``attractor_rows`` for dask tasks,
+    ``attractor_rows_parallel`` for the direct path) with a two-point sweep."""
+    from sweepcore.grid import Grid
+    from sweepcore.sweep import sweep
+
+    grid = Grid(m=5.0, k=50.0, r_y=10.0, v=[1.0, 2.0], alpha1=1.0, alpha2=0.01)
+    sweep(grid, progress=False)
+    sweep(grid, scheduler="synchronous", progress=False)
+
+
+@pytest.fixture(scope="session")
+def paper_map(warm_sweep):
+    """The paper's slider on a small (v, alpha2) Hopf map (m=5, k=50, r_y=10,
+    alpha1=1; v* = 5.77, 4.08, 3.33 cm/s inside the v range)."""
+    from sweepcore.grid import Grid
+
+    return Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, v=np.linspace(3.0, 8.0, 24),
+                alpha2=[0.01, 0.02, 0.03])
