@@ -60,7 +60,8 @@ def assert_identical(got, want):
 SCRIPT = textwrap.dedent("""\
     import sys, time
     import numpy as np
-    import sweepcore.sweep as sm
+    import importlib
+    sm = importlib.import_module("sweepcore.sweep")
     from sweepcore.grid import Grid
 
     path, log, pause, n_v = sys.argv[1], sys.argv[2], float(sys.argv[3]), int(sys.argv[4])

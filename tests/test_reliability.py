@@ -17,7 +17,8 @@ import pytest
 import xarray as xr
 
 import sweepcore as sc
-import sweepcore.sweep as sweep_mod
+import importlib
+sweep_mod = importlib.import_module("sweepcore.sweep")  # the package attribute is the function
 from sweepcore.grid import Grid
 from sweepcore.io import WorkingStore, check_cf, open_result, write_netcdf
 from sweepcore.sweep import sweep

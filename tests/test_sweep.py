@@ -15,7 +15,8 @@ import numpy as np
 import pytest
 
 import sweepcore as sc
-import sweepcore.sweep as sweep_mod
+import importlib
+sweep_mod = importlib.import_module("sweepcore.sweep")  # the package attribute is the function
 from sweepcore._kernels import codes, layout
 from sweepcore._kernels.attractor import attractor_rows
 from sweepcore.boundary import hopf_boundary
