@@ -305,15 +305,21 @@ def _zd_event(g0, g1, d0, d1, armed, near):
     return 0, 0.0, 0.0, 0.0, armed
 
 
+@kernel(inline="always")
+def _book(acc, qx, qv, qw, h):
+    """Add a step's quadratures and its duration to the accumulators."""
+    acc[A_IX] += qx
+    acc[A_IXD2] += qv
+    acc[A_WF] += qw
+    acc[A_DT] += h
+
+
 @kernel
 def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
     """Book the partial step to a zdot = 0 event at h and apply the stop rules."""
     _x, _z, qx, qv, qw, _e, _ok = step(x0, zd0, h, s, p, o, True)
     st[S_N] += 1.0
-    acc[A_IX] += qx
-    acc[A_IXD2] += qv
-    acc[A_WF] += qw
-    acc[A_DT] += h
+    _book(acc, qx, qv, qw, h)
     st[S_T] += h
     new, ev, xn = classify_zero(xe, s, p, o[O_GRAZE])
     st[S_X] = xn
@@ -458,10 +464,7 @@ def slide_until_event(st, p, o, acc, t_stop):
         if h_xe >= 0.0:
             _x, _z, qx, qv, qw, _e, _ok = step(x, zd, h_xe, s, p, o, True)
             st[S_N] += 1.0
-            acc[A_IX] += qx
-            acc[A_IXD2] += qv
-            acc[A_WF] += qw
-            acc[A_DT] += h_xe
+            _book(acc, qx, qv, qw, h_xe)
             st[S_T] = t + h_xe
             st[S_X] = xx
             st[S_ZD] = -v               # xdot = 0 exactly at the section
@@ -471,10 +474,7 @@ def slide_until_event(st, p, o, acc, t_stop):
             if xd0 > 0.0:
                 return codes.EV_XMAX, codes.OK
             return codes.EV_XMIN, codes.OK
-        acc[A_IX] += qx
-        acc[A_IXD2] += qv
-        acc[A_WF] += qw
-        acc[A_DT] += h
+        _book(acc, qx, qv, qw, h)
         _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1)
         st[S_T] = t + h if not last else t_stop
         st[S_X] = x1
