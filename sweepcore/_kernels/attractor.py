@@ -351,8 +351,20 @@ def attractor_rows(P, o, out):
         attractor_point(P[i], o, out[i])
 
 
+_LANES = 256   # interleaved lanes of attractor_rows_parallel (>= threads, load balance)
+
+
 @kernel(parallel=True)
 def attractor_rows_parallel(P, o, out):
-    """numba-threaded loop over the rows of P (one prange, sequential inside)."""
-    for i in prange(P.shape[0]):
-        attractor_point(P[i], o, out[i])
+    """numba-threaded loop over the rows of P (one prange, sequential inside).
+
+    prange hands each thread one contiguous block, but cost is clustered on a grid
+    (slip cycles near v* cost ~10x a stick-slip point). The rows are dealt into
+    ``_LANES`` interleaved lanes (lane b: rows b, b + _LANES, ...), and prange splits
+    the lanes, so every thread gets a sample of every region. Points are independent,
+    so the results do not depend on this order.
+    """
+    n = P.shape[0]
+    for b in prange(_LANES):
+        for i in range(b, n, _LANES):
+            attractor_point(P[i], o, out[i])
