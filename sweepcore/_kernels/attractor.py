@@ -351,7 +351,10 @@ def attractor_rows(P, o, out):
         attractor_point(P[i], o, out[i])
 
 
-_LANES = 256   # interleaved lanes of attractor_rows_parallel (>= threads, load balance)
+# Interleaved lanes of attractor_rows_parallel: many more than threads, and prime, so
+# that a lane never lines up with a grid axis (256 lanes on a 256 x 256 map put one
+# alpha2 in each lane, and split the threads by alpha2, the costly direction).
+_LANES = 1021
 
 
 @kernel(parallel=True)
