@@ -25,9 +25,10 @@ A cluster on several machines::
     # then: sweep(grid, client="tcp://HOST:8786", path="map.nc")
 
 The workers need sweepcore importable. ``NUMBA_NUM_THREADS=1`` keeps numba from
-starting a thread pool per worker process; for a ``LocalCluster`` set it with
-``dask.config.set({"distributed.nanny.pre-spawn-environ.NUMBA_NUM_THREADS": "1"})``
-before creating the cluster (the nanny does not set it by itself). The first task
+starting a thread pool per worker process; for a ``LocalCluster`` pass
+``env={"NUMBA_NUM_THREADS": "1"}`` (the nanny does not set it by itself; the
+``pre-spawn-environ`` config key also writes it into the parent process, whose next
+numba compile then fails). The first task
 on each worker process compiles the kernel, or loads it from numba's cache.
 
 Resumable runs

@@ -1,0 +1,1 @@
+"""sweepcore benchmarks: ``python benchmarks/run.py [--quick]`` (see README.md)."""
