@@ -91,3 +91,19 @@ def test_paper_three_cases():
     assert eq.regime == "equilibrium" and eq.mean == pytest.approx(0.225, rel=1e-12)
     cyc = sc.attractor(sc.Params(5, 50, 10, 5, 1.0, 0.01))
     assert cyc.regime == "stick_slip" and cyc.converged
+
+
+def test_dormand_prince_tableau_conditions():
+    """Row sums of A equal c; b sums to 1; the error weights sum to 0; b and the
+    embedded b_hat = b - e reach order 5 and 4 on the quadrature conditions."""
+    from sweepcore._kernels import dopri5 as dp
+    A, b, c, e = dp.TABLEAU_A, dp.TABLEAU_B, dp.TABLEAU_C, dp.TABLEAU_E
+    np.testing.assert_allclose(A.sum(axis=1), c[:A.shape[0]], atol=1e-15)
+    assert b.sum() == pytest.approx(1.0, abs=1e-15)
+    assert e.sum() == pytest.approx(0.0, abs=1e-15)
+    for q in range(1, 6):                     # sum b_i c_i^(q-1) = 1/q up to order 5
+        assert (b * c ** (q - 1)).sum() == pytest.approx(1.0 / q, abs=1e-14)
+    bh = b - e
+    for q in range(1, 5):
+        assert (bh * c ** (q - 1)).sum() == pytest.approx(1.0 / q, abs=1e-14)
+    assert abs((bh * c ** 4).sum() - 1.0 / 5) > 1e-6   # and no higher: the 4th-order pair
