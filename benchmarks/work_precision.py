@@ -72,6 +72,17 @@ def _is_regime(v, alpha2, o, regimes):
     return int(out[0, 8]) in regimes
 
 
+def _bisect(a, b, iters, left):
+    """Shrink [a, b] with left(a) true and left(b) false; returns the final (a, b)."""
+    for _ in range(iters):
+        m = 0.5 * (a + b)
+        if left(m):
+            a = m
+        else:
+            b = m
+    return a, b
+
+
 def hopf_boundary(method, kw, alpha2=0.01, lo=4.0, hi=8.0, iters=25):
     """(boundary, half-gap, v_cycle_end, v_eq_start, seconds) by two bisections."""
     from sweepcore.options import make_options
@@ -81,22 +92,9 @@ def hopf_boundary(method, kw, alpha2=0.01, lo=4.0, hi=8.0, iters=25):
     eq = (0,)
     if not (_is_regime(lo, alpha2, o, cyc) and _is_regime(hi, alpha2, o, eq)):
         return math.nan, math.nan, math.nan, math.nan, time.perf_counter() - t0
-    a, b = lo, hi                        # last cycle: cyc(a) and not cyc(b)
-    for _ in range(iters):
-        m = 0.5 * (a + b)
-        if _is_regime(m, alpha2, o, cyc):
-            a = m
-        else:
-            b = m
-    v_cyc = a
-    a, b = v_cyc, hi                     # first equilibrium beyond: not eq(a), eq(b)
-    for _ in range(iters):
-        m = 0.5 * (a + b)
-        if _is_regime(m, alpha2, o, eq):
-            b = m
-        else:
-            a = m
-    v_eq = b
+    # last cycle: cyc(a) and not cyc(b); then the first equilibrium beyond it
+    v_cyc, _ = _bisect(lo, hi, iters, lambda m: _is_regime(m, alpha2, o, cyc))
+    _, v_eq = _bisect(v_cyc, hi, iters, lambda m: not _is_regime(m, alpha2, o, eq))
     return 0.5 * (v_cyc + v_eq), 0.5 * (v_eq - v_cyc), v_cyc, v_eq, time.perf_counter() - t0
 
 
