@@ -167,10 +167,11 @@ def threading_layer():
     try:
         return numba.threading_layer()
     except ValueError:
+        from sweepcore._kernels.layout import NOBS
         from sweepcore._kernels.attractor import attractor_rows_parallel
         from sweepcore.options import make_options
         P = rows([1.0], [0.01])
-        out = np.empty((1, 13))
+        out = np.empty((1, NOBS))
         attractor_rows_parallel(P, make_options("auto"), out)
         return numba.threading_layer()
 

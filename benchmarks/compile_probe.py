@@ -23,6 +23,7 @@ from benchmarks import common  # noqa: E402
 t1 = time.perf_counter()
 from sweepcore._kernels.attractor import attractor_rows, attractor_rows_parallel  # noqa: E402
 from sweepcore.options import make_options  # noqa: E402
+from sweepcore._kernels.layout import NOBS  # noqa: E402
 t_import = time.perf_counter() - t1
 rss_import = common.peak_rss_mib()
 
@@ -30,7 +31,7 @@ nv, na = (int(a) for a in sys.argv[1:3])
 run_map = len(sys.argv) > 3 and sys.argv[3] == "map"
 o = make_options("auto", tol=1e-8)
 P_small = common.rows(*common.map_axes(8, 8))
-out_small = np.empty((P_small.shape[0], 13))
+out_small = np.empty((P_small.shape[0], NOBS))
 t2 = time.perf_counter()
 attractor_rows_parallel(P_small, o, out_small)
 t_first_parallel = time.perf_counter() - t2
@@ -47,7 +48,7 @@ res = {"t_import_numba": t_numba, "t_import_kernels": t_import,
        "rss_after_first_call_mib": rss_compiled}
 if run_map:
     P = common.rows(*common.map_axes(nv, na))
-    out = np.empty((P.shape[0], 13))
+    out = np.empty((P.shape[0], NOBS))
     t5 = time.perf_counter()
     attractor_rows_parallel(P, o, out)
     res["t_map"] = time.perf_counter() - t5

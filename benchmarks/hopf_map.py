@@ -28,6 +28,7 @@ import numpy as np
 
 from . import common
 from .common import log
+from sweepcore._kernels.layout import NOBS
 
 
 def _kernels():
@@ -40,7 +41,7 @@ def time_kernel(P, o, repeats, parallel=True):
     """Median warm wall time of the kernel over P (after one small warm-up call)."""
     rows_serial, rows_parallel, _ = _kernels()
     fn = rows_parallel if parallel else rows_serial
-    out = np.empty((P.shape[0], 13))
+    out = np.empty((P.shape[0], NOBS))
     fn(P[:4], o, out[:4])                     # compile / load outside the timing
     med, times, _ = common.timed(lambda: fn(P, o, out), repeat=repeats)
     return med, times, out
@@ -58,7 +59,7 @@ def thread_scaling(P, o, repeats):
     counts = sorted({1, min(2, n_max), n_max})
     perm = np.random.default_rng(1).permutation(P.shape[0])
     orders = {"grid order": P, "shuffled rows": np.ascontiguousarray(P[perm])}
-    out = np.empty((P.shape[0], 13))
+    out = np.empty((P.shape[0], NOBS))
     rows_parallel(P[:4], o, out[:4])
     times = {(name, n): [] for name in orders for n in counts}
     try:
@@ -216,10 +217,10 @@ def accuracy(P, out, profile, tols_out):
     Ps = P[idx]
     L = common.length_scale(Ps)
     t0 = time.perf_counter()
-    ref = np.empty((n, 13))
+    ref = np.empty((n, NOBS))
     rows_parallel(Ps, make_options("dopri5", tol=1e-12), ref)
     t_ref = time.perf_counter() - t0
-    rk = np.empty((n, 13))
+    rk = np.empty((n, NOBS))
     rows_parallel(Ps, make_options("rk4", dt=1e-3, tol=1e-12), rk)
     res = {"n_subsample": n, "seed": 20261122, "reference": "dopri5 tol=1e-12",
            "reference_time_s": t_ref, "reference_regimes": common.regime_counts(ref),
@@ -298,7 +299,7 @@ def replot(outdir, res, peer_res=None):
     path = outdir / "hopf_map_fields.npz"
     if path.exists():
         f = np.load(path)
-        out = np.full((f["amplitude"].size, 13), np.nan)
+        out = np.full((f["amplitude"].size, NOBS), np.nan)
         out[:, 0] = f["amplitude"]
         out[:, 8] = f["regime"]
         v, a2 = common.map_axes(res["grid"]["nv"], res["grid"]["na"])

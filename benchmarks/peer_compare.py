@@ -29,6 +29,7 @@ import numpy as np
 
 from . import common
 from .common import log
+from sweepcore._kernels.layout import NOBS
 
 
 def peer_points(n):
@@ -109,17 +110,17 @@ def run(profile, outdir, hopf_res=None):
 
     # sweepcore on the same points: 1 core, its own reference
     o = make_options("auto", tol=1e-8)
-    out = np.empty((n, 13))
+    out = np.empty((n, NOBS))
     attractor_rows(P[:1], o, out[:1])
     med, _t, _ = common.timed(lambda: attractor_rows(P, o, out), repeat=5)
     at_vstar = np.isclose(P[:, 3] * P[:, 3] * 3.0 * P[:, 5], P[:, 4])   # q = 0 exactly
     med_off = med
     if at_vstar.any() and (~at_vstar).any():
         Po = np.ascontiguousarray(P[~at_vstar])
-        oo = np.empty((Po.shape[0], 13))
+        oo = np.empty((Po.shape[0], NOBS))
         med_off, _t, _ = common.timed(lambda: attractor_rows(Po, o, oo), repeat=5)
         med_off *= n / Po.shape[0]
-    sref = np.empty((n, 13))
+    sref = np.empty((n, NOBS))
     attractor_rows_parallel(P, make_options("dopri5", tol=1e-13), sref)
     cmp = common.compare(out, sref, common.length_scale(P))
     res["sweepcore_same_points"] = {"setting": "auto (dopri5) tol=1e-8", "s_per_point": med / n,

@@ -12,6 +12,7 @@ import numpy as np
 
 from . import common
 from .common import log
+from sweepcore._kernels.layout import NOBS
 
 
 def run(profile, outdir):
@@ -26,7 +27,7 @@ def run(profile, outdir):
         P = common.rows(v, a2)
         n = P.shape[0]
         reps = profile["tp_repeats_small"] if n <= 1e5 else profile["tp_repeats_large"]
-        out = np.empty((n, 13))
+        out = np.empty((n, NOBS))
         attractor_rows_parallel(P[:4], o, out[:4])
         med, times, _ = common.timed(lambda: attractor_rows_parallel(P, o, out), repeat=reps)
         row = {"side": side, "n_points": n, "kernel_median_s": med, "kernel_times_s": times,

@@ -26,6 +26,7 @@ import numpy as np
 
 from . import common
 from .common import log
+from sweepcore._kernels.layout import NOBS
 
 TEST_V = (0.5, 2.0, 5.0, 10.0)
 TEST_A2 = (0.002, 0.01, 0.05, 0.1)
@@ -58,7 +59,7 @@ def _run(P, method, kw, repeats):
     from sweepcore._kernels.attractor import attractor_rows
     from sweepcore.options import make_options
     o = make_options(method, **(kw or {}))
-    out = np.empty((P.shape[0], 13))
+    out = np.empty((P.shape[0], NOBS))
     attractor_rows(P[:1], o, out[:1])
     med, times, _ = common.timed(lambda: attractor_rows(P, o, out), repeat=repeats)
     return med / P.shape[0], out
@@ -67,7 +68,7 @@ def _run(P, method, kw, repeats):
 def _is_regime(v, alpha2, o, regimes):
     from sweepcore._kernels.attractor import attractor_rows
     P = common.rows([v], [alpha2])
-    out = np.empty((1, 13))
+    out = np.empty((1, NOBS))
     attractor_rows(P, o, out)
     return int(out[0, 8]) in regimes
 
@@ -104,7 +105,7 @@ def stratified_points(profile, rng):
     from sweepcore.options import make_options
     P = common.rows(*common.map_axes())
     pool = P[rng.choice(P.shape[0], 1500, replace=False)]
-    out = np.empty((pool.shape[0], 13))
+    out = np.empty((pool.shape[0], NOBS))
     attractor_rows_parallel(pool, make_options("dopri5", tol=1e-10), out)
     pick = []
     for reg in (2, 1, 0):
@@ -136,7 +137,7 @@ def run(profile, outdir):
     is_test = np.zeros(Pb.shape[0], bool)
     is_test[: Pt.shape[0]] = True
     Lb = common.length_scale(Pb)
-    ref = np.empty((Pb.shape[0], 13))
+    ref = np.empty((Pb.shape[0], NOBS))
     t0 = time.perf_counter()
     attractor_rows_parallel(Pb, make_options(REF[0], **REF[1]), ref)
     res["reference"] = {"setting": _label(*REF), "seconds": time.perf_counter() - t0,

@@ -32,6 +32,8 @@ class Attractor:
     t_settle: float
     x_max: float
     x_min: float
+    xdot_max: float
+    floquet: float
     n_steps: int
     regime: str
     status: str

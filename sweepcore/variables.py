@@ -27,6 +27,13 @@ OBSERVABLES = {
                  "time at which the measured period of the attractor began"),
     "x_max": (layout.OB_X_MAX, "cm", "largest x on the attractor", ""),
     "x_min": (layout.OB_X_MIN, "cm", "smallest x on the attractor", ""),
+    "xdot_max": (layout.OB_XDOT_MAX, "cm s-1", "largest velocity on the attractor",
+                 "largest xdot over the period; a slip cycle grazes the belt when it "
+                 "reaches v (stick onset)"),
+    "floquet": (layout.OB_FLOQUET, "1", "Floquet multiplier of the cycle",
+                "derivative of the Poincare return map (x maxima) at the slip cycle: "
+                "< 1 stable, 1 at the Hopf point; 0 for stick-slip cycles (every "
+                "slip starts from the breakaway point); NaN without a slip cycle"),
     "n_steps": (layout.OB_NSTEPS, "1", "integrator steps spent on the point",
                 "all stepper calls, including rejected steps and event polishing"),
 }

@@ -38,7 +38,7 @@ from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A
                      O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
                      OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS,
                      OB_STICK_FRACTION, OB_STICKS_PER_PERIOD, OB_T_SETTLE,
-                     OB_VAMPLITUDE, OB_X_MAX, OB_X_MIN, RY, S_MODE, S_N, S_T, S_X,
+                     OB_VAMPLITUDE, OB_X_MAX, OB_X_MIN, OB_XDOT_MAX, OB_FLOQUET, RY, S_MODE, S_N, S_T, S_X,
                      S_ZD, V, X0, XD0)
 
 
@@ -75,6 +75,7 @@ def _write_cycle(out, acc, t0, omega, regime):
     out[OB_T_SETTLE] = t0
     out[OB_X_MAX] = acc[A_XMAX]
     out[OB_X_MIN] = acc[A_XMIN]
+    out[OB_XDOT_MAX] = acc[A_XDMAX]
     out[OB_REGIME] = regime
 
 
@@ -90,6 +91,7 @@ def _write_rest(out, x, t, regime, stuck):
     out[OB_T_SETTLE] = t
     out[OB_X_MAX] = x
     out[OB_X_MIN] = x
+    out[OB_XDOT_MAX] = 0.0           # at rest (steady sliding, or stuck with v = 0)
     out[OB_REGIME] = regime
 
 
@@ -248,6 +250,7 @@ def attractor_point(p, o_in, out):
             if reset_seen:
                 regime = codes.R_STICK_SLIP if acc_cyc[A_NSTICK] > 0 else codes.R_SLIP_CYCLE
                 _write_cycle(out, acc_cyc, t_cyc, omega, regime)
+                out[OB_FLOQUET] = 0.0     # every period restarts from the same point
                 out[OB_STATUS] = codes.OK
                 out[OB_NSTEPS] = st[S_N]
                 return

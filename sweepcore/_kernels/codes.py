@@ -55,6 +55,11 @@ STEP_UNDERFLOW = 5    # adaptive step fell below the floating-point resolution o
 EVENT_FAILURE = 6     # an event could not be located (root polish failed)
 BAD_METHOD = 7        # method not applicable (e.g. exact with alpha2 > 0)
 STEP_TOO_LARGE = 8    # fixed step dt > 1/omega: gps/rk4 cannot resolve the oscillation
+UNRESOLVED = 9        # a cycle next to the Hopf point that neither the shooting solve
+                      # (float64 floor of the integrator) nor the normal form resolves
+                      # to the tolerance
+BELOW_RESOLUTION = 10  # the attractor's size is below float64 resolution at the
+                       # point's length scale: its observables carry no digits
 
 STATUS_NAMES = {
     OK: "ok",
@@ -66,6 +71,8 @@ STATUS_NAMES = {
     EVENT_FAILURE: "event_location_failed",
     BAD_METHOD: "method_not_applicable",
     STEP_TOO_LARGE: "fixed_step_too_large",
+    UNRESOLVED: "unresolved",
+    BELOW_RESOLUTION: "below_resolution",
 }
 
 # --- regimes of an attractor -------------------------------------------------

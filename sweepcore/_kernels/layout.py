@@ -54,4 +54,6 @@ OB_STATUS = 9
 OB_NSTEPS = 10
 OB_X_MAX = 11
 OB_X_MIN = 12
-NOBS = 13
+OB_XDOT_MAX = 13  # largest xdot on the attractor (grazing indicator: v - xdot_max)
+OB_FLOQUET = 14   # nontrivial Floquet multiplier of a slip cycle (return-map derivative)
+NOBS = 15
