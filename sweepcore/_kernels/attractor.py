@@ -33,6 +33,8 @@ from .jit import kernel
 from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
+from .normal_form import nf_cycle, nf_decays_to_rest, nf_seed
+from .return_map import log_saltation, return_slope
 from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
                      A_XMIN, A1, A2, K, M, NA, NOBS, NS, O_DT, O_GPS_A, O_LV, O_LX, O_MAX_STEPS,
                      O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
@@ -40,6 +42,11 @@ from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A
                      OB_STICK_FRACTION, OB_STICKS_PER_PERIOD, OB_T_SETTLE,
                      OB_VAMPLITUDE, OB_X_MAX, OB_X_MIN, OB_XDOT_MAX, OB_FLOQUET, RY, S_MODE, S_N, S_T, S_X,
                      S_ZD, V, X0, XD0)
+
+
+# Lowest relative tolerance given to the integrator: below it, roundoff in the
+# error estimate of dopri5 (weights rtol (L + |x|)) makes the controller erratic.
+RTOL_FLOOR = 1e-14
 
 
 @kernel(inline="always")
@@ -209,7 +216,12 @@ def attractor_point(p, o_in, out):
         out[OB_STATUS] = codes.OK
         out[OB_NSTEPS] = 0.0
         return
+    salt = 0.0                # log of the saltation factors of the current interval
+    salt_hist = np.zeros(2)
+    rtol_int = tol            # integration tolerance now in force (lowered by Newton)
+    rtol_hist = np.zeros(2)
     for _it in range(int(o[O_MAX_STEPS]) + 10):
+        mode0 = st[S_MODE]
         if st[S_MODE] == codes.STICK:
             ev, status = advance(st, p, o, acc, np.inf)
             if ev == codes.EV_SLIP:
@@ -259,12 +271,16 @@ def attractor_point(p, o_in, out):
             _clear(acc_cyc)
             _clear(acc_sec)
             n_sec = 0
+            salt = 0.0
             continue
-        section = ev == codes.EV_XMAX or (v == 0.0 and ev == codes.EV_NORMAL_STOP
-                                          and st[S_X] > 0.0)
+        # sections: maxima of x (minima for v < 0, so that v -> -v is an exact mirror)
+        section = (ev == codes.EV_XMAX and v > 0.0) or (ev == codes.EV_XMIN and v < 0.0) \
+            or (v == 0.0 and ev == codes.EV_NORMAL_STOP and st[S_X] > 0.0)
         if not section:
             if ev != codes.EV_XMIN and ev != codes.EV_XMAX:
                 n_ev_sec += 1
+            if ev == codes.EV_NORMAL_STOP:
+                salt += log_saltation(p, st[S_X], mode0, st[S_MODE])
             continue
         if _certified_rest(st[S_X], st[S_ZD], p):
             _write_rest(out, x_equilibrium(p), t_off + t, codes.R_EQUILIBRIUM, False)
@@ -281,53 +297,131 @@ def attractor_point(p, o_in, out):
         e_hist[1] = e_hist[2]
         e_hist[2] = n_ev_sec
         n_ev_sec = 0
+        salt_hist[0] = salt_hist[1]
+        salt_hist[1] = salt
+        salt = 0.0
+        rtol_hist[0] = rtol_hist[1]
+        rtol_hist[1] = rtol_int
         n_sec += 1
         if n_sec >= 2:
             for i in range(NA):
                 acc_last[i] = acc_sec[i]
             t_last_sec = t_off + t_hist[2]
         _clear(acc_sec)
-        if n_sec < 3:
+        if conservative:
+            if n_sec < 3:
+                continue
+            # the conservative law has a neutral family, no contraction: a steady
+            # section is the answer. A neutral circle must also have gone round
+            # without touching the belt: one that touches is a transient of the
+            # conservative law, not a member of the neutral family.
+            d1 = a_hist[3] - a_hist[2]
+            T1 = t_hist[3] - t_hist[2]
+            T0 = t_hist[2] - t_hist[1]
+            if abs(d1) <= tol * lx and abs(T1 - T0) <= 10.0 * tol * T1 \
+                    and not (p[RY] > 0.0 and e_hist[2] > 0):
+                _write_cycle(out, acc_last, t_last_sec, omega, codes.R_NEUTRAL)
+                out[OB_STATUS] = codes.OK
+                out[OB_NSTEPS] = st[S_N]
+                return
             continue
-        d1 = a_hist[3] - a_hist[2]
-        d0 = a_hist[2] - a_hist[1]
-        T1 = t_hist[3] - t_hist[2]
-        T0 = t_hist[2] - t_hist[1]
-        rho = d1 / d0 if d0 != 0.0 else 0.0
-        rem = abs(d1) * abs(rho) / (1.0 - abs(rho)) if abs(rho) < 1.0 else np.inf
-        # a cycle is accepted only when it is resolved: an orbit within 1e3 tol L of
-        # x_eq cannot be told from the equilibrium at this tolerance
-        amp = 0.5 * (acc_last[A_XMAX] - acc_last[A_XMIN])
-        # (the conservative law has a neutral family, no contraction: a steady
-        # section is the answer, and rem is meaningless there)
-        # A neutral circle must also have gone round without touching the belt: one
-        # that touches is a transient of the conservative law, not a member of the
-        # neutral family.
-        if abs(d1) <= tol * lx and (rem <= tol * lx or conservative) \
-                and abs(T1 - T0) <= 10.0 * tol * T1 \
-                and (amp > 1e3 * tol * lx or conservative) \
-                and not (conservative and p[RY] > 0.0 and e_hist[2] > 0):
-            regime = codes.R_NEUTRAL if conservative else codes.R_SLIP_CYCLE
-            _write_cycle(out, acc_last, t_last_sec, omega, regime)
+        # --- slip motion: the return map a -> P(a) of the x maxima, solved by Newton
+        if n_sec < 2 or v == 0.0:
+            if v == 0.0 and n_sec >= 3:
+                # v = 0: sections are stops on the switching line (no smooth map);
+                # a steady geometric sequence of returns is the answer
+                d1 = a_hist[3] - a_hist[2]
+                d0 = a_hist[2] - a_hist[1]
+                rho = d1 / d0 if d0 != 0.0 else 0.0
+                rem = abs(d1) * abs(rho) / (1.0 - abs(rho)) if abs(rho) < 1.0 else np.inf
+                if abs(d1) <= tol * lx and rem <= tol * lx:
+                    _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
+                    out[OB_STATUS] = codes.OK
+                    out[OB_NSTEPS] = st[S_N]
+                    return
+            continue
+        a0 = a_hist[2]
+        a1 = a_hist[3]
+        dP = return_slope(p, a0, a1, acc_last, salt_hist[1])
+        xe = x_equilibrium(p)
+        F = a1 - a0
+        gap = 1.0 - dP
+        if p[A2] > 0.0 and e_hist[2] == 0 and \
+                nf_decays_to_rest(p, a0, a1, acc_last[A_DT]):
+            _write_rest(out, xe, t_off + t, codes.R_EQUILIBRIUM, False)
             out[OB_STATUS] = codes.OK
             out[OB_NSTEPS] = st[S_N]
             return
-        # Aitken jump on the section sequence, only where the return map is smooth
-        # with a steady geometric ratio: the same itinerary (number of stops) in the
-        # last three intervals, two consecutive ratios that agree, and not the
-        # conservative law (every circle is a fixed point there).
-        if n_sec >= 4 and not conservative and 0.5 < rho < 1.0 and rem > tol * lx \
-                and e_hist[0] == e_hist[1] and e_hist[1] == e_hist[2]:
-            dm = a_hist[1] - a_hist[0]
-            rho0 = d0 / dm if dm != 0.0 else 0.0
-            a_star = a_hist[3] - d1 * d1 / (d1 - d0)
-            # geometric, not algebraic, approach: 1 - rho steady to 20 %
-            if abs(rho - rho0) <= 0.2 * (1.0 - rho) and \
-                    abs(a_star - a_hist[3]) < 10.0 * abs(a_hist[3] - x_equilibrium(p)):
-                st[S_X] = a_star
+        # The return map computed at rtol is wrong by ~ rtol lx / |a - x_eq| in its
+        # slope (the integrator's own growth or decay); a slope within that noise
+        # of 1 is not resolved at this tolerance. Returns used for the answer are
+        # computed at rtol <= tol gap / 4: their noise (~2 rtol lx) is amplified by
+        # 1 / gap in the fixed point.
+        noise = 4.0 * rtol_hist[1] * lx / max(abs(a1 - xe), 1e-300)
+        resolved = abs(gap) > noise
+        if gap <= -noise:
+            continue            # expanding here: follow the motion
+        need = 0.25 * tol * gap
+        floor = need < RTOL_FLOOR or (not resolved and rtol_hist[1] <= RTOL_FLOOR)
+        if floor and e_hist[2] == 0 and p[A2] > 0.0 and p[A1] > 0.0:
+            # the cycle contracts too slowly for float64 integration to resolve it
+            # at this tolerance: next to the Hopf point, where the normal form is
+            # accurate (if it is not accurate enough either: "unresolved")
+            if nf_cycle(p, a1, 0.5 * tol * lx, out):
+                out[OB_T_SETTLE] = t_last_sec
+                out[OB_STATUS] = codes.OK
+                out[OB_NSTEPS] = st[S_N]
+                return
+            a_nf = nf_seed(p, a0, a1, acc_last[A_DT], 0.5 * tol * lx)
+            if not math.isnan(a_nf):
+                # the normal form describes this return and is accurate at the
+                # cycle: go to its cycle and confirm it there on the next return
+                st[S_X] = a_nf
                 st[S_ZD] = -v
                 n_sec = 1
-                a_hist[3] = a_star
+                a_hist[3] = a_nf
+                t_hist[3] = t
+                _clear(acc_sec)
+                continue
+        if not resolved:
+            if rtol_int > RTOL_FLOOR:
+                rtol_int = max(0.01 * rtol_int, RTOL_FLOOR)
+                o[O_RTOL] = rtol_int
+            elif e_hist[2] == 0 and abs(F) <= 8.0 * RTOL_FLOOR * lx:
+                # neutral to float64 resolution, and the returns stand still
+                _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
+                out[OB_FLOQUET] = dP
+                out[OB_STATUS] = codes.UNRESOLVED
+                out[OB_NSTEPS] = st[S_N]
+                return
+            continue            # no Newton step on an unresolved slope
+        err0 = abs(F) / gap     # distance of a0 from the fixed point (Newton)
+        # Newton iterates at the tolerance in force until its noise (~4 rtol lx / gap)
+        # is reached; only then is the tolerance lowered for the last returns.
+        fine = rtol_hist[1] <= max(need, RTOL_FLOOR) * 1.000001
+        if err0 <= max(0.5 * tol * lx, 8.0 * RTOL_FLOOR * lx / gap) and fine:
+            _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
+            out[OB_FLOQUET] = dP
+            out[OB_STATUS] = codes.UNRESOLVED if floor else codes.OK
+            out[OB_NSTEPS] = st[S_N]
+            return
+        if not fine and err0 <= 4.0 * rtol_hist[1] * lx / gap:
+            rtol_int = max(need, RTOL_FLOOR)
+            o[O_RTOL] = rtol_int
+        if e_hist[2] == e_hist[1]:
+            # Newton step from a0 (the map is smooth along one itinerary); a jump
+            # never more than halves or doubles the distance to x_eq
+            a_new = a0 + F / gap
+            r = (a_new - xe) / (a1 - xe)
+            if r < 0.5:
+                a_new = xe + 0.5 * (a1 - xe)
+            elif r > 2.0:
+                a_new = xe + 2.0 * (a1 - xe)
+            if abs(a_new - a1) > 0.1 * tol * lx:
+                st[S_X] = a_new
+                st[S_ZD] = -v
+                n_sec = 1
+                a_hist[3] = a_new
                 t_hist[3] = t
                 _clear(acc_sec)
     # budget spent or numerical failure

@@ -1,0 +1,142 @@
+"""The normal form of the Hopf bifurcation at v* (first-order averaging).
+
+With ``y = x - x_eq`` and ``w = ydot``, sliding with ``zdot < 0`` (v > 0) is exactly
+
+    wdot = -omega^2 y + q w + c2 w^2 - c3 w^3,   c2 = 3 alpha2 v / m,  c3 = alpha2 / m
+
+(eq. 41 expanded about zdot = -v; q of eq. 46). Averaging over ``y = A cos(theta)``
+gives ``dA/dt = q A / 2 - beta A^3`` with ``beta = 3 c3 omega^2 / 8``: for q > 0 a
+stable cycle of amplitude ``A^2 = q / (2 beta)`` (the Hopf bifurcation is
+supercritical since beta > 0); for q <= 0 every small motion decays to x_eq. The
+quadratic term alone is reversible (a centre), so it does not enter beta; it shifts
+the cycle (mean ``c2 A^2 / 2``, second harmonic ``c2 A^2 / 6``) and its period
+(``Y = exp(-c2 y)`` turns it into ``Ydd = -omega^2 Y ln Y``, whose Lindstedt series
+gives ``T = 2 pi / omega (1 + (c2 A)^2 / 6)``). v < 0 is the mirror image.
+
+The neglected terms are of relative size ``q / omega``, ``(c2 A)^2`` and
+``c3 omega A^2``; ``NF_KAPPA`` bounds their coefficient (measured in
+``studies/normal_form.py``).
+"""
+import math
+
+from .jit import kernel
+
+from .layout import (A1, A2, K, M, NOBS, OB_AMPLITUDE, OB_CYCLE_SIZE, OB_FLOQUET,
+                     OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS, OB_STICK_FRACTION,
+                     OB_STICKS_PER_PERIOD, OB_VAMPLITUDE, OB_X_MAX, OB_X_MIN,
+                     OB_XDOT_MAX, RY, V)
+from . import codes
+
+NF_KAPPA = 1.0
+
+
+@kernel(inline="always")
+def _coefficients(p):
+    """(omega, q, c2, beta, sign of v, x_eq) of the normal form."""
+    m = p[M]
+    v = p[V]
+    va = abs(v)
+    omega = math.sqrt(p[K] / m)
+    q = (p[A1] - 3.0 * p[A2] * v * v) / m
+    c2 = 3.0 * p[A2] * va / m
+    beta = 3.0 * p[A2] / m * omega * omega / 8.0
+    sg = 1.0 if v > 0.0 else -1.0
+    xe = sg * (p[RY] - p[A1] * va + p[A2] * va ** 3) / p[K]
+    return omega, q, c2, beta, sg, xe
+
+
+@kernel(inline="always")
+def nf_error(A, omega, q, c2, c3):
+    """Bound of the normal form's amplitude error [cm] at amplitude A."""
+    return NF_KAPPA * A * (abs(q) / omega + (c2 * A) ** 2 + c3 * omega * A * A)
+
+
+@kernel
+def nf_cycle(p, a1, tol_abs, out):
+    """Fill ``out`` with the normal-form cycle when it is accurate to ``tol_abs`` [cm]
+    and the motion (section value ``a1``) is on it; returns True when filled."""
+    if p[V] == 0.0 or p[A2] <= 0.0:
+        return False
+    omega, q, c2, beta, sg, xe = _coefficients(p)
+    if not q > 0.0:
+        return False
+    A = math.sqrt(q / (2.0 * beta))
+    if A * omega >= 0.5 * abs(p[V]):
+        return False                       # near the belt speed: not a small cycle
+    if nf_error(A, omega, q, c2, p[A2] / p[M]) > tol_abs:
+        return False
+    shift = sg * 2.0 / 3.0 * c2 * A * A     # x_max - x_eq = A + shift
+    if abs(sg * (a1 - xe) - (A + 2.0 / 3.0 * c2 * A * A)) > 0.05 * A:
+        return False                       # the motion is not on the small cycle yet
+    for i in range(NOBS):
+        if i != OB_STATUS and i != OB_NSTEPS:   # the caller fills these
+            out[i] = math.nan
+    out[OB_AMPLITUDE] = A
+    out[OB_MEAN] = xe + sg * 0.5 * c2 * A * A
+    out[OB_VAMPLITUDE] = A * omega
+    out[OB_CYCLE_SIZE] = A
+    T = 2.0 * math.pi / omega * (1.0 + (c2 * A) ** 2 / 6.0)
+    out[OB_PERIOD] = T
+    out[OB_STICK_FRACTION] = 0.0
+    out[OB_STICKS_PER_PERIOD] = 0.0
+    out[OB_X_MAX] = xe + A + shift
+    out[OB_X_MIN] = xe - A + shift
+    out[OB_XDOT_MAX] = A * omega
+    out[OB_FLOQUET] = math.exp(-q * T)     # d/dA of the averaged flow at A: -q
+    out[OB_REGIME] = codes.R_SLIP_CYCLE
+    return True
+
+
+@kernel
+def _agrees(p, a0, a1, T):
+    """True when the return a0 -> a1 [cm] over T [s] (section values: x maxima, x
+    minima for v < 0) is a small slip motion whose decrement the normal form
+    predicts to 10 %."""
+    omega, q, c2, beta, sg, xe = _coefficients(p)
+    y0 = sg * (a0 - xe)
+    y1 = sg * (a1 - xe)
+    if not (y0 > 0.0 and y1 > 0.0):
+        return False
+    A0 = y0 - 2.0 / 3.0 * c2 * y0 * y0
+    A1 = y1 - 2.0 / 3.0 * c2 * y1 * y1
+    if A0 * omega >= 0.5 * abs(p[V]) or c2 * A0 > 0.05 or \
+            p[A2] / p[M] * omega * A0 * A0 > 0.05:
+        return False
+    u0 = 1.0 / (A0 * A0)
+    if q != 0.0:
+        e = math.exp(-q * T)
+        u1 = u0 * e + 2.0 * beta * (e - 1.0) / (-q) if q < 0.0 else \
+            u0 * e + 2.0 * beta * (1.0 - e) / q
+    else:
+        u1 = u0 + 2.0 * beta * T
+    A1p = 1.0 / math.sqrt(u1)
+    return abs(A1 - A1p) <= 0.1 * abs(A0 - A1p)
+
+
+@kernel
+def nf_decays_to_rest(p, a0, a1, T):
+    """True when q <= 0 and the normal form describes the return a0 -> a1 over T:
+    it has no cycle below a0 then, and the motion decays to x_eq."""
+    if p[V] == 0.0 or p[A2] <= 0.0:
+        return False
+    _omega, q, _c2, _beta, sg, xe = _coefficients(p)
+    if q > 0.0 or not (0.0 < sg * (a1 - xe) < sg * (a0 - xe)):
+        return False
+    return _agrees(p, a0, a1, T)
+
+
+@kernel
+def nf_seed(p, a0, a1, T, tol_abs):
+    """Section value [cm] of the normal-form cycle when q > 0, the normal form
+    describes the return a0 -> a1 over T, and its cycle is accurate to tol_abs;
+    else NaN."""
+    if p[V] == 0.0 or p[A2] <= 0.0:
+        return math.nan
+    omega, q, c2, beta, sg, xe = _coefficients(p)
+    if not q > 0.0:
+        return math.nan
+    A = math.sqrt(q / (2.0 * beta))
+    if nf_error(A, omega, q, c2, p[A2] / p[M]) > tol_abs or \
+            not _agrees(p, a0, a1, T):
+        return math.nan
+    return xe + sg * (A + 2.0 / 3.0 * c2 * A * A)
