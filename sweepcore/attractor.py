@@ -58,17 +58,22 @@ def attractor(params: Params, x0: float = 0.0, xdot0: float | None = None,
         Start [cm], [cm/s]; ``xdot0=None`` starts stuck on the belt.
     method : {"auto", "exact", "gps", "rk4", "dopri5"}
     tol : float
-        Integration tolerance (dopri5) and convergence tolerance of the Poincare
-        returns, relative to the point's length scale r_y/k + |v|/omega.
+        Accuracy asked of the observables, relative to the point's length scale
+        L = r_y/k + |v|/omega: the dopri5 tolerance, tightened per cycle where the
+        cycle's weak contraction amplifies the integration error.
     **options
         dt, max_steps, max_periods, gps_a, graze (see ``make_options``).
 
     Notes
     -----
     The search (``sweepcore/_kernels/attractor.py``) stops at the first whole period
-    after a reset to the breakaway point (stick-slip), when Poincare returns agree
-    (slip cycles, accelerated by Aitken jumps), or when an energy certificate proves
-    decay to x_eq (equilibrium, q < 0).
+    after a reset to the breakaway point (stick-slip), at the fixed point of the return
+    map solved by Newton's method with a verified residual (slip cycles; ``floquet``
+    is the map's slope there), or when an energy certificate or the Hopf normal form
+    proves decay to x_eq (equilibrium). Observables are accurate to about
+    ``tol * L`` (L = r_y/k + |v|/omega). A cycle next to v* that float64 integration
+    cannot resolve to ``tol`` and the normal form cannot either has status
+    ``"unresolved"`` (its numbers are estimates).
     """
     row = start_row(params, x0, xdot0)
     if method == "exact" and params.alpha2 != 0.0:

@@ -64,3 +64,67 @@ def reference_run(m, k, r_y, v, alpha1, alpha2, x0, xd0, t_eval, rtol=1e-12):
             s, kind = 0, "stick"
         events.append((t, kind, x))
     return xo, xdo, events
+
+
+def reference_slip_cycle(m, k, r_y, v, alpha1, alpha2, a_guess, rtol=1e-13):
+    """A slip cycle without stops (v > 0) by shooting, with scipy only.
+
+    The return map of the x maxima, ``a -> P(a)`` (start at x = a, xdot = 0, slide
+    with zdot < 0 until the next maximum of x), is solved by the secant method;
+    its slope at the fixed point (the Floquet multiplier) by a central difference.
+    Returns dict(amplitude, x_max, x_min, period, floquet, xdot_max); raises if the
+    orbit reaches belt speed (the cycle would stop: not a slip cycle).
+    """
+    assert v > 0
+
+    def rhs(_t, y):
+        return [y[1] + v, (-k * y[0] - (-r_y - alpha1 * y[1] + alpha2 * y[1] ** 3)) / m]
+
+    def x_max(_t, y):            # xdot = 0, falling: a maximum of x
+        return y[1] + v
+    x_max.direction = -1
+
+    def x_min(_t, y):
+        return y[1] + v
+    x_min.direction = 1
+
+    def vel(_t, y):              # xdot extremum: zdd = 0
+        return rhs(_t, y)[1]
+
+    w = np.sqrt(k / m)
+    horizon = 4.0 * np.pi / w
+
+    def ret(a, full=False):
+        sol = solve_ivp(rhs, (0.0, horizon), [a, -v], method="DOP853", rtol=rtol,
+                        atol=rtol * 1e-3, events=[x_max, x_min, vel],
+                        dense_output=full)
+        # the start itself may register as a root of x_max: skip it
+        ts = sol.t_events[0]
+        ys = sol.y_events[0]
+        i = np.nonzero(ts > 0.25 * horizon / 2.0)[0][0]
+        if not full:
+            return ys[i][0]
+        xdm = max(float(y[1] + v) for t, y in zip(sol.t_events[2], sol.y_events[2])
+                  if t < ts[i])
+        return dict(x_max=a, x_min=float(sol.y_events[1][0][0]), period=float(ts[i]),
+                    xdot_max=xdm, a1=float(ys[i][0]))
+
+    # the first return settles direction; then secant on F(a) = P(a) - a
+    a0 = float(a_guess)
+    a1 = ret(a0)
+    f0 = a1 - a0
+    for _ in range(60):
+        f1 = ret(a1) - a1
+        if f1 == f0:
+            break
+        a2 = a1 - f1 * (a1 - a0) / (f1 - f0)
+        a0, f0, a1 = a1, f1, a2
+        if abs(a1 - a0) <= 1e-15 * abs(a1) + 1e-300:
+            break
+    out = ret(a1, full=True)
+    d = 1e-5 * abs(out["x_max"] - out["x_min"])
+    out["floquet"] = (ret(a1 + d) - ret(a1 - d)) / (2.0 * d)
+    out["amplitude"] = 0.5 * (out["x_max"] - out["x_min"])
+    if not out["xdot_max"] < v:
+        raise ValueError("the orbit reaches belt speed: not a slip cycle")
+    return out

@@ -40,16 +40,6 @@ def test_stable_case_is_the_equilibrium_x_eq():
     assert ds.x.values[-1] == pytest.approx(p.x_eq, abs=1e-9)
 
 
-def test_neutral_paper_case_is_never_called_a_cycle_without_evidence():
-    """alpha2 = 1/75 (q = 0): slow algebraic decay. Unconverged is honest."""
-    p = sc.Params(**PAPER, alpha1=1.0, alpha2=1 / 75)
-    for budget in (50, 500):
-        a = sc.attractor(p, max_periods=budget)
-        assert a.regime in ("unconverged", "equilibrium")
-        if a.regime == "unconverged":
-            assert a.status == "unconverged" and not a.converged
-
-
 @pytest.fixture(scope="module")
 def stick_slip():
     p = sc.Params(**PAPER, alpha1=1.0, alpha2=0.01)        # q = 0.05

@@ -7,19 +7,28 @@ The search runs the hybrid driver and stops as soon as the answer is known:
   after a touch snapped to it. Once the run reaches that point (a *reset*), the
   motion until the next reset is one whole period of a periodic orbit: it is measured
   and the search ends. No transient is integrated after the first reset.
-* **slip cycles** (no stick): a Poincare section at the maxima of ``x``. Successive
-  returns ``a_n`` converge geometrically with ratio ``rho``; the point is converged
-  when the step ``|a_n - a_{n-1}|`` and the remaining distance
-  ``|a_n - a_{n-1}| rho / (1 - rho)`` are both below ``tol * L``. When ``rho`` is near
-  1 (near v*, transients ~ 2/|q|), an Aitken jump to the extrapolated fixed point
-  replaces the slow approach (Steffensen's method on the Poincare map), and the
-  convergence test is repeated from there.
+* **slip cycles** (no stick): the fixed point of the return map ``a -> P(a)`` of the
+  maxima of ``x`` (minima for v < 0), solved by Newton's method. The slope ``P'(a)``
+  is exact (Liouville's formula with the saltation of slide-slide reversals,
+  ``return_map.py``), so each Newton step costs one period. A fixed point is accepted
+  on a verified residual, ``|P(a) - a| / (1 - P') <= tol L / 2``, from returns
+  computed at ``rtol <= tol (1 - P') / 2``: the integrator's noise (~2 rtol L per
+  return) is amplified by ``1 / (1 - P')`` in the fixed point. Newton iterates at
+  the user's tolerance first and tightens it only for the last returns. ``P'`` at
+  the cycle is its Floquet multiplier (an output).
+* **next to the Hopf point** (``1 - P'`` so small that the returns would need
+  ``rtol`` below ``RTOL_FLOOR``): the normal form (``normal_form.py``) decides. For
+  ``q <= 0`` a small motion whose decrement it predicts decays to x_eq (its cubic
+  coefficient is stabilising: no waiting for an algebraic decay); for ``q > 0`` its
+  cycle is the answer where its error bound is below the tolerance. A cycle that
+  neither resolves is returned with status ``unresolved``, never as ``ok``.
 * **equilibrium** (steady sliding at x_eq): with ``y = x - x_eq`` and
   ``E = (m ydot^2 + k y^2)/2``, eq. (41) gives
   ``dE/dt = ydot^2 (m q + 3 alpha2 v ydot - alpha2 ydot^2)`` (v > 0). If ``q < 0`` and
   ``sqrt(2E/m) < min(|v|, m|q|/(3 alpha2 |v|))`` the bracket is negative on the whole
   sublevel set, which is therefore invariant and free of sticking: the motion
-  converges to x_eq (LaSalle). That certificate ends the search.
+  converges to x_eq (LaSalle). That certificate, or the normal form's (above), ends
+  the search.
 * budget: ``max_periods`` natural periods and ``max_steps`` stepper calls; when spent
   the point is returned as unconverged with the last period's estimates.
 """
@@ -355,13 +364,14 @@ def attractor_point(p, o_in, out):
         # The return map computed at rtol is wrong by ~ rtol lx / |a - x_eq| in its
         # slope (the integrator's own growth or decay); a slope within that noise
         # of 1 is not resolved at this tolerance. Returns used for the answer are
-        # computed at rtol <= tol gap / 4: their noise (~2 rtol lx) is amplified by
-        # 1 / gap in the fixed point.
+        # computed at rtol <= tol gap / 2: their noise (~2 rtol lx) is amplified by
+        # 1 / gap in the fixed point, which is then within ~tol lx, as the period
+        # measured on it (the integrator's own error over one period).
         noise = 4.0 * rtol_hist[1] * lx / max(abs(a1 - xe), 1e-300)
         resolved = abs(gap) > noise
         if gap <= -noise:
             continue            # expanding here: follow the motion
-        need = 0.25 * tol * gap
+        need = 0.5 * tol * gap
         floor = need < RTOL_FLOOR or (not resolved and rtol_hist[1] <= RTOL_FLOOR)
         if floor and e_hist[2] == 0 and p[A2] > 0.0 and p[A1] > 0.0:
             # the cycle contracts too slowly for float64 integration to resolve it
@@ -387,7 +397,7 @@ def attractor_point(p, o_in, out):
             if rtol_int > RTOL_FLOOR:
                 rtol_int = max(0.01 * rtol_int, RTOL_FLOOR)
                 o[O_RTOL] = rtol_int
-            elif e_hist[2] == 0 and abs(F) <= 8.0 * RTOL_FLOOR * lx:
+            elif e_hist[2] == 0 and abs(F) <= 4.0 * RTOL_FLOOR * lx:
                 # neutral to float64 resolution, and the returns stand still
                 _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
                 out[OB_FLOQUET] = dP
@@ -399,7 +409,7 @@ def attractor_point(p, o_in, out):
         # Newton iterates at the tolerance in force until its noise (~4 rtol lx / gap)
         # is reached; only then is the tolerance lowered for the last returns.
         fine = rtol_hist[1] <= max(need, RTOL_FLOOR) * 1.000001
-        if err0 <= max(0.5 * tol * lx, 8.0 * RTOL_FLOOR * lx / gap) and fine:
+        if err0 <= max(0.5 * tol * lx, 4.0 * RTOL_FLOOR * lx / gap) and fine:
             _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
             out[OB_FLOQUET] = dP
             out[OB_STATUS] = codes.UNRESOLVED if floor else codes.OK
