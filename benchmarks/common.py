@@ -245,10 +245,12 @@ def load():
 
 
 # ------------------------------------------------------------------ errors
-# Column numbers of the kernels' observables row (sweepcore/_kernels/layout.py).
-OB_AMPLITUDE, OB_MEAN, OB_PERIOD, OB_REGIME, OB_STATUS, OB_NSTEPS = 0, 1, 4, 8, 9, 10
-REGIMES = {0: "equilibrium", 1: "slip_cycle", 2: "stick_slip", 3: "neutral", 4: "stuck",
-           5: "unbounded", 6: "unconverged", 7: "failed"}
+# Column numbers of the kernels' observables row and the code tables, from the
+# package's one definition of each.
+from sweepcore._kernels.codes import REGIME_NAMES as REGIMES  # noqa: E402
+from sweepcore._kernels.codes import STATUS_NAMES as STATUSES  # noqa: E402,F401
+from sweepcore._kernels.layout import (OB_AMPLITUDE, OB_MEAN, OB_NSTEPS,  # noqa: E402,F401
+                                       OB_PERIOD, OB_REGIME, OB_STATUS)
 CYCLES = (1, 2, 3)
 
 
