@@ -6,9 +6,11 @@ kN/cm, alpha1 kN s/cm and alpha2 kN s^3/cm^3.
 from __future__ import annotations
 
 import cmath
+import difflib
+import functools
 import math
 import numbers
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 
@@ -16,6 +18,8 @@ UNITS = {
     "m": "kN s2 cm-1", "k": "kN cm-1", "r_y": "kN", "v": "cm s-1",
     "alpha1": "kN s cm-1", "alpha2": "kN s3 cm-3", "x0": "cm", "xdot0": "cm s-1",
 }
+# units of the run settings, for the messages of check_real
+SETTING_UNITS = {"t_end": "s", "output_dt": "s", "dt": "s"}
 LONG_NAMES = {
     "m": "slider mass", "k": "spring stiffness", "r_y": "friction bound",
     "v": "belt speed", "alpha1": "linear friction-speed coefficient",
@@ -36,13 +40,14 @@ def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
     x = float(value)
     if not math.isfinite(x):
         raise ValueError(f"{name} must be finite, got {value!r}")
+    units = UNITS.get(name) or SETTING_UNITS.get(name)
+    units = f" [{units}]" if units else ""
     if positive and not x > 0.0:
-        raise ValueError(f"{name} must be > 0 [{UNITS.get(name, '')}], got {value!r}")
+        raise ValueError(f"{name} must be > 0{units}, got {value!r}")
     if nonnegative and not x >= 0.0:
         hint = (" (a negative cubic coefficient makes the friction force unbounded "
                 "at high sliding speed)") if name == "alpha2" else ""
-        raise ValueError(f"{name} must be >= 0 [{UNITS.get(name, '')}], "
-                         f"got {value!r}{hint}")
+        raise ValueError(f"{name} must be >= 0{units}, got {value!r}{hint}")
     return x
 
 
@@ -134,3 +139,22 @@ class Params:
         """The kernel's flat parameter row (layout.py)."""
         return np.array([self.m, self.k, self.r_y, self.v, self.alpha1, self.alpha2,
                          x0, xdot0], dtype=np.float64)
+
+
+def _suggest_names(init):
+    """Wrap the dataclass ``__init__`` so that a misspelt keyword gets "did you mean"
+    (the signature is kept: ``functools.wraps`` exposes the original)."""
+    @functools.wraps(init)
+    def __init__(self, *args, **kwargs):
+        names = [f.name for f in fields(Params)]
+        for key in kwargs:
+            if key not in names:
+                close = difflib.get_close_matches(key, names, n=1)
+                hint = f"; did you mean {close[0]!r}?" if close else ""
+                raise TypeError(f"Params() got an unexpected keyword argument {key!r}"
+                                f"{hint} (allowed: {', '.join(names)})")
+        init(self, *args, **kwargs)
+    return __init__
+
+
+Params.__init__ = _suggest_names(Params.__init__)

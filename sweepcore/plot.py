@@ -63,10 +63,14 @@ DPI = 150
 def pretty_units(units: str | None) -> str:
     """UDUNITS string to a label: ``"kN s3 cm-3"`` -> ``kN s$^3$/cm$^3$``.
 
-    ``"1"`` and empty units give ``""`` (dimensionless).
+    ``"1"`` and empty units give ``""`` (dimensionless); a CF time unit
+    ``"seconds since <epoch>"`` gives ``s`` (a simulation's elapsed time).
     """
     if not units or units.strip() == "1":
         return ""
+    if " since " in units:
+        return "s" if units.split()[0] in ("s", "sec", "second", "seconds") else \
+            units.split()[0]
     num, den = [], []
     for tok in units.split():
         base = tok.rstrip("-0123456789")
@@ -236,7 +240,7 @@ def trajectory_figure(ds: xr.Dataset, title: str | None = None) -> Figure:
     """
     fig = Figure(figsize=(13, 7.2), layout="constrained")
     axs = fig.subplots(2, 3)
-    v = float(ds.attrs.get("v", np.nan))
+    v = _param(ds, "v")
     t = ds.time.values
     events = _events(ds)
     rows = (("z", "zdot", True), ("x", "xdot", False))
@@ -263,13 +267,21 @@ def trajectory_figure(ds: xr.Dataset, title: str | None = None) -> Figure:
     return fig
 
 
+def _param(ds: xr.Dataset, name: str) -> float:
+    """A simulation's parameter: its scalar coordinate (files of older versions: the
+    global attribute), NaN when absent."""
+    if name in ds.coords and ds[name].ndim == 0:
+        return float(ds[name])
+    return float(ds.attrs.get(name, np.nan))
+
+
 def _trajectory_title(ds: xr.Dataset) -> str:
-    a = ds.attrs
-    p = ", ".join(f"${SYMBOLS[n]}$ = {a[n]:.4g}" for n in
-                  ("m", "k", "r_y", "v", "alpha1", "alpha2") if n in a)
-    start = (f"start ($x_0$, $\\dot{{x}}_0$) = ({a.get('x0', 0):.4g}, "
-             f"{a.get('xdot0', 0):.4g})")
-    return f"Single slider: {p}; {start}; method {a.get('method', '?')}"
+    p = ", ".join(f"${SYMBOLS[n]}$ = {_param(ds, n):.4g}" for n in
+                  ("m", "k", "r_y", "v", "alpha1", "alpha2")
+                  if np.isfinite(_param(ds, n)))
+    start = (f"start ($x_0$, $\\dot{{x}}_0$) = ({_param(ds, 'x0'):.4g}, "
+             f"{_param(ds, 'xdot0'):.4g})")
+    return f"Single slider: {p}; {start}; method {ds.attrs.get('method', '?')}"
 
 
 def cases_figure(runs, labels, title: str | None = None,
@@ -290,7 +302,7 @@ def cases_figure(runs, labels, title: str | None = None,
     axs = np.atleast_2d(fig.subplots(n, 3))
     letters = iter("abcdefghijklmnopqrstuvwxyz")
     for i, (ds, text) in enumerate(zip(runs, labels)):
-        v = float(ds.attrs["v"])
+        v = _param(ds, "v")
         t = ds.time.values
         ax_x, ax_v, ax_p = axs[i]
         ax_x.plot(t, ds.x.values, lw=0.9, color="#0072B2")
