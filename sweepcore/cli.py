@@ -200,6 +200,9 @@ def _add_export(sub):
 
 # ----------------------------------------------------------- compilation
 COMPILE_MESSAGE = "sweepcore: compiling kernels, first run only, ~25 s"
+# schedulers that run the kernels on this machine, from this machine's numba cache
+LOCAL_SCHEDULERS = (None, "threads", "processes", "synchronous", "sync",
+                    "single-threaded")
 
 
 def kernels_cold(command: str, dask: bool = False) -> bool:
@@ -277,7 +280,8 @@ def _run(args, study, grid, out, png) -> int:
         print(f"sweepcore run {args.study}: {grid.size} points "
               f"({' x '.join(f'{d}: {n}' for d, n in zip(grid.dims, grid.shape))}), "
               f"method {study.method}, tol {study.tol:g}", flush=True)
-    announce_compile("run", args.scheduler is not None, args.quiet)
+    if args.scheduler in LOCAL_SCHEDULERS:   # else the cache is a worker's, or refused
+        announce_compile("run", args.scheduler is not None, args.quiet)
     t0 = time.perf_counter()
     ds = sweep(grid, method=study.method, tol=study.tol,
                chunks=args.chunks or study.chunks, scheduler=args.scheduler, path=out,
