@@ -1,10 +1,10 @@
 """Section 4: the peers, rerun in the same process, on the same points.
 
 The peers answer a fixed-horizon protocol, the usual way such maps are computed:
-integrate every
-point from its start to t = 200 s and take amplitude = (max - min)/2 and the mean of
-x sampled at t = 150 + 0.01 j. Their error is measured against the same protocol
-computed by the independent event-driven scipy DOP853 at a tight tolerance, and "events right" = the same number of stick/slip/stop events.
+integrate every point from its start to t = 200 s and take amplitude = (max - min)/2
+and the mean of x sampled at t = 150 + 0.01 j. Their error is measured against the
+same protocol computed by the independent event-driven scipy DOP853 at a tight
+tolerance, and "events right" = the same number of stick/slip/stop events.
 
 Peers (``peers.py``, written here from the physics, sharing no code with sweepcore):
 * scipy ``solve_ivp`` RK45, terminal events at zdot = 0 and restarts, rtol = atol;
