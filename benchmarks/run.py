@@ -4,8 +4,11 @@
     python benchmarks/run.py --quick    # ~6 min, smaller ladders and samples
     python benchmarks/run.py --quick --sections hopf,peers,cost
 
-Results go to ``benchmarks/results/<mode>/`` (one JSON file per section, PNG figures)
-and the summary tables into ``benchmarks/README.md``. Numba kernels are compiled into
+Results go to ``benchmarks/results/<mode>/`` (one JSON file per section, PNG figures).
+A full run then rewrites ``benchmarks/README.md`` and the generated speed block of the
+top-level ``README.md`` from ``benchmarks/results/full/``; a quick run writes its
+summary to ``benchmarks/results/quick/README.md`` and never touches the full-mode
+tables (its folder is not tracked by git). Numba kernels are compiled into
 a private, fresh ``NUMBA_CACHE_DIR`` for the run (a stale cache of kernels edited
 since it was written can never be timed), removed at the end.
 """
@@ -73,7 +76,9 @@ def parse(argv=None):
     ap.add_argument("--outdir", type=Path, default=None,
                     help="results directory (default benchmarks/results/<mode>)")
     ap.add_argument("--readme", type=Path, default=None,
-                    help="README to write (default benchmarks/README.md; 'none' to skip)")
+                    help="summary to write (default: full mode benchmarks/README.md and "
+                         "the README's speed block; other modes <outdir>/README.md; "
+                         "'none' to skip)")
     ap.add_argument("--keep-numba-cache", action="store_true",
                     help="use the usual numba cache instead of a fresh private one")
     args = ap.parse_args(argv)
@@ -166,10 +171,15 @@ def _run(args):
         work_precision.plot(wp, results.get("peers") or load("peers"), outdir)
     total = time.perf_counter() - t_start
     common.log(f"done in {total:.0f} s; results in {outdir}")
-    readme = args.readme if args.readme is not None else common.BENCH / "README.md"
+    full_default = args.mode == "full" and args.outdir is None and args.readme is None
+    readme = args.readme if args.readme is not None else (
+        common.BENCH / "README.md" if full_default else outdir / "README.md")
     if str(readme).lower() != "none":
         report.write_readme(outdir, readme, args.mode, total)
         common.log(f"summary written to {readme}")
+    if full_default and report.update_block(common.ROOT / "README.md",
+                                            report.readme_block(outdir)):
+        common.log(f"speed block of {common.ROOT / 'README.md'} regenerated")
     return results
 
 
