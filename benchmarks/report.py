@@ -516,7 +516,7 @@ def readme_block(outdir) -> str:
         err = a.get("amplitude_abs", {}).get("max")
         ref = H["accuracy"]
         return [[what, f"{s(k['median_s'])}; max amplitude error {g(err)} cm "
-                       f"({ref['n_subsample']} random points against {ref['reference']})"]])
+                       f"({ref['n_subsample']} random points against {ref['reference']})"]]
 
     tol = _study_tol()
     rows = map_row(tol, f"{H['grid']['nv']} x {H['grid']['na']} Hopf map at tol {tol:g} "
