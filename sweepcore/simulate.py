@@ -103,8 +103,9 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
 TIME = {"units": "seconds since 1970-01-01 00:00:00", "standard_name": "time",
         "long_name": "time", "calendar": "standard",
         "comment": "seconds from the start of the run; the epoch is a placeholder"}
-FRICTION_WORK = {"units": "kN cm", "long_name": "work done against friction",
-                 "comment": "integral of r_a zdot over the run (energy dissipated)"}
+FRICTION_WORK = {"units": "kN cm", "long_name": "work of the friction force on the slider",
+                 "comment": "integral of r_a xdot dt over the run; the slider's energy "
+                            "k x^2/2 + m xdot^2/2 changes by -friction_work"}
 TIME_STUCK = {"units": "s", "long_name": "time stuck on the belt during the run"}
 
 
