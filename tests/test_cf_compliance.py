@@ -18,6 +18,8 @@ import pytest
 import sweepcore as sc
 
 checker = pytest.importorskip("compliance_checker.runner")
+# the checker's own deprecation notices (its ioos_sos plug-in) are not ours
+pytestmark = pytest.mark.filterwarnings("ignore::DeprecationWarning")
 
 ROOT = Path(__file__).resolve().parents[1]
 CONVENTIONS_NOTICE = 'Conventions global attribute does not contain "CF-1.8"'
