@@ -65,8 +65,8 @@ the tables below was produced by the command below; nothing is typed in by hand.
 ## Command
 
 ```bash
-python benchmarks/run.py --quick      # ~6 min on 2 cores
-python benchmarks/run.py              # full mode, ~12-15 min on 2 cores
+python benchmarks/run.py --quick      # smaller ladders and samples, a few minutes
+python benchmarks/run.py              # full mode (its duration: "Results" below)
 python benchmarks/run.py --quick --sections hopf,peers,cost   # a subset (hopf, wp, throughput, peers, cost)
 ```
 

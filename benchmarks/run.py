@@ -1,7 +1,7 @@
 """Run sweepcore's benchmarks and regenerate every figure, table and JSON file.
 
-    python benchmarks/run.py            # full mode (~12-15 min on 2 cores)
-    python benchmarks/run.py --quick    # ~6 min, smaller ladders and samples
+    python benchmarks/run.py            # full mode (duration: in benchmarks/README.md)
+    python benchmarks/run.py --quick    # a few minutes, smaller ladders and samples
     python benchmarks/run.py --quick --sections hopf,peers,cost
 
 Results go to ``benchmarks/results/<mode>/`` (one JSON file per section, PNG figures).
