@@ -727,11 +727,13 @@ def unknown_option(parser, argv) -> tuple[str, str] | None:
             takes_value = {o for a in sub.choices[token]._actions if a.nargs != 0
                            for o in a.option_strings}
             continue
-        if not token.startswith("-") or _is_number(token):
+        if token in known:       # short options too (-o, -q): does a value follow?
+            skip = token in takes_value
+            continue
+        if not token.startswith("--"):   # values, numbers, grouped short flags: argparse's
             continue
         name = token.split("=", 1)[0]
-        matches = [o for o in known if o.startswith(name)] if name.startswith("--") \
-            else [o for o in known if o == name]
+        matches = [o for o in known if o.startswith(name)]
         if matches:      # a value follows an option that takes one
             skip = "=" not in token and (name if name in known else matches[0]) \
                 in takes_value
@@ -741,14 +743,6 @@ def unknown_option(parser, argv) -> tuple[str, str] | None:
         where = f"sweepcore {command}" if command else "sweepcore"
         return command, (f"unknown option {name}{hint} (see {where} --help)")
     return None
-
-
-def _is_number(token: str) -> bool:
-    try:
-        float(token)
-    except ValueError:
-        return False
-    return True
 
 
 def _failed(args, err) -> int:

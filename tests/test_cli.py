@@ -364,6 +364,8 @@ def test_known_options_values_and_prefixes_pass():
     assert unknown_option(parser, ["simulate", *map(str, SLIDER), "--x0", "-1",
                                    "--x0=-2", "--t-e", "3", "-o", "a.nc"]) is None
     assert unknown_option(parser, ["--threads", "2", "plot", "r.nc", "--x", "v"]) is None
+    assert unknown_option(parser, ["run", "s.toml", "-qo", "x.nc"]) is None   # grouped
+    assert parser.parse_args(["run", "s.toml", "-qo", "x.nc"]).output == "x.nc"
 
 
 def test_missing_output_directory_is_refused_not_created(tmp_path, monkeypatch, capsys):
