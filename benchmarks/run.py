@@ -171,16 +171,29 @@ def _run(args):
         work_precision.plot(wp, results.get("peers") or load("peers"), outdir)
     total = time.perf_counter() - t_start
     common.log(f"done in {total:.0f} s; results in {outdir}")
-    full_default = args.mode == "full" and args.outdir is None and args.readme is None
-    readme = args.readme if args.readme is not None else (
-        common.BENCH / "README.md" if full_default else outdir / "README.md")
-    if str(readme).lower() != "none":
+    readme, top = summary_targets(args.mode, outdir, args.outdir, args.readme)
+    if readme is not None:
         report.write_readme(outdir, readme, args.mode, total)
         common.log(f"summary written to {readme}")
-    if full_default and report.update_block(common.ROOT / "README.md",
-                                            report.readme_block(outdir)):
+    if top and report.update_block(common.ROOT / "README.md", report.readme_block(outdir)):
         common.log(f"speed block of {common.ROOT / 'README.md'} regenerated")
     return results
+
+
+def summary_targets(mode, outdir, outdir_arg=None, readme_arg=None):
+    """(summary file or None, whether to regenerate the top-level README's block).
+
+    Only a full run into the default folder speaks for the project: it rewrites
+    benchmarks/README.md and the README's speed block. Any other run (quick, smoke,
+    another folder) writes its summary beside its own results and touches neither.
+    """
+    from benchmarks import common
+    official = mode == "full" and outdir_arg is None and readme_arg is None
+    if readme_arg is not None:
+        readme = None if str(readme_arg).lower() == "none" else Path(readme_arg)
+    else:
+        readme = common.BENCH / "README.md" if official else Path(outdir) / "README.md"
+    return readme, official
 
 
 if __name__ == "__main__":

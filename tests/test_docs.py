@@ -121,3 +121,20 @@ def test_license_is_mit_as_pyproject_says():
     assert text.startswith("MIT License")
     assert "Copyright (c)" in text and "sweepcore developers" in text
     assert 'license = { text = "MIT" }' in (ROOT / "pyproject.toml").read_text()
+
+
+def test_only_a_full_run_rewrites_the_tracked_tables():
+    """A quick (or smoke, or redirected) benchmark run writes beside its own results."""
+    if str(ROOT) not in sys.path:
+        sys.path.insert(0, str(ROOT))
+    from benchmarks import common
+    from benchmarks.run import summary_targets
+    full = common.RESULTS / "full"
+    assert summary_targets("full", full) == (common.BENCH / "README.md", True)
+    quick = common.RESULTS / "quick"
+    assert summary_targets("quick", quick) == (quick / "README.md", False)
+    assert summary_targets("full", "/tmp/x", outdir_arg="/tmp/x") == \
+        (Path("/tmp/x") / "README.md", False)
+    assert summary_targets("smoke", "/tmp/s", "/tmp/s", "none") == (None, False)
+    ignored = (ROOT / ".gitignore").read_text()
+    assert "benchmarks/results/quick/" in ignored
