@@ -8,9 +8,10 @@ from __future__ import annotations
 import cmath
 import difflib
 import functools
+import inspect
 import math
 import numbers
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -141,20 +142,28 @@ class Params:
                          x0, xdot0], dtype=np.float64)
 
 
-def _suggest_names(init):
-    """Wrap the dataclass ``__init__`` so that a misspelt keyword gets "did you mean"
-    (the signature is kept: ``functools.wraps`` exposes the original)."""
-    @functools.wraps(init)
-    def __init__(self, *args, **kwargs):
-        names = [f.name for f in fields(Params)]
+def did_you_mean(fn):
+    """Wrap ``fn`` so that a misspelt keyword argument gets "did you mean" (difflib).
+
+    The signature is kept (``functools.wraps`` exposes the original to ``inspect``);
+    a known keyword costs one set lookup.
+    """
+    params = inspect.signature(fn).parameters.values()
+    names = [p.name for p in params if p.name != "self" and p.kind in (
+        p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+    known = set(names)
+    owner = fn.__qualname__.removesuffix(".__init__")
+
+    @functools.wraps(fn)
+    def checked(*args, **kwargs):
         for key in kwargs:
-            if key not in names:
+            if key not in known:
                 close = difflib.get_close_matches(key, names, n=1)
                 hint = f"; did you mean {close[0]!r}?" if close else ""
-                raise TypeError(f"Params() got an unexpected keyword argument {key!r}"
+                raise TypeError(f"{owner}() got an unexpected keyword argument {key!r}"
                                 f"{hint} (allowed: {', '.join(names)})")
-        init(self, *args, **kwargs)
-    return __init__
+        return fn(*args, **kwargs)
+    return checked
 
 
-Params.__init__ = _suggest_names(Params.__init__)
+Params.__init__ = did_you_mean(Params.__init__)

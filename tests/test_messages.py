@@ -1,8 +1,9 @@
 """Refusals from the Python API name the parameter, its unit and the likely fix.
 
-What is proven: a misspelt keyword of ``Params`` gets "did you mean" with the right
-name (and the list of names), while ``Params``'s signature, positional use and
-validation are unchanged; a setting of ``simulate`` out of range names its unit.
+What is proven: a misspelt keyword of ``Params``, ``Grid`` or ``simulate`` gets "did
+you mean" with the right name (and the list of names), while ``Params``'s signature,
+positional use and validation are unchanged; a setting of ``simulate`` out of range
+names its unit.
 """
 import inspect
 
@@ -23,6 +24,15 @@ def test_params_keyword_typo_did_you_mean(typo, right):
     else:
         assert "did you mean" not in text
     assert "(allowed: m, k, r_y, v, alpha1, alpha2)" in text
+
+
+@pytest.mark.parametrize("call, right", [
+    (lambda: sc.Grid(m=5.0, k=50.0, r_y=10.0, v=[1.0, 2.0], alpha_2=0.1), "alpha2"),
+    (lambda: sc.simulate(sc.Params(5.0, 50.0, 10.0, 5.0), t_ned=3.0), "t_end"),
+])
+def test_grid_and_simulate_keyword_typos_did_you_mean(call, right):
+    with pytest.raises(TypeError, match=f"did you mean {right!r}"):
+        call()
 
 
 def test_params_signature_and_behaviour_unchanged():
