@@ -214,13 +214,14 @@ def kernels_cold(command: str, dask: bool = False) -> bool:
     private cache API counts as warm: then no message, never a wrong one.
     """
     from ._kernels import attractor, trajectory
-    if command == "simulate":
-        kernels = (trajectory.run_trajectory, attractor.resolve_options)
-    else:
-        kernels = (attractor.attractor_rows if dask else attractor.attractor_rows_parallel,)
     try:
+        if command == "simulate":
+            kernels = (trajectory.run_trajectory, attractor.resolve_options)
+        else:
+            kernels = (attractor.attractor_rows if dask
+                       else attractor.attractor_rows_parallel,)
         return any(not k._cache._cache_file._load_index() for k in kernels)
-    except Exception:   # numba's cache internals changed: say nothing
+    except Exception:   # kernels renamed, or numba's cache internals changed: say nothing
         return False
 
 
