@@ -25,7 +25,7 @@ RESULTS = BENCH / "results"
 # The paper's slider (Liu): m = 5 kN s^2/cm, k = 50 kN/cm, r_y = 10 kN, alpha1 = 1.
 PAPER = dict(m=5.0, k=50.0, r_y=10.0, alpha1=1.0)
 OMEGA = math.sqrt(PAPER["k"] / PAPER["m"])
-# The issue's Hopf map: v in linspace(0.5, 10, 256), alpha2 in geomspace(1e-3, 0.1, 256)
+# The Hopf map of studies/hopf_map.toml: v in linspace(0.5, 10, 256), alpha2 in geomspace(1e-3, 0.1, 256)
 MAP_V = (0.5, 10.0)
 MAP_A2 = (1e-3, 0.1)
 NCOLS_P = 8      # m, k, r_y, v, alpha1, alpha2, x0, xdot0  (sweepcore/_kernels/layout.py)
@@ -33,7 +33,7 @@ NCOLS_P = 8      # m, k, r_y, v, alpha1, alpha2, x0, xdot0  (sweepcore/_kernels/
 
 # ------------------------------------------------------------------ the grids
 def map_axes(nv: int = 256, na: int = 256):
-    """The (v, alpha2) axes of the Hopf map at the issue's resolution (or another)."""
+    """The (v, alpha2) axes of the Hopf map at the study's resolution (or another)."""
     return np.linspace(*MAP_V, nv), np.geomspace(*MAP_A2, na)
 
 

@@ -1,4 +1,4 @@
-"""Section 1: the (v, alpha2) Hopf map of the issue, timed, scaled and checked.
+"""Section 1: the (v, alpha2) Hopf map of studies/hopf_map.toml, timed, scaled and checked.
 
 Grid: m = 5, k = 50, r_y = 10, alpha1 = 1, every point starts stuck (x0 = 0,
 xdot0 = v); v in linspace(0.5, 10, 256), alpha2 in geomspace(1e-3, 0.1, 256).

@@ -1,19 +1,19 @@
 """Section 4: the peers, rerun in the same process, on the same points.
 
-The peers answer performance.md's job (a fixed-horizon protocol): integrate every
-point from its start to t = 200 s and take amplitude = (max - min)/2 and the mean of
-x sampled at t = 150 + 0.01 j. Their error is measured as performance.md measures it:
-against the same protocol computed by the independent event-driven scipy DOP853 at a
-tight tolerance, and "events right" = the same number of stick/slip/stop events.
+The peers answer a fixed-horizon protocol, the usual way such maps are computed:
+integrate every point from its start to t = 200 s and take amplitude = (max - min)/2
+and the mean of x sampled at t = 150 + 0.01 j. Their error is measured against the
+same protocol computed by the independent event-driven scipy DOP853 at a tight
+tolerance, and "events right" = the same number of stick/slip/stop events.
 
 Peers (``peers.py``, written here from the physics, sharing no code with sweepcore):
 * scipy ``solve_ivp`` RK45, terminal events at zdot = 0 and restarts, rtol = atol;
-* the best peer of performance.md: numba RK4 at a fixed step, events located by
+* a hand-written numba RK4 at a fixed step (the fastest peer we wrote), events located by
   Illinois on the step's own polynomial, prange over points.
 
-Points: performance.md's 17 (4 x 4 in v and alpha2, plus v = 5, alpha2 = 1/75, which
-sits exactly at v*), all starting stuck (x0 = 0, xdot0 = v) as in the map (performance.md
-starts at rest, x0 = xdot0 = 0; the cost per point of a fixed horizon is the same).
+Points: 17 (4 x 4 in v and alpha2, plus v = 5, alpha2 = 1/75, which
+sits exactly at v*), all starting stuck (x0 = 0, xdot0 = v) as in the map (a start at
+rest, x0 = xdot0 = 0, costs the same per point over a fixed horizon).
 
 sweepcore is timed on the same points (serial kernel, 1 core) and its error is taken
 against its own tight reference (dopri5 tol 1e-13): it computes the attractor, not a

@@ -8,7 +8,7 @@ sticking), all event-driven exactly as the physics says:
 * at ``zdot = 0``: stick if ``|k x| < r_y``, else slide on in the direction of the net
   spring force (``k x >= r_y`` -> ``zdot < 0``; ``k x <= -r_y`` -> ``zdot > 0``).
 
-``scipy_protocol``  the performance.md job: integrate to ``t_end`` = 200 s with
+``scipy_protocol``  the fixed-horizon protocol: integrate to ``t_end`` = 200 s with
     ``scipy.integrate.solve_ivp`` (terminal event at zdot = 0, restart per phase) and
     measure amplitude/mean from samples on [150, 200] (step 0.01 s). With RK45 at
     rtol = atol = 1e-8 it is the "scipy loop" peer; with DOP853 at 1e-12 it is the
@@ -18,7 +18,7 @@ sticking), all event-driven exactly as the physics says:
     agree; amplitude from the exact extrema (events at xdot = 0), mean from the
     quadrature of x carried as a third ODE component. An independent check of
     sweepcore's attractor observables on a handful of points.
-``numba_rk4_protocol`` the best peer of performance.md: hand-written numba RK4 at a
+``numba_rk4_protocol`` the fastest peer: hand-written numba RK4 at a
     fixed step, zdot = 0 located inside the step by Illinois (bracketed regula falsi)
     on the step's own polynomial, prange over points, same 200 s protocol.
 
@@ -92,7 +92,7 @@ def _start_mode(x0, xd0, v, k, r_y):
 
 
 def scipy_protocol(p, method="RK45", rtol=1e-8, atol=1e-8, t_end=T_END, max_step=np.inf):
-    """The performance.md job for one row p = (m, k, r_y, v, a1, a2, x0, xd0).
+    """The fixed-horizon protocol for one row p = (m, k, r_y, v, a1, a2, x0, xd0).
 
     Returns dict(amplitude, mean, events, n_rhs): samples of x on t = 150 + 0.01 j.
     """
@@ -394,7 +394,7 @@ def _protocol_point(p, dt, t_end, t_s0, dt_s, n_s, out):
 
 @njit(cache=True, parallel=True)
 def numba_rk4_protocol(P, dt, out):
-    """The best peer of performance.md over the rows of P: out (n, 5) =
+    """The numba RK4 peer over the rows of P: out (n, 5) =
     (amplitude, mean, events, rk4 steps, samples)."""
     for i in prange(P.shape[0]):
         _protocol_point(P[i], dt, T_END, T_SAMPLE0, DT_SAMPLE, N_SAMPLES, out[i])

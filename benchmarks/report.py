@@ -1,4 +1,13 @@
-"""Write ``benchmarks/README.md``: the command, what is measured, the latest numbers."""
+"""Write the benchmark reports from the saved JSON: ``benchmarks/README.md`` (the
+command, what is measured, every table) and the generated block between
+``<!-- bench:start -->`` and ``<!-- bench:end -->`` in the top-level ``README.md``.
+
+    python -m benchmarks.report          # both, from benchmarks/results/full/
+
+``benchmarks/run.py`` calls it at the end of a full run; a quick run writes its own
+report into its results folder (``benchmarks/results/quick/README.md``) and leaves
+both of these alone. Nothing in either is typed by hand.
+"""
 from __future__ import annotations
 
 import json
@@ -56,15 +65,19 @@ the tables below was produced by the command below; nothing is typed in by hand.
 ## Command
 
 ```bash
-python benchmarks/run.py --quick      # ~6 min on 2 cores
-python benchmarks/run.py              # full mode, ~12-15 min on 2 cores
+python benchmarks/run.py --quick      # smaller ladders and samples, a few minutes
+python benchmarks/run.py              # full mode (its duration: "Results" below)
 python benchmarks/run.py --quick --sections hopf,peers,cost   # a subset (hopf, wp, throughput, peers, cost)
 ```
 
 Needs the package's `bench` extra (scipy) besides the runtime dependencies. Results go to
 `benchmarks/results/<mode>/` (`hopf_map.json`, `work_precision.json`, `throughput.json`,
 `peers.json`, `cost_model.json`, `hopf_map.png`, `work_precision.png`,
-`throughput.png`); this README is rewritten at the end of every run. The numba kernels
+`throughput.png`). A full run rewrites this README and the speed block of the
+top-level README from `benchmarks/results/full/` (`python -m benchmarks.report` does
+the same from the saved JSON without rerunning); a `--quick` run writes only into
+`benchmarks/results/quick/` (not tracked by git), its summary in
+`benchmarks/results/quick/README.md`. The numba kernels
 are compiled into a fresh private `NUMBA_CACHE_DIR` for the run (removed at the end), so
 a stale cache of kernels edited since it was written is never timed.
 `tests/test_benchmarks_smoke.py` runs the whole pipeline on a handful of points (no
@@ -76,7 +89,7 @@ after each section, and comparisons are given as ratios measured in the same run
 
 ## What each section measures
 
-1. **Hopf map** (`hopf_map.py`), the issue's target: m = 5, k = 50, r_y = 10,
+1. **Hopf map** (`hopf_map.py`), the map of `studies/hopf_map.toml`: m = 5, k = 50, r_y = 10,
    alpha1 = 1, start stuck (x0 = 0, xdot0 = v), v in linspace(0.5, 10, 256), alpha2 in
    geomspace(1e-3, 0.1, 256). Warm wall time of the bare kernel
    `attractor_rows_parallel` on 2 numba threads at the default tolerance (auto = dopri5,
@@ -97,7 +110,8 @@ after each section, and comparisons are given as ratios measured in the same run
    one core) for every method and a ladder of settings (dt for gps and rk4, tol for
    dopri5): (a) constant friction, alpha1 = alpha2 = 0, start stuck, where the attractor
    is exact (amplitude v/omega, mean r_y/k, period 2 pi/omega); (b) alpha2 > 0 on
-   performance.md's 16 test points plus random map points stratified by regime
+   16 test points (v in {0.5, 2, 5, 10} x alpha2 in {0.002, 0.01, 0.05, 0.1}) plus
+   random map points stratified by regime
    (stick-slip, slip cycle, equilibrium), against dopri5 at tol = 1e-13 (cross-checked by
    scipy DOP853); (c) the Hopf boundary along v at alpha2 = 0.01 as a map sees it (the
    midpoint between the largest v with a cycle and the next larger v at equilibrium,
@@ -106,13 +120,13 @@ after each section, and comparisons are given as ratios measured in the same run
    (1e5 in `--quick`), square grids over the same (v, alpha2) box.
 4. **Peers** (`peer_compare.py`, solvers in `peers.py`), rerun here on the same points:
    scipy `solve_ivp` RK45 looped over points with terminal events at zdot = 0 and
-   restarts (stick phase in closed form), and the best peer of performance.md (numba
-   RK4 at a fixed step, events located by Illinois on the step's polynomial, prange).
-   They solve performance.md's fixed-horizon job (to t = 200 s, amplitude from samples
-   on [150, 200]); their error is measured as performance.md does, against the same
-   protocol solved by scipy DOP853 at a tight tolerance, with "events right" = same
-   number of events. Points: performance.md's 17 (4 x 4 plus v = 5, alpha2 = 1/75 at
-   v*), starting stuck like the map.
+   restarts (stick phase in closed form), and a hand-written numba RK4 at a fixed step
+   (events located by Illinois on the step's polynomial, prange), the fastest peer we
+   wrote. They solve a fixed-horizon protocol (to t = 200 s, amplitude from samples
+   on [150, 200]); their error is measured against the same protocol solved by scipy
+   DOP853 at a tight tolerance, with "events right" = same number of events. Points:
+   17 (the 4 x 4 test points plus v = 5, alpha2 = 1/75 at v*), starting stuck like
+   the map.
 5. **Cost model** (`cost_model.py`): flops per dopri5 stepper call counted from the
    source with `ast` (every + - * / is one flop, a square root one, negation, abs,
    max, min none; the RHS zdd = 10 flops: friction law (40) 7, eq. (41) 3; 7 stages),
@@ -122,9 +136,7 @@ after each section, and comparisons are given as ratios measured in the same run
    x 4 flops/cycle (scalar FMA code). The driver's own work per step (event scan,
    bookkeeping) is not counted: the achieved rate is a lower bound.
 
-The peer figures quoted from `shared/research/performance.md` (e.g. "best peer 35 s",
-"scipy loop 4.5 h") are **quoted, not measured here**; only the peers rerun by this
-benchmark (section 4) are measured on this machine, in the same run.
+Every peer figure is measured on this machine, in the same run (section 4).
 """
 
 
@@ -172,13 +184,6 @@ Files: `{rel}/`.
         parts.append(_peers(Pe, H))
     if C:
         parts.append(_cost(C))
-    other = [d.name for d in (outdir.parent).iterdir()
-             if d.is_dir() and d != outdir and (d / "hopf_map.json").exists()] \
-        if outdir.parent.exists() else []
-    if other:
-        parts.append("Results of other modes are kept in: " +
-                     ", ".join(f"`{os.path.relpath(outdir.parent / o, readme.parent)}/`"
-                               for o in sorted(other)) + ".\n")
     readme.write_text("\n".join(parts))
 
 
@@ -245,11 +250,7 @@ def _hopf(H, Pe, rel):
         trows.append([f"scipy RK45 loop {r['scipy_setting']}, rerun here (per-point time x "
                       f"points / 2 cores)", f"{r['scipy_map_hours_2cores_ideal']:.2g} h",
                       g(r["map_points_per_s_scipy_2cores_ideal"])])
-    trows += [["target (first step)", "<= 10 s", g(n / 10)], ["aim", "<= 1 s", g(n / 1)],
-              ["best peer in performance.md (quoted, not measured here)", "35.0 s",
-               g(n / 35.0)],
-              ["scipy loop in performance.md (quoted, not measured here)", "4.5 h",
-               g(n / 4.5 / 3600)]]
+    trows += [["target (first step)", "<= 10 s", g(n / 10)], ["aim", "<= 1 s", g(n / 1)]]
     out.append("Side by side with the targets:\n")
     out.append(table(["", "map wall time", "points/s"], trows))
     th = H["threads"]
@@ -320,7 +321,7 @@ def _wp(W, Pe, rel):
     ref = W["reference"]
     out.append(f"Points: {W['points']['constant_friction']} constant-friction points; "
                f"{W['points']['alpha2']} alpha2 > 0 points ({W['points']['test_points']} test "
-               f"points of performance.md + stratified map points), reference "
+               f"points + stratified map points), reference "
                f"{ref['setting']} (regimes {ref['regimes']}), cross-checked by scipy DOP853 on "
                f"{len(ref['scipy_dop853_check'])} points: max |amp| diff "
                f"{g(ref['scipy_check_max_amp_diff'])} cm, regimes agree "
@@ -478,3 +479,107 @@ test) spends fewer cycles per step for a similar flop rate. (Not profiled here: 
 per-function profile would be the next step to split the cycles.)
 """)
     return "\n".join(out) + "\n"
+
+
+# ------------------------------------------------ the top-level README's block
+START, END = "<!-- bench:start -->", "<!-- bench:end -->"
+
+
+def _study_tol(study=common.ROOT / "studies" / "hopf_map.toml") -> float:
+    """The tolerance of the main job (studies/hopf_map.toml, [solver] tol)."""
+    try:
+        import tomllib
+    except ImportError:     # Python 3.10
+        import tomli as tomllib
+    return float(tomllib.loads(Path(study).read_text())["solver"]["tol"])
+
+
+def readme_block(outdir) -> str:
+    """The speed section of the top-level README, from the JSON in ``outdir``.
+
+    Every figure is read from a file named in the block; the block says which run
+    (date, machine, commit) produced them.
+    """
+    outdir = Path(outdir)
+    rel = os.path.relpath(outdir, common.ROOT)
+    H, Pe = _load(outdir, "hopf_map"), _load(outdir, "peers")
+    if H is None:
+        return (f"No benchmark results in `{rel}/` yet: run `python benchmarks/run.py`.")
+    m, n = H["machine"], H["grid"]["n_points"]
+    acc = H["accuracy"]["map"]
+    kernel = {f"{k['tol']:g}": k for k in H["kernel"]}
+
+    def map_row(tol, what):
+        k, a = kernel.get(f"{tol:g}"), acc.get(f"{tol:g}", {})
+        if k is None:
+            return []
+        err = a.get("amplitude_abs", {}).get("max")
+        ref = H["accuracy"]
+        return [[what, f"{s(k['median_s'])}; max amplitude error {g(err)} cm "
+                       f"({ref['n_subsample']} random points against {ref['reference']})"]]
+
+    tol = _study_tol()
+    rows = map_row(tol, f"{H['grid']['nv']} x {H['grid']['na']} Hopf map at tol {tol:g} "
+                        "(the main job's tolerance), bare kernel, warm")
+    if f"{tol:g}" != "1e-08":
+        rows += map_row(1e-8, "same map at the default tol 1e-8")
+    sweep_runs = [r for r in H.get("dask", {}).get("runs", [])
+                  if r["executor"].startswith("sweep")]
+    if sweep_runs:
+        rows.append(["`sweepcore.sweep` of the map at tol 1e-8 (Dataset, boundary)",
+                     s(sweep_runs[0]["median_s"])])
+    if Pe and "numba_peer_map" in Pe:
+        pm = Pe["numba_peer_map"]
+        rows.append([f"numba RK4 peer, dt = {pm['dt']:g} s, same map, rerun in the same "
+                     f"run ({pm['measured_or_extrapolated']})", s(pm["map_seconds"])])
+    if Pe and "ratios" in Pe:
+        r = Pe["ratios"]
+        rows.append([f"scipy `solve_ivp` RK45 loop ({r['scipy_setting']}), per point on "
+                     f"one core, {len(Pe['points'])} points", f"{g(r['per_point_1core_ratio'])}x "
+                     "the time of sweepcore on the same points"])
+    th = H.get("threads", {})
+    if "2" in th.get("grid order", {}):
+        rows.append(["thread scaling 1 -> 2 threads", f"{g(th['grid order']['2']['speedup'])}x "
+                     "in grid order" + (f", {g(th['shuffled rows']['2']['speedup'])}x on "
+                                        "shuffled rows" if "2" in th.get("shuffled rows", {})
+                                        else "")])
+    c = H.get("compile", {})
+    if "t_first_call_parallel" in c.get("cold", {}):
+        rows.append(["kernel compilation (first call in a fresh process)",
+                     f"{s(c['cold']['t_first_call_parallel'])} with an empty cache, "
+                     f"{s(c.get('warm_cache', {}).get('t_first_call_parallel'))} from the cache"])
+    head = (f"Measured by `python benchmarks/run.py` (full mode) on {m['date'][:10]}, "
+            f"{m['cpu_model']}, {m['cores']} cores, commit `{m['git_commit'][:10]}`; every "
+            f"figure below is read from `{rel}/hopf_map.json` and `{rel}/peers.json` "
+            "(this block is generated: `python -m benchmarks.report`). Tables, plots and "
+            "the method: [benchmarks/README.md](benchmarks/README.md).")
+    return head + "\n\n" + table(["", "measured"], rows)
+
+
+def update_block(readme, block: str) -> bool:
+    """Replace the text between the bench markers of ``readme``; False if absent."""
+    readme = Path(readme)
+    text = readme.read_text()
+    if START not in text or END not in text:
+        return False
+    before, rest = text.split(START, 1)
+    after = rest.split(END, 1)[1]
+    readme.write_text(f"{before}{START}\n{block}\n{END}{after}")
+    return True
+
+
+def main(argv=None):
+    import argparse
+    ap = argparse.ArgumentParser(description="Regenerate benchmarks/README.md and the "
+                                 "top-level README's speed block from saved results.")
+    ap.add_argument("--outdir", type=Path, default=common.RESULTS / "full")
+    args = ap.parse_args(argv)
+    write_readme(args.outdir, common.BENCH / "README.md", "full", None)
+    if not update_block(common.ROOT / "README.md", readme_block(args.outdir)):
+        raise SystemExit("README.md has no <!-- bench:start --> ... <!-- bench:end --> block")
+    print(f"wrote {common.BENCH / 'README.md'} and the speed block of "
+          f"{common.ROOT / 'README.md'} from {args.outdir}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,11 +1,14 @@
 """Run sweepcore's benchmarks and regenerate every figure, table and JSON file.
 
-    python benchmarks/run.py            # full mode (~12-15 min on 2 cores)
-    python benchmarks/run.py --quick    # ~6 min, smaller ladders and samples
+    python benchmarks/run.py            # full mode (duration: in benchmarks/README.md)
+    python benchmarks/run.py --quick    # a few minutes, smaller ladders and samples
     python benchmarks/run.py --quick --sections hopf,peers,cost
 
-Results go to ``benchmarks/results/<mode>/`` (one JSON file per section, PNG figures)
-and the summary tables into ``benchmarks/README.md``. Numba kernels are compiled into
+Results go to ``benchmarks/results/<mode>/`` (one JSON file per section, PNG figures).
+A full run then rewrites ``benchmarks/README.md`` and the generated speed block of the
+top-level ``README.md`` from ``benchmarks/results/full/``; a quick run writes its
+summary to ``benchmarks/results/quick/README.md`` and never touches the full-mode
+tables (its folder is not tracked by git). Numba kernels are compiled into
 a private, fresh ``NUMBA_CACHE_DIR`` for the run (a stale cache of kernels edited
 since it was written can never be timed), removed at the end.
 """
@@ -75,7 +78,9 @@ def parse(argv=None):
     ap.add_argument("--outdir", type=Path, default=None,
                     help="results directory (default benchmarks/results/<mode>)")
     ap.add_argument("--readme", type=Path, default=None,
-                    help="README to write (default benchmarks/README.md; 'none' to skip)")
+                    help="summary to write (default: full mode benchmarks/README.md and "
+                         "the README's speed block; other modes <outdir>/README.md; "
+                         "'none' to skip)")
     ap.add_argument("--keep-numba-cache", action="store_true",
                     help="use the usual numba cache instead of a fresh private one")
     args = ap.parse_args(argv)
@@ -168,11 +173,29 @@ def _run(args):
         work_precision.plot(wp, results.get("peers") or load("peers"), outdir)
     total = time.perf_counter() - t_start
     common.log(f"done in {total:.0f} s; results in {outdir}")
-    readme = args.readme if args.readme is not None else common.BENCH / "README.md"
-    if str(readme).lower() != "none":
+    readme, top = summary_targets(args.mode, outdir, args.outdir, args.readme)
+    if readme is not None:
         report.write_readme(outdir, readme, args.mode, total)
         common.log(f"summary written to {readme}")
+    if top and report.update_block(common.ROOT / "README.md", report.readme_block(outdir)):
+        common.log(f"speed block of {common.ROOT / 'README.md'} regenerated")
     return results
+
+
+def summary_targets(mode, outdir, outdir_arg=None, readme_arg=None):
+    """(summary file or None, whether to regenerate the top-level README's block).
+
+    Only a full run into the default folder speaks for the project: it rewrites
+    benchmarks/README.md and the README's speed block. Any other run (quick, smoke,
+    another folder) writes its summary beside its own results and touches neither.
+    """
+    from benchmarks import common
+    official = mode == "full" and outdir_arg is None and readme_arg is None
+    if readme_arg is not None:
+        readme = None if str(readme_arg).lower() == "none" else Path(readme_arg)
+    else:
+        readme = common.BENCH / "README.md" if official else Path(outdir) / "README.md"
+    return readme, official
 
 
 if __name__ == "__main__":

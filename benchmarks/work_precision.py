@@ -2,7 +2,7 @@
 
 (a) constant friction (alpha1 = alpha2 = 0), start stuck: the attractor is known in
     closed form (amplitude v/omega, mean r_y/k, period 2 pi/omega);
-(b) alpha2 > 0: the 16 test points of performance.md (v in {0.5, 2, 5, 10} x alpha2 in
+(b) alpha2 > 0: 16 test points (v in {0.5, 2, 5, 10} x alpha2 in
     {0.002, 0.01, 0.05, 0.1}) plus random map points stratified by regime
     (stick-slip, slip cycle, equilibrium), against dopri5 at tol = 1e-13 (itself
     cross-checked on a few points by the independent scipy DOP853 solver);
@@ -34,7 +34,7 @@ REF = ("dopri5", {"tol": 1e-13})
 
 
 def test_points():
-    """performance.md's 4 x 4 test set (v, alpha2) (its 17th point, v = 5,
+    """The 4 x 4 test set (v, alpha2) (the peers' 17th point, v = 5,
     alpha2 = 1/75, sits exactly at v* and is used by the peer section only)."""
     v, a = np.meshgrid(TEST_V, TEST_A2, indexing="ij")
     return v.ravel(), a.ravel()
@@ -223,7 +223,7 @@ def plot(res, peer_res, outdir):
     fig, axs = plt.subplots(2, 3, figsize=(16, 9.5), constrained_layout=True)
     panels = [
         (axs[0, 0], "test_points", lambda d: d["amplitude_abs"]["max"],
-         "16 test points (performance.md), alpha2 > 0: max |amplitude error| [cm]"),
+         "16 test points (4 v x 4 alpha2), alpha2 > 0: max |amplitude error| [cm]"),
         (axs[0, 1], "alpha2", lambda d: d["amplitude_abs"]["max"],
          "test + stratified map points: max |amplitude error| [cm]"),
         (axs[0, 2], "alpha2", lambda d: d["mean_abs"]["max"],

@@ -7,12 +7,16 @@ feeds energy into the vibration. The curve's minimum there is r_y - (2/3) alpha1
 
     python studies/paper_fig4.py [--out out/]   ->  paper_fig4.nc, paper_fig4.png
 """
+import datetime
 import math
 
 import numpy as np
 import xarray as xr
 
+import sweepcore
 from sweepcore.io import write_netcdf
+from sweepcore.params import LONG_NAMES, UNITS
+from sweepcore.sweep import REFERENCE
 from sweepcore.plot import friction_figure, save
 
 from _common import Timer, output_dir
@@ -26,14 +30,24 @@ def main(out):
         zd = np.linspace(-2.2 * v_star, 2.2 * v_star, 881)
         zd = zd[zd != 0.0]
         ra = R_Y * np.sign(zd) - ALPHA1 * zd + ALPHA2 * zd ** 3
+        now = datetime.datetime.now(datetime.timezone.utc)
         ds = xr.Dataset(
             {"r_a": ("zdot", ra, {"units": "kN", "long_name": "friction force",
                                   "comment": "eq. (40), sliding branches"})},
             coords={"zdot": ("zdot", zd, {"units": "cm s-1",
-                                          "long_name": "relative velocity"})},
-            attrs={"title": "Liu, Fig. 4: friction-speed law", "r_y": R_Y,
-                   "alpha1": ALPHA1, "alpha2": ALPHA2, "v_star": v_star,
-                   "r_a_min": R_Y - 2 * ALPHA1 * v_star / 3})
+                                          "long_name": "relative velocity"}),
+                    **{n: ((), val, {"units": UNITS[n], "long_name": LONG_NAMES[n]})
+                       for n, val in (("r_y", R_Y), ("alpha1", ALPHA1),
+                                      ("alpha2", ALPHA2))},
+                    "v_star": ((), v_star, {"units": "cm s-1",
+                                            "long_name": "Hopf belt speed v*"}),
+                    "r_a_min": ((), R_Y - 2 * ALPHA1 * v_star / 3,
+                                {"units": "kN",
+                                 "long_name": "minimum sliding friction, at v*"})},
+            attrs={"Conventions": "CF-1.11", "title": "Liu, Fig. 4: friction-speed law",
+                   "source": f"sweepcore {sweepcore.__version__}: studies/paper_fig4.py",
+                   "references": REFERENCE,
+                   "history": f"{now:%Y-%m-%dT%H:%M:%SZ} python studies/paper_fig4.py"})
         write_netcdf(ds, out / "paper_fig4.nc")
         save(friction_figure(R_Y, ALPHA1, ALPHA2), out / "paper_fig4.png")
     print(f"  v* = {v_star:.6g} cm/s, minimum sliding friction "

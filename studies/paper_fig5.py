@@ -44,12 +44,13 @@ def main(out):
                              {"units": "kN s3 cm-3",
                               "long_name": "cubic friction-speed coefficient"})
         ds = xr.concat([r[list(KEEP)] for r in runs], dim=xr.IndexVariable(
-            "alpha2", alpha2.values, alpha2.attrs), combine_attrs="drop")
+            "alpha2", alpha2.values, alpha2.attrs), combine_attrs="override")
         ds["q"] = ("alpha2", [r[1] for r in rows], {"units": "s-1",
                                                     "long_name": "Hopf quantity q"})
         ds["x_eq"] = ("alpha2", eqs, {"units": "cm", "long_name": "equilibrium x_eq"})
-        ds.attrs.update(title="Liu, Fig. 5: three alpha2 cases", **PAPER,
-                        method=runs[0].attrs["method"])
+        # variable attrs (units) and the CF globals from the runs; status per run
+        ds.attrs.update(title="Liu, Fig. 5: three alpha2 cases",
+                        status=" ".join(r.attrs["status"] for r in runs))
         write_netcdf(ds, out / "paper_fig5.nc")
     for alpha2, q, a in rows:
         print(f"  alpha2 = {alpha2:.5g}: q = {_signed(q)} 1/s -> {a.regime} "

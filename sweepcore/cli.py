@@ -1,15 +1,19 @@
-"""The ``sweepcore`` command: run study files, simulate one slider, plot, inspect.
+"""The ``sweepcore`` command: run study files, simulate one slider, plot, inspect,
+export.
 
 Units everywhere (the paper's): force kN, length cm, time s; mass kN s^2/cm,
 stiffness kN/cm, alpha1 kN s/cm, alpha2 kN s^3/cm^3.
 
-Exit codes: 0 success; 2 a refused input (bad study file, bad parameter, bad option;
-nothing is written); 1 a failure while running; 130 interrupted (a sweep with an
-output path resumes where it stopped when the same command is run again).
+Exit codes: 0 success; 2 a refused input (bad study file, bad parameter, unknown
+option, missing output directory; nothing is written); 1 a failure while running
+(a simulation that fails writes nothing); 130 interrupted (a sweep with an output
+path resumes where it stopped when the same command is run again). Output
+directories are never created: a missing one is refused, as by the Python API.
 """
 from __future__ import annotations
 
 import argparse
+import difflib
 import os
 import shlex
 import sys
@@ -66,8 +70,10 @@ def build_parser() -> argparse.ArgumentParser:
                     "r_a = r_y sgn(zdot) - alpha1 zdot + alpha2 zdot^3. " + UNITS_HELP
                     + ".",
         epilog="Examples: sweepcore run studies/hopf_map.toml; sweepcore info "
-               "out/hopf_map.nc; sweepcore simulate --m 5 --k 50 --r-y 10 --v 5 "
-               "--png fig3.png. Exit codes: 0 ok, 1 failure, 2 refused input.")
+               "out/hopf_map.nc; sweepcore export out/hopf_map.nc --csv map.csv; "
+               "sweepcore simulate --m 5 --k 50 --r-y 10 --v 5 --png fig3.png. "
+               "Output variables and codes: docs/variables.md. "
+               "Exit codes: 0 ok, 1 failure, 2 refused input.")
     parser.add_argument("--threads", type=_positive_int, metavar="N",
                         help="numba threads (sets NUMBA_NUM_THREADS and friends); "
                              "default: numba's (all cores)")
@@ -80,6 +86,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_plot(sub)
     _add_simulate(sub)
     _add_info(sub)
+    _add_export(sub)
     return parser
 
 
@@ -175,6 +182,55 @@ def _add_info(sub):
     p.set_defaults(func=cmd_info)
 
 
+def _add_export(sub):
+    p = sub.add_parser(
+        "export", help="write a result file as CSV (one row per point or sample)",
+        description="Write a result as CSV: a sweep as one row per grid point (the "
+                    "swept parameters, then every variable), a simulation as one row "
+                    "per time sample (its event log goes to <OUT stem>_events.csv). "
+                    "Column headers carry the units, e.g. 'amplitude [cm]'; regime, "
+                    "status and other flag variables are written as names. Meanings: "
+                    "docs/variables.md.")
+    p.add_argument("result", metavar="RESULT.nc", help="netCDF result of run/simulate")
+    p.add_argument("--csv", required=True, metavar="OUT.csv", help="CSV file to write")
+    p.add_argument("--variables", metavar="NAME[,NAME...]",
+                   help="only these variables (default all)")
+    p.set_defaults(func=cmd_export)
+
+
+# ----------------------------------------------------------- compilation
+COMPILE_MESSAGE = "sweepcore: compiling kernels, first run only, ~25 s"
+# schedulers that run the kernels on this machine, from this machine's numba cache
+LOCAL_SCHEDULERS = (None, "threads", "processes", "synchronous", "sync",
+                    "single-threaded")
+
+
+def kernels_cold(command: str, dask: bool = False) -> bool:
+    """True when the numba cache holds no fresh machine code for the kernels that
+    ``command`` ("run" or "simulate") calls first, so they compile on this call.
+
+    Reads numba's cache index (the same test numba makes before compiling: index
+    present, numba version and source stamp unchanged). Any surprise in numba's
+    private cache API counts as warm: then no message, never a wrong one.
+    """
+    from ._kernels import attractor, trajectory
+    try:
+        if command == "simulate":
+            kernels = (trajectory.run_trajectory, attractor.resolve_options)
+        else:
+            kernels = (attractor.attractor_rows if dask
+                       else attractor.attractor_rows_parallel,)
+        return any(not k._cache._cache_file._load_index() for k in kernels)
+    except Exception:   # kernels renamed, or numba's cache internals changed: say nothing
+        return False
+
+
+def announce_compile(command: str, dask: bool, quiet: bool) -> None:
+    """One line on stderr before a cold-cache compilation (silent otherwise)."""
+    if not quiet and kernels_cold(command, dask):
+        print(COMPILE_MESSAGE, file=sys.stderr, flush=True)
+
+
 # ---------------------------------------------------------------- commands
 def _resolve_outputs(study, args) -> tuple[Path, Path | None]:
     out = Path(args.output or study.output_path or f"{study.stem}.nc")
@@ -190,7 +246,18 @@ def _resolve_outputs(study, args) -> tuple[Path, Path | None]:
         png = out.with_suffix(".png")
     if png is not None and png.suffix.lower() != ".png":
         raise UsageError(f"picture must end in .png, got {str(png)!r}")
+    _check_directories(out, png)
     return out, png
+
+
+def _check_directories(*paths) -> None:
+    """Refuse an output whose directory is missing (sweepcore never creates one)."""
+    for path in paths:
+        if path is not None and not Path(path).parent.is_dir():
+            parent = Path(path).parent
+            raise UsageError(f"directory {str(parent)!r} of {str(path)!r} does not "
+                             f"exist: create it first (mkdir -p {shlex.quote(str(parent))})"
+                             " or choose another path")
 
 
 def cmd_run(args) -> int:
@@ -203,27 +270,7 @@ def cmd_run(args) -> int:
     grid = Grid(**study.grid_kwargs())
     make_options(study.method, tol=study.tol, **study.options)
     out, png = _resolve_outputs(study, args)
-    made = _make_parents(out, png)
-    try:
-        return _run(args, study, grid, out, png)
-    except BaseException:
-        for d in reversed(made):          # leave no empty directory behind
-            if d.is_dir() and not any(d.iterdir()):
-                d.rmdir()
-        raise
-
-
-def _make_parents(*paths) -> list[Path]:
-    """Create the missing parent directories of ``paths``; return those created."""
-    made = []
-    for path in paths:
-        if path is None:
-            continue
-        missing = [d for d in [path.parent, *path.parent.parents] if not d.exists()]
-        for d in reversed(missing):
-            d.mkdir()
-            made.append(d)
-    return made
+    return _run(args, study, grid, out, png)
 
 
 def _run(args, study, grid, out, png) -> int:
@@ -234,6 +281,8 @@ def _run(args, study, grid, out, png) -> int:
         print(f"sweepcore run {args.study}: {grid.size} points "
               f"({' x '.join(f'{d}: {n}' for d, n in zip(grid.dims, grid.shape))}), "
               f"method {study.method}, tol {study.tol:g}", flush=True)
+    if args.scheduler in LOCAL_SCHEDULERS:   # else the cache is a worker's, or refused
+        announce_compile("run", args.scheduler is not None, args.quiet)
     t0 = time.perf_counter()
     ds = sweep(grid, method=study.method, tol=study.tol,
                chunks=args.chunks or study.chunks, scheduler=args.scheduler, path=out,
@@ -285,6 +334,10 @@ def cmd_plot(args) -> int:
     out = Path(args.output) if args.output else Path(args.result).with_suffix(".png")
     if out.suffix.lower() != ".png":
         raise UsageError(f"picture must end in .png, got {str(out)!r}")
+    _check_directories(out)
+    if "time" in ds.dims and ds.attrs.get("status", "ok") != "ok":
+        raise UsageError(f"{args.result} holds a failed simulation (status "
+                         f"{ds.attrs['status']}): nothing to draw")
     kwargs = {}
     if "time" not in ds.dims:
         kwargs = {k: getattr(args, k) for k in ("x", "y") if getattr(args, k)}
@@ -308,7 +361,6 @@ def cmd_plot(args) -> int:
                 kwargs = {**parse_study(ds.attrs["study"]).plot, **kwargs}
             except StudyError:    # a study of another version: default picture
                 pass
-    out.parent.mkdir(parents=True, exist_ok=True)
     save(figure_for(ds, **kwargs), out)
     print(f"wrote {out}")
     return 0
@@ -325,14 +377,16 @@ def cmd_simulate(args) -> int:
     for path, suffix in ((args.output, ".nc"), (args.png, ".png")):
         if path is not None and Path(path).suffix.lower() != suffix:
             raise UsageError(f"{path!r} must end in {suffix}")
+    _check_directories(args.output, args.png)
     extra = {"dt": args.dt} if args.dt is not None else {}
+    announce_compile("simulate", False, False)
     ds = simulate(p, t_end=args.t_end, x0=args.x0, xdot0=args.xdot0, method=args.method,
                   output_dt=args.output_dt, tol=args.tol, **extra)
     ds.attrs["history"] = _command_line(args)
-    print(simulation_summary(ds, p))
-    for path in (args.output, args.png):
-        if path is not None:
-            Path(path).parent.mkdir(parents=True, exist_ok=True)
+    print(simulation_summary(ds, p), flush=True)
+    if ds.attrs["status"] != "ok":
+        raise SimulationFailed(f"{ds.attrs['status']}: {failure_reason(ds, p, args)}; "
+                               "nothing written")
     if args.output:
         write_netcdf(ds, args.output)
         print(f"wrote {args.output}")
@@ -342,7 +396,37 @@ def cmd_simulate(args) -> int:
         print(f"wrote {args.png}")
     if not (args.output or args.png):
         print("(nothing written: give -o RUN.nc and/or --png FIG.png)")
-    return 0 if ds.attrs.get("status") == "ok" else 1
+    return 0
+
+
+class SimulationFailed(RuntimeError):
+    """A simulation stopped before t_end (exit code 1, nothing written)."""
+
+
+def failure_reason(ds, p, args) -> str:
+    """The rule a failed simulation broke, in words, with its numbers."""
+    status = ds.attrs["status"]
+    method = ds.attrs.get("method", args.method)
+    if status == "fixed_step_too_large":
+        dt = args.dt if args.dt is not None else 2 * np.pi / p.omega / 50
+        return (f"the fixed step dt = {dt:g} s is too large for method {method}: gps "
+                f"and rk4 need omega dt <= 1, and omega = sqrt(k/m) = {p.omega:.6g} s-1 "
+                f"here, so dt <= {1 / p.omega:.6g} s (give a smaller --dt, or --method "
+                "dopri5)")
+    if status == "gps_denominator_guard":
+        return ("the group-preserving step's denominator ||u||^2 - tau^2 ||f||^2 "
+                "(eqs. 49-50) was not safely positive: give a smaller --dt")
+    if status == "step_budget_exceeded":
+        return (f"the run used its budget of integrator steps before t_end = "
+                f"{args.t_end:g} s: shorten --t-end, or loosen --tol")
+    if status == "step_size_underflow":
+        return ("the adaptive step fell below the floating-point resolution of t: "
+                "loosen --tol")
+    if status == "diverged":
+        return "the state left the finite range (|x| or |zdot| > 1e150, or NaN)"
+    if status == "event_location_failed":
+        return "a stick/slip event could not be located inside a step"
+    return "see docs/variables.md (status codes)"
 
 
 def cmd_info(args) -> int:
@@ -351,6 +435,64 @@ def cmd_info(args) -> int:
     print(f"{args.result}:")
     print(describe(ds))
     return 0
+
+
+def cmd_export(args) -> int:
+    """``sweepcore export``: a result file as CSV, units in the column headers."""
+    ds = _open(args.result)
+    out = Path(args.csv)
+    if out.suffix.lower() != ".csv":
+        raise UsageError(f"--csv must end in .csv, got {str(out)!r}")
+    _check_directories(out)
+    if args.variables:
+        names = [n.strip() for n in args.variables.split(",") if n.strip()]
+        missing = [n for n in names if n not in ds.data_vars]
+        if missing:
+            raise UsageError(f"--variables: {', '.join(missing)} not in {args.result} "
+                             f"(has {', '.join(ds.data_vars)})")
+        ds = ds[names]
+    tables = csv_tables(ds)
+    written = []
+    for suffix, frame in tables.items():
+        path = out.with_name(out.stem + suffix + out.suffix)
+        frame.to_csv(path, index=False)
+        written.append(f"{path} ({len(frame)} rows)")
+    print("wrote " + ", ".join(written))
+    return 0
+
+
+def csv_tables(ds) -> dict:
+    """``{file suffix: pandas.DataFrame}``: one table per group of dimensions.
+
+    A sweep is one table over its grid (variables on fewer dimensions, such as the
+    measured boundary, are repeated along the others); a simulation one over
+    ``time`` ("") and one over ``event`` ("_events"). Scalar coordinates (fixed
+    parameters) are repeated as columns. Flag variables become their names; headers are
+    ``name [units]``.
+    """
+    if "event" not in ds.dims:
+        return {"": _frame(ds)}
+    on_event = [n for n, v in ds.data_vars.items() if "event" in v.dims]
+    rest = [n for n in ds.data_vars if n not in on_event]
+    tables = {"": _frame(ds[rest])} if rest else {}
+    if on_event:
+        tables["_events"] = _frame(ds[on_event].drop_vars("time", errors="ignore"))
+    return tables
+
+
+def _frame(ds):
+    frame = ds.to_dataframe().reset_index()
+    columns = {}
+    for name in frame.columns:
+        attrs = ds[name].attrs if name in ds.variables else {}
+        if "flag_values" in attrs and "flag_meanings" in attrs:
+            codes = dict(zip(np.atleast_1d(attrs["flag_values"]).tolist(),
+                             str(attrs["flag_meanings"]).split()))
+            frame[name] = frame[name].map(lambda c: codes.get(int(c), f"code {c}"))
+        units = str(attrs.get("units", ""))
+        units = "s" if " since " in units else units
+        columns[name] = f"{name} [{units}]" if units not in ("", "1") else name
+    return frame.rename(columns=columns)
 
 
 def _open(path):
@@ -457,14 +599,23 @@ def _boundary_lines(ds) -> list[str]:
     return [text] if text else []
 
 
+def _scalar(ds, name) -> float:
+    """A simulation's parameter: scalar coordinate (older files: global attribute)."""
+    if name in ds.coords and ds[name].ndim == 0:
+        return float(ds[name])
+    return float(ds.attrs.get(name, np.nan))
+
+
 def _describe_simulation(ds) -> str:
     a = ds.attrs
     t = ds.time.values
     lines = [f"  simulation: {t.size} samples over t in [{t[0]:.6g}, {t[-1]:.6g}] s",
-             "  slider: " + ", ".join(f"{n} = {a[n]:.6g}" for n in
-                                      ("m", "k", "r_y", "v", "alpha1", "alpha2") if n in a),
-             f"  start: x0 = {a.get('x0', float('nan')):.6g} cm, "
-             f"xdot0 = {a.get('xdot0', float('nan')):.6g} cm s-1",
+             "  slider: " + ", ".join(f"{n} = {_scalar(ds, n):.6g}{_units(ds[n])}"
+                                      if n in ds.coords else f"{n} = {_scalar(ds, n):.6g}"
+                                      for n in ("m", "k", "r_y", "v", "alpha1", "alpha2")
+                                      if np.isfinite(_scalar(ds, n))),
+             f"  start: x0 = {_scalar(ds, 'x0'):.6g} cm, "
+             f"xdot0 = {_scalar(ds, 'xdot0'):.6g} cm s-1",
              f"  method: {a.get('method', '?')}, status: {a.get('status', '?')}, "
              f"steps: {a.get('n_steps', '?')}"]
     if "event_kind" in ds:
@@ -472,9 +623,13 @@ def _describe_simulation(ds) -> str:
         lines.append("  events: " + (", ".join(f"{n} {c}" for n, c in counts)
                                      if counts else "none"))
     x = ds.x.values
-    tail = t >= t[-1] - 0.2 * (t[-1] - t[0])
-    lines.append(f"  x over the last 20 % of the run: [{np.nanmin(x[tail]):.6g}, "
-                 f"{np.nanmax(x[tail]):.6g}] cm")
+    tail = (t >= t[-1] - 0.2 * (t[-1] - t[0])) & np.isfinite(x)
+    if tail.any():
+        lines.append(f"  x over the last 20 % of the run: [{x[tail].min():.6g}, "
+                     f"{x[tail].max():.6g}] cm")
+    else:
+        lines.append("  x over the last 20 % of the run: no valid sample (the run "
+                     "stopped early)")
     if "history" in a:
         lines.append(f"  history: {a['history']}")
     return "\n".join(lines)
@@ -489,9 +644,32 @@ def simulation_summary(ds, p) -> str:
 
 # --------------------------------------------------------------------- main
 def main(argv=None) -> int:
-    """Entry point of the ``sweepcore`` command; returns the exit code."""
+    """Entry point of the ``sweepcore`` command; returns the exit code.
+
+    A closed output pipe (``sweepcore info map.nc | head -3``) ends the command
+    quietly: the rest of the output is discarded.
+    """
+    try:
+        code = _main(argv)
+        sys.stdout.flush()
+        return code
+    except BrokenPipeError:
+        # stdout's reader is gone: point stdout at /dev/null so that the flush at
+        # interpreter exit does not raise again
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return 0
+
+
+def _main(argv) -> int:
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(map(str, argv))
+    unknown = unknown_option(parser, argv)
+    if unknown:
+        command, message = unknown
+        print(f"sweepcore{' ' + command if command else ''}: error: {message}",
+              file=sys.stderr)
+        return 2
     args = parser.parse_args(argv)
     args.argv = argv
     if args.threads:
@@ -503,11 +681,16 @@ def main(argv=None) -> int:
         print("sweepcore: interrupted (rerun the same command to resume a sweep)",
               file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        raise
+    except SimulationFailed as err:
+        print(f"sweepcore {args.command}: failed: {err}", file=sys.stderr)
+        return 1
     except (StudyError, UsageError, ValueError, TypeError) as err:
         # refused input (Params, Grid, options, study file): one clean line. plot and
         # info validate their input themselves (UsageError); a ValueError deeper in
         # them is a failure, not a refusal.
-        if args.command in ("plot", "info") and not isinstance(err, UsageError):
+        if args.command in ("plot", "info", "export") and not isinstance(err, UsageError):
             return _failed(args, err)
         if args.traceback:
             traceback.print_exc()
@@ -515,6 +698,52 @@ def main(argv=None) -> int:
         return 2
     except Exception as err:  # a failure while running
         return _failed(args, err)
+
+
+def _options(parser) -> list[str]:
+    return [o for a in parser._actions for o in a.option_strings]
+
+
+def unknown_option(parser, argv) -> tuple[str, str] | None:
+    """``(command, message)`` for the first unknown option in ``argv``, else None.
+
+    argparse checks required options before it reports unknown ones, so ``--ry 10``
+    would read as a missing ``--r-y``; this names the typo and the closest option
+    instead. Unambiguous prefixes (``--t-e``) are accepted, as argparse does.
+    """
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    command, known = "", _options(parser)
+    takes_value = {o for a in parser._actions if a.nargs != 0
+                   for o in a.option_strings}
+    skip = False
+    for token in argv:
+        if skip:
+            skip = False
+            continue
+        if token == "--":
+            return None
+        if not command and token in sub.choices:
+            command = token
+            known = _options(sub.choices[token])
+            takes_value = {o for a in sub.choices[token]._actions if a.nargs != 0
+                           for o in a.option_strings}
+            continue
+        if token in known:       # short options too (-o, -q): does a value follow?
+            skip = token in takes_value
+            continue
+        if not token.startswith("--"):   # values, numbers, grouped short flags: argparse's
+            continue
+        name = token.split("=", 1)[0]
+        matches = [o for o in known if o.startswith(name)]
+        if matches:      # a value follows an option that takes one
+            skip = "=" not in token and (name if name in known else matches[0]) \
+                in takes_value
+            continue
+        close = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
+        hint = f"; did you mean {close[0]}?" if close else ""
+        where = f"sweepcore {command}" if command else "sweepcore"
+        return command, (f"unknown option {name}{hint} (see {where} --help)")
+    return None
 
 
 def _failed(args, err) -> int:

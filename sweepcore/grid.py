@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ._kernels import layout
-from .params import LONG_NAMES, UNITS, check_real
+from .params import LONG_NAMES, UNITS, check_real, did_you_mean
 
 # axes in dimension order, with their kernel column and their check_real rule
 AXES = ("m", "k", "r_y", "v", "alpha1", "alpha2", "x0", "xdot0")
@@ -306,6 +306,9 @@ class Grid:
             else:
                 h.update(repr(val).encode())
         return h.hexdigest()
+
+
+Grid.__init__ = did_you_mean(Grid.__init__)
 
 
 # ------------------------------------------------------ derived quantities

@@ -6,6 +6,9 @@ kN/cm, alpha1 kN s/cm and alpha2 kN s^3/cm^3.
 from __future__ import annotations
 
 import cmath
+import difflib
+import functools
+import inspect
 import math
 import numbers
 from dataclasses import dataclass
@@ -16,6 +19,8 @@ UNITS = {
     "m": "kN s2 cm-1", "k": "kN cm-1", "r_y": "kN", "v": "cm s-1",
     "alpha1": "kN s cm-1", "alpha2": "kN s3 cm-3", "x0": "cm", "xdot0": "cm s-1",
 }
+# units of the run settings, for the messages of check_real
+SETTING_UNITS = {"t_end": "s", "output_dt": "s", "dt": "s"}
 LONG_NAMES = {
     "m": "slider mass", "k": "spring stiffness", "r_y": "friction bound",
     "v": "belt speed", "alpha1": "linear friction-speed coefficient",
@@ -36,13 +41,14 @@ def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
     x = float(value)
     if not math.isfinite(x):
         raise ValueError(f"{name} must be finite, got {value!r}")
+    units = UNITS.get(name) or SETTING_UNITS.get(name)
+    units = f" [{units}]" if units else ""
     if positive and not x > 0.0:
-        raise ValueError(f"{name} must be > 0 [{UNITS.get(name, '')}], got {value!r}")
+        raise ValueError(f"{name} must be > 0{units}, got {value!r}")
     if nonnegative and not x >= 0.0:
         hint = (" (a negative cubic coefficient makes the friction force unbounded "
                 "at high sliding speed)") if name == "alpha2" else ""
-        raise ValueError(f"{name} must be >= 0 [{UNITS.get(name, '')}], "
-                         f"got {value!r}{hint}")
+        raise ValueError(f"{name} must be >= 0{units}, got {value!r}{hint}")
     return x
 
 
@@ -134,3 +140,30 @@ class Params:
         """The kernel's flat parameter row (layout.py)."""
         return np.array([self.m, self.k, self.r_y, self.v, self.alpha1, self.alpha2,
                          x0, xdot0], dtype=np.float64)
+
+
+def did_you_mean(fn):
+    """Wrap ``fn`` so that a misspelt keyword argument gets "did you mean" (difflib).
+
+    The signature is kept (``functools.wraps`` exposes the original to ``inspect``);
+    a known keyword costs one set lookup.
+    """
+    params = inspect.signature(fn).parameters.values()
+    names = [p.name for p in params if p.name != "self" and p.kind in (
+        p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+    known = set(names)
+    owner = fn.__qualname__.removesuffix(".__init__")
+
+    @functools.wraps(fn)
+    def checked(*args, **kwargs):
+        for key in kwargs:
+            if key not in known:
+                close = difflib.get_close_matches(key, names, n=1)
+                hint = f"; did you mean {close[0]!r}?" if close else ""
+                raise TypeError(f"{owner}() got an unexpected keyword argument {key!r}"
+                                f"{hint} (allowed: {', '.join(names)})")
+        return fn(*args, **kwargs)
+    return checked
+
+
+Params.__init__ = did_you_mean(Params.__init__)

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+from matplotlib import patheffects
 from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
@@ -63,10 +64,14 @@ DPI = 150
 def pretty_units(units: str | None) -> str:
     """UDUNITS string to a label: ``"kN s3 cm-3"`` -> ``kN s$^3$/cm$^3$``.
 
-    ``"1"`` and empty units give ``""`` (dimensionless).
+    ``"1"`` and empty units give ``""`` (dimensionless); a CF time unit
+    ``"seconds since <epoch>"`` gives ``s`` (a simulation's elapsed time).
     """
     if not units or units.strip() == "1":
         return ""
+    if " since " in units:
+        return "s" if units.split()[0] in ("s", "sec", "second", "seconds") else \
+            units.split()[0]
     num, den = [], []
     for tok in units.split():
         base = tok.rstrip("-0123456789")
@@ -88,6 +93,26 @@ def label(var, name: str | None = None) -> str:
         text += f" ${SYMBOLS[name]}$"
     units = pretty_units(attrs.get("units"))
     return f"{text} [{units}]" if units else text
+
+
+def flag_axis(ax, var, axis: str = "y") -> bool:
+    """Label a categorical (flag) variable's axis with its names, not its codes.
+
+    Every code of the variable's ``flag_values`` gets a tick named by its
+    ``flag_meanings`` word (underscores as spaces), so that regime and status axes
+    read "stick slip", "equilibrium", ... Returns False (axis untouched) for a
+    variable that is not a flag variable.
+    """
+    attrs = getattr(var, "attrs", {})
+    if "flag_values" not in attrs or "flag_meanings" not in attrs:
+        return False
+    values = [int(v) for v in np.atleast_1d(attrs["flag_values"])]
+    names = [w.replace("_", " ") for w in str(attrs["flag_meanings"]).split()]
+    set_ticks = ax.set_yticks if axis == "y" else ax.set_xticks
+    set_lim = ax.set_ylim if axis == "y" else ax.set_xlim
+    set_ticks(values, names[:len(values)])
+    set_lim(min(values) - 0.5, max(values) + 0.5)
+    return True
 
 
 def is_geometric(values) -> bool:
@@ -139,6 +164,9 @@ def figure_for(ds: xr.Dataset, **kwargs) -> Figure:
     :func:`map_figure`.
     """
     if "time" in ds.dims:
+        if ds.attrs.get("status", "ok") != "ok":
+            raise ValueError(f"a failed simulation (status {ds.attrs['status']}): its "
+                             "samples after the failure are NaN, nothing to draw")
         extra = [d for d in ds.dims if d not in ("time", "event") and ds.sizes[d] > 1]
         if extra:          # several runs stacked along a parameter: one row each
             d = extra[0]
@@ -185,6 +213,7 @@ def generic_figure(ds: xr.Dataset, max_panels: int = 6) -> Figure:
     for ax, name in zip(axs, names):
         ax.plot(ds[dim].values, ds[name].values, ".", ms=3, color="#0072B2")
         ax.set_ylabel(label(ds[name], name))
+        flag_axis(ax, ds[name])
         ax.grid(alpha=0.3)
     axs[-1].set_xlabel(label(ds[dim], dim))
     fig.suptitle(ds.attrs.get("title", ""), fontsize=10)
@@ -236,7 +265,7 @@ def trajectory_figure(ds: xr.Dataset, title: str | None = None) -> Figure:
     """
     fig = Figure(figsize=(13, 7.2), layout="constrained")
     axs = fig.subplots(2, 3)
-    v = float(ds.attrs.get("v", np.nan))
+    v = _param(ds, "v")
     t = ds.time.values
     events = _events(ds)
     rows = (("z", "zdot", True), ("x", "xdot", False))
@@ -255,7 +284,8 @@ def trajectory_figure(ds: xr.Dataset, title: str | None = None) -> Figure:
         a_pos.set(xlabel=label(ds.time, "time"), ylabel=label(ds[pos], pos))
         a_vel.set(xlabel=label(ds.time, "time"), ylabel=label(ds[vel], vel))
         a_phase.set(xlabel=label(ds[pos], pos), ylabel=label(ds[vel], vel))
-        a_phase.legend(fontsize=7.5, loc="best")
+        a_phase.legend(fontsize=7.5, loc="upper left", bbox_to_anchor=(1.02, 1.0),
+                       borderaxespad=0)   # beside the plane, off the orbit
     for ax, letter in zip(axs.flat, "abcdef"):
         ax.set_title(f"({letter})", loc="left", fontsize=10)
         ax.grid(alpha=0.3)
@@ -263,13 +293,21 @@ def trajectory_figure(ds: xr.Dataset, title: str | None = None) -> Figure:
     return fig
 
 
+def _param(ds: xr.Dataset, name: str) -> float:
+    """A simulation's parameter: its scalar coordinate (files of older versions: the
+    global attribute), NaN when absent."""
+    if name in ds.coords and ds[name].ndim == 0:
+        return float(ds[name])
+    return float(ds.attrs.get(name, np.nan))
+
+
 def _trajectory_title(ds: xr.Dataset) -> str:
-    a = ds.attrs
-    p = ", ".join(f"${SYMBOLS[n]}$ = {a[n]:.4g}" for n in
-                  ("m", "k", "r_y", "v", "alpha1", "alpha2") if n in a)
-    start = (f"start ($x_0$, $\\dot{{x}}_0$) = ({a.get('x0', 0):.4g}, "
-             f"{a.get('xdot0', 0):.4g})")
-    return f"Single slider: {p}; {start}; method {a.get('method', '?')}"
+    p = ", ".join(f"${SYMBOLS[n]}$ = {_param(ds, n):.4g}" for n in
+                  ("m", "k", "r_y", "v", "alpha1", "alpha2")
+                  if np.isfinite(_param(ds, n)))
+    start = (f"start ($x_0$, $\\dot{{x}}_0$) = ({_param(ds, 'x0'):.4g}, "
+             f"{_param(ds, 'xdot0'):.4g})")
+    return f"Single slider: {p}; {start}; method {ds.attrs.get('method', '?')}"
 
 
 def cases_figure(runs, labels, title: str | None = None,
@@ -290,7 +328,7 @@ def cases_figure(runs, labels, title: str | None = None,
     axs = np.atleast_2d(fig.subplots(n, 3))
     letters = iter("abcdefghijklmnopqrstuvwxyz")
     for i, (ds, text) in enumerate(zip(runs, labels)):
-        v = float(ds.attrs["v"])
+        v = _param(ds, "v")
         t = ds.time.values
         ax_x, ax_v, ax_p = axs[i]
         ax_x.plot(t, ds.x.values, lw=0.9, color="#0072B2")
@@ -432,12 +470,15 @@ def line_figure(ds: xr.Dataset, dim: str, variables=("amplitude", "mean"),
         if name == "amplitude":
             _small_cycle(ax, ds, dim, handles)
         ax.set_ylabel(label(ds[name], name))
+        flag_axis(ax, ds[name])
         ax.grid(alpha=0.3)
         ax.set_xscale(_axis_scale(ds, dim))
     axs[-1].set_xlabel(label(ds[dim], dim))
     regimes = [h for k, h in handles.items() if k in codes.REGIME_NAMES.values()]
     rest = [h for k, h in handles.items() if k not in codes.REGIME_NAMES.values()]
-    axs[0].legend(handles=regimes + rest, fontsize=8, loc="best")
+    # beside the panels, never over the data
+    fig.legend(handles=regimes + rest, fontsize=8, loc="outside lower center",
+               ncol=3)
     fig.suptitle(title or _sweep_title(ds), fontsize=10)
     return fig
 
@@ -566,6 +607,7 @@ def map_figure(ds: xr.Dataset, x: str | None = None, y: str | None = None,
     n = len(variables)
     fig = Figure(figsize=(5.6 * n + 0.6, 5.0 * len(rows) + 0.4), layout="constrained")
     axs = np.atleast_2d(fig.subplots(len(rows), n, sharex=True, sharey=True))
+    curves = {}
     for row_axs, sub in zip(axs, rows):
         overlays = _overlays(sub, x, y) if boundary else []
         for ax, name in zip(row_axs, variables):
@@ -579,10 +621,11 @@ def map_figure(ds: xr.Dataset, x: str | None = None, y: str | None = None,
             if facet:
                 ax.set_title(f"{facet} = {_fmt(sub[facet])}: {ax.get_title()}",
                              fontsize=10)
-        if overlays:
-            handles = [d.handle for d in overlays]
-            row_axs[-1].legend(handles=handles, fontsize=8, loc="upper right",
-                               framealpha=0.85)
+        for d in overlays:
+            curves.setdefault(d.handle.get_label(), d.handle)
+    if curves:    # one legend for the curves of every panel, below them
+        fig.legend(handles=list(curves.values()), fontsize=8, loc="outside lower center",
+                   ncol=min(len(curves), 2))
     fig.suptitle((title or _sweep_title(ds)) + note, fontsize=10)
     return fig
 
@@ -623,8 +666,10 @@ def _regime_panel(fig, ax, ds, xe, ye):
     patches = [Patch(facecolor=REGIME_COLOURS.get(v, "k"), edgecolor="0.3", lw=0.5,
                      label=f"{nm.replace('_', ' ')} ({_share(np.sum(data == v), total)})")
                for v, nm in zip(values, names) if (data == v).any()]
+    # under the panel, off the map
     ax.legend(handles=patches, title=f"regime ({total} points)", fontsize=8,
-              title_fontsize=8.5, loc="upper left", framealpha=0.85)
+              title_fontsize=8.5, loc="upper center", bbox_to_anchor=(0.5, -0.13),
+              ncol=2, frameon=False)
     ax.set_title("attractor regime", fontsize=10)
     return mesh
 
@@ -723,8 +768,11 @@ def _analytic_curves(ds, x, y) -> list:
         vv = factor * vs
         vv = np.where((vv >= ds.v.values.min()) & (vv <= ds.v.values.max()), vv, np.nan)
         if np.isfinite(vv).any():
-            out.append(_Overlay(*((vv, s) if x == "v" else (s, vv)),
-                                Line2D([], [], **style), analytic=True))
+            # white on the maps; outlined in grey in the legend, which is on white
+            handle = Line2D([], [], **style, path_effects=[
+                patheffects.withStroke(linewidth=4, foreground="0.45")])
+            out.append(_Overlay(*((vv, s) if x == "v" else (s, vv)), handle,
+                                analytic=True))
     return out
 
 

@@ -1,6 +1,7 @@
 """One slider over time: the hybrid driver sampled on a time axis, as xarray."""
 from __future__ import annotations
 
+import datetime
 import math
 
 import numpy as np
@@ -10,7 +11,8 @@ from ._kernels import codes, layout
 from ._kernels.attractor import resolve_options
 from ._kernels.trajectory import fresh_acc, run_trajectory
 from .options import make_options
-from .params import Params, check_real
+from .params import LONG_NAMES, UNITS, Params, check_real, did_you_mean
+from .sweep import REFERENCE
 
 
 def start_row(params: Params, x0: float, xdot0: float | None) -> np.ndarray:
@@ -22,6 +24,7 @@ def start_row(params: Params, x0: float, xdot0: float | None) -> np.ndarray:
     return params.row(x0, xdot0)
 
 
+@did_you_mean
 def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None = None,
              method: str = "auto", output_dt: float | None = None, tol: float = 1e-10,
              dt: float | None = None, max_steps: int = 10_000_000,
@@ -90,12 +93,26 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
                            "raise max_events or shorten t_end")
     ds = _dataset(params, row, o, t, xs, zds, mode, [e[:n_ev] for e in ev],
                   int(status), int(n_steps))
-    ds.attrs["friction_work"] = float(acc[layout.A_WF])
-    ds.attrs["time_stuck"] = float(acc[layout.A_TSTICK])
+    ds["friction_work"] = ((), float(acc[layout.A_WF]), FRICTION_WORK)
+    ds["time_stuck"] = ((), float(acc[layout.A_TSTICK]), TIME_STUCK)
     return ds
 
 
+# CF tools take a coordinate named "time" for a date: they need standard_name and
+# "<unit> since <epoch>". The epoch is a placeholder: t counts seconds from the start
+# of the run (sweepcore.open_result reads it as float seconds).
+TIME = {"units": "seconds since 1970-01-01 00:00:00", "standard_name": "time",
+        "long_name": "time", "calendar": "standard",
+        "comment": "seconds from the start of the run; the epoch is a placeholder"}
+FRICTION_WORK = {"units": "kN cm", "long_name": "work of the friction force on the slider",
+                 "comment": "integral of r_a xdot dt over the run; the slider's energy "
+                            "k x^2/2 + m xdot^2/2 changes by -friction_work"}
+TIME_STUCK = {"units": "s", "long_name": "time stuck on the belt during the run"}
+
+
 def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
+    from . import __version__
+    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     v = params.v
     xd = zd + v
     stick = mode == codes.STICK
@@ -130,18 +147,24 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
             "event_xdot": ("event", ev_zd + v,
                            {"units": "cm s-1", "long_name": "velocity at the event"}),
         },
-        coords={"time": ("time", t, {"units": "s", "long_name": "time"})},
+        coords={"time": ("time", t, TIME),
+                # the slider and its start: scalar coordinates with units, as in a sweep
+                **{name: ((), value, {"units": UNITS[name], "long_name": LONG_NAMES[name]})
+                   for name, value in zip(UNITS, row)}},
         attrs={
+            "Conventions": "CF-1.11",
             "title": "sweepcore single-slider simulation",
+            "source": f"sweepcore {__version__}: hybrid stick/slide driver "
+                      f"(method {codes.METHOD_NAMES[int(o[layout.O_METHOD])]})",
+            "references": REFERENCE,
+            "history": f"{now} sweepcore {__version__}: sweepcore.simulate()",
+            "comment": "Units kN, cm, s (mass kN s2 cm-1).",
             "method": codes.METHOD_NAMES[int(o[layout.O_METHOD])],
             "status": codes.STATUS_NAMES[status],
             "n_steps": n_steps,
-            **{name: getattr(params, name) for name in ("m", "k", "r_y", "v", "alpha1",
-                                                        "alpha2")},
-            "x0": row[layout.X0], "xdot0": row[layout.XD0],
         },
     )
     if status != codes.OK:
-        ds.attrs["comment"] = ("the run stopped with status "
-                               f"{codes.STATUS_NAMES[status]}; samples after it are NaN")
+        ds.attrs["comment"] += (" The run stopped with status "
+                                f"{codes.STATUS_NAMES[status]}; samples after it are NaN.")
     return ds

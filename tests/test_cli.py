@@ -9,7 +9,13 @@ What is proven:
 * library errors (Params validation) are one clean line, exit code 2;
 * ``sweepcore info`` prints the regime counts of the file;
 * ``sweepcore simulate`` writes netCDF + PNG whose orbit is the circle of eq. (39);
-* ``sweepcore plot`` draws sweeps and simulations.
+* ``sweepcore plot`` draws sweeps and simulations, and refuses a failed simulation;
+* a simulation that fails (gps with omega dt > 1) says the rule with its numbers,
+  lets no numpy warning through, exits 1 and writes nothing;
+* unknown options get "did you mean", a missing output directory is refused
+  (nothing is created), a closed output pipe ends the command quietly;
+* the compile notice appears exactly when numba's cache is cold;
+* ``sweepcore export`` writes CSV whose values are the file's, units in headers.
 Subprocess tests run ``python -m sweepcore`` with the source tree on PYTHONPATH.
 """
 from __future__ import annotations
@@ -25,6 +31,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from sweepcore.io import check_cf, open_result
 from sweepcore.study import StudyError, key_line, parse_study
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -200,7 +207,7 @@ def test_simulate_writes_nc_and_png_on_the_circle(tmp_path):
                      "--t-end", 10, "-o", "run.nc", "--png", "run.png", cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     assert_png(tmp_path / "run.png", min_kb=50)
-    with xr.open_dataset(tmp_path / "run.nc") as ds:
+    with open_result(tmp_path / "run.nc") as ds:
         w = math.sqrt(k / m)
         after = ds.time > r_y / (k * v) + 1e-9
         R = np.hypot(ds.x[after] - r_y / k, ds.xdot[after] / w)
@@ -291,3 +298,158 @@ def test_shipped_studies_are_valid():
     for path in sorted((ROOT / "studies").glob("*.toml")):
         study = parse_study(path.read_text(), path)
         assert study.size >= 2, path
+
+
+# ------------------------------------------------- first-hour messages and rules
+SLIDER = ("--m", 5, "--k", 50, "--r-y", 10, "--v", 5)
+
+
+def test_failed_simulation_says_the_rule_and_writes_nothing(tmp_path):
+    """gps at dt = 1 s, omega = sqrt(10): omega dt = 3.16 > 1 breaks the fixed-step rule."""
+    proc = sweepcore("simulate", *SLIDER, "--alpha1", 1, "--alpha2", 0.01, "--method",
+                     "gps", "--dt", 1, "-o", "g.nc", "--png", "g.png", cwd=tmp_path)
+    assert proc.returncode == 1
+    assert "Warning" not in proc.stderr and "nan" not in proc.stdout
+    omega = math.sqrt(50 / 5)
+    err = proc.stderr.strip().splitlines()
+    assert len(err) == 1, proc.stderr
+    assert err[0].startswith("sweepcore simulate: failed: fixed_step_too_large: ")
+    assert "omega dt <= 1" in err[0]
+    assert f"dt <= {1 / omega:.6g} s" in err[0]
+    assert err[0].endswith("nothing written")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_plot_refuses_a_failed_simulation(tmp_path):
+    """A failed run saved through the Python API is refused by plot (exit 2)."""
+    import sweepcore as sc
+    ds = sc.simulate(sc.Params(m=5.0, k=50.0, r_y=10.0, v=5.0), 1.0, method="rk4",
+                     dt=1.0)
+    assert ds.attrs["status"] == "fixed_step_too_large"
+    sc.write_netcdf(ds, tmp_path / "bad.nc")
+    proc = sweepcore("plot", "bad.nc", cwd=tmp_path)
+    assert proc.returncode == 2
+    assert "failed simulation (status fixed_step_too_large)" in proc.stderr
+    assert not (tmp_path / "bad.png").exists()
+
+
+def test_bad_setting_message_has_its_unit(tmp_path, monkeypatch, capsys):
+    code, out = run_in_process(["simulate", *map(str, SLIDER), "--t-end", "-1"],
+                               tmp_path, monkeypatch, capsys)
+    assert code == 2
+    assert out.err == "sweepcore simulate: error: t_end must be > 0 [s], got -1.0\n"
+
+
+@pytest.mark.parametrize("argv, expected", [
+    (["simulate", "--m", "5", "--k", "50", "--ry", "10", "--v", "5"],
+     "sweepcore simulate: error: unknown option --ry; did you mean --r-y?"),
+    (["simulate", *map(str, SLIDER), "--tend=3"],
+     "sweepcore simulate: error: unknown option --tend; did you mean --t-end?"),
+    (["--thread", "2", "info", "x.nc", "--verbose"],
+     "sweepcore info: error: unknown option --verbose"),
+    (["run", "s.toml", "--chunk", "5", "--no_png"],
+     "sweepcore run: error: unknown option --no_png; did you mean --no-png?"),
+])
+def test_unknown_option_did_you_mean(argv, expected, tmp_path, monkeypatch, capsys):
+    code, out = run_in_process(argv, tmp_path, monkeypatch, capsys)
+    assert code == 2
+    assert out.err.startswith(expected), out.err
+    assert len(out.err.strip().splitlines()) == 1
+
+
+def test_known_options_values_and_prefixes_pass():
+    """Negative numbers, values that look like options, unambiguous prefixes: no error."""
+    from sweepcore.cli import build_parser, unknown_option
+    parser = build_parser()
+    assert unknown_option(parser, ["simulate", *map(str, SLIDER), "--x0", "-1",
+                                   "--x0=-2", "--t-e", "3", "-o", "a.nc"]) is None
+    assert unknown_option(parser, ["--threads", "2", "plot", "r.nc", "--x", "v"]) is None
+    assert unknown_option(parser, ["run", "s.toml", "-qo", "x.nc"]) is None   # grouped
+    assert parser.parse_args(["run", "s.toml", "-qo", "x.nc"]).output == "x.nc"
+
+
+def test_missing_output_directory_is_refused_not_created(tmp_path, monkeypatch, capsys):
+    """One rule with the Python API (write_netcdf, sweep): nothing creates directories."""
+    (tmp_path / "s.toml").write_text(SMALL)
+    code, out = run_in_process(["run", "s.toml", "-o", "new/dir/s.nc"], tmp_path,
+                               monkeypatch, capsys)
+    assert code == 2
+    assert "directory 'new/dir' of 'new/dir/s.nc' does not exist" in out.err
+    assert "mkdir -p new/dir" in out.err
+    code, out = run_in_process(["simulate", *map(str, SLIDER), "--png", "no/f.png"],
+                               tmp_path, monkeypatch, capsys)
+    assert code == 2 and "directory 'no' of 'no/f.png' does not exist" in out.err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+def test_closed_pipe_is_quiet(small_run):
+    """``sweepcore info small.nc | head -0``: no traceback, no BrokenPipeError."""
+    d, _ = small_run
+    read, write = os.pipe()
+    os.close(read)                       # the reader is gone before anything is written
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    proc = subprocess.run([sys.executable, "-m", "sweepcore", "info", "small.nc"],
+                          cwd=d, env=env, stdout=write, stderr=subprocess.PIPE,
+                          text=True, timeout=120)
+    os.close(write)
+    assert proc.stderr == ""
+    assert proc.returncode == 0
+
+
+def test_compile_notice_only_on_a_cold_cache(tmp_path):
+    """The notice appears when numba's cache is empty and not when it is filled."""
+    env = {**os.environ, "PYTHONPATH": str(ROOT), "SWEEPCORE_CACHE_DIR": str(tmp_path)}
+    env.pop("NUMBA_CACHE_DIR", None)
+    args = [sys.executable, "-m", "sweepcore", "simulate", *map(str, SLIDER),
+            "--t-end", "1"]
+    from sweepcore.cli import COMPILE_MESSAGE
+    cold = subprocess.run(args, env=env, capture_output=True, text=True, timeout=300)
+    warm = subprocess.run(args, env=env, capture_output=True, text=True, timeout=300)
+    assert cold.returncode == 0 and warm.returncode == 0, cold.stderr + warm.stderr
+    assert cold.stderr == COMPILE_MESSAGE + "\n"
+    assert warm.stderr == ""
+    assert list(tmp_path.glob("numba-*/*/*.nbi"))           # the cache it checked
+
+
+def test_export_csv_holds_the_file_values(small_run, tmp_path):
+    d, _ = small_run
+    proc = sweepcore("export", d / "small.nc", "--csv", tmp_path / "small.csv",
+                     cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    import pandas as pd
+    table = pd.read_csv(tmp_path / "small.csv")
+    ds = open_result(d / "small.nc")
+    assert len(table) == ds.sizes["k"] * ds.sizes["v"]
+    for _, row in table.iterrows():
+        point = ds.sel(k=row["k [kN cm-1]"], v=row["v [cm s-1]"])
+        assert row["amplitude [cm]"] == float(point.amplitude)     # round trip, exact
+        code = int(point.regime)
+        names = ds.regime.attrs["flag_meanings"].split()
+        values = list(np.atleast_1d(ds.regime.attrs["flag_values"]))
+        assert row["regime"] == names[values.index(code)]
+        assert row["m [kN s2 cm-1]"] == 5.0                           # fixed parameter
+
+
+def test_export_simulation_splits_events(tmp_path):
+    proc = sweepcore("simulate", *SLIDER, "--t-end", 3, "-o", "run.nc", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    proc = sweepcore("export", "run.nc", "--csv", "run.csv", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    import pandas as pd
+    ds = open_result(tmp_path / "run.nc")
+    samples = pd.read_csv(tmp_path / "run.csv")
+    events = pd.read_csv(tmp_path / "run_events.csv")
+    assert len(samples) == ds.sizes["time"] and len(events) == ds.sizes["event"]
+    np.testing.assert_array_equal(samples["time [s]"], ds.time.values)
+    np.testing.assert_array_equal(samples["x [cm]"], ds.x.values)
+    assert set(events["event_kind"]) <= set(ds.event_kind.attrs["flag_meanings"].split())
+
+
+def test_simulation_file_passes_check_cf(tmp_path):
+    proc = sweepcore("simulate", *SLIDER, "--alpha1", 1, "--alpha2", 0.01, "--t-end", 5,
+                     "-o", "run.nc", cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    ds = open_result(tmp_path / "run.nc")
+    assert check_cf(ds) == []
+    for name in ("m", "k", "r_y", "v", "alpha1", "alpha2", "x0", "xdot0"):
+        assert ds[name].ndim == 0 and ds[name].attrs["units"], name

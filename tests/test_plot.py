@@ -2,7 +2,9 @@
 
 What is proven: unit strings render as labels; geometric axes are recognised (and
 drawn on a log scale); a 2-D (v, alpha2) map carries the analytic v* curve and the
-measured boundary; a regime map's legend names the regimes present with their share;
+measured boundary; a regime map's legend names the regimes present with their share; regime (flag)
+axes of line plots read names; every legend lies off the data (its drawn box
+overlaps no axes); a failed simulation is refused;
 a near-constant field is not stretched over rounding noise; 1-D sweeps, stacked
 sweeps (facets, series) and simulations all draw and save a PNG.
 """
@@ -43,8 +45,7 @@ def hopf_small():
 
 def _labels(fig):
     out = []
-    for ax in fig.axes:
-        leg = ax.get_legend()
+    for leg in [*fig.legends, *(ax.get_legend() for ax in fig.axes)]:
         if leg is not None:
             out += [t.get_text() for t in leg.get_texts()]
     return out
@@ -117,3 +118,56 @@ def test_friction_figure_marks_vstar():
     assert sorted(float(d.get_xdata()[0]) for d in dots) == pytest.approx([-v_star, v_star])
     assert [float(d.get_ydata()[0]) for d in dots if d.get_xdata()[0] > 0] == \
         pytest.approx([10.0 - 2.0 * v_star / 3.0])
+
+
+# ------------------------------------------- names on regime axes, legends off data
+def _legends_clear_of_axes(fig):
+    """Every legend's drawn box overlaps no axes (data area or colour bar)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    FigureCanvasAgg(fig).draw()
+    legends = list(fig.legends) + [ax.get_legend() for ax in fig.axes
+                                   if ax.get_legend() is not None]
+    assert legends
+    for leg in legends:
+        box = leg.get_window_extent()
+        for ax in fig.axes:
+            assert not box.overlaps(ax.get_window_extent()), \
+                [t.get_text() for t in leg.get_texts()][:3]
+
+
+def test_map_legends_are_off_the_maps(hopf_small):
+    _legends_clear_of_axes(plot.figure_for(hopf_small))
+
+
+def test_line_and_trajectory_legends_are_off_the_data(hopf_small):
+    _legends_clear_of_axes(plot.figure_for(hopf_small.isel(alpha2=4)))
+    _legends_clear_of_axes(plot.figure_for(sc.simulate(sc.Params(5.0, 50.0, 10.0, 5.0),
+                                                       6.0)))
+
+
+def test_regime_axis_of_a_line_plot_reads_names(hopf_small):
+    """A 1-D regime panel has one tick per regime code, named, not 3.8 ... 4.2."""
+    ds = hopf_small.isel(alpha2=4)
+    fig = plot.figure_for(ds, variables=["amplitude", "regime"])
+    ax = fig.axes[1]
+    ticks = [int(t) for t in ax.get_yticks()]
+    names = [t.get_text() for t in ax.get_yticklabels()]
+    meanings = ds.regime.attrs["flag_meanings"].split()
+    assert ticks == [int(v) for v in ds.regime.attrs["flag_values"]]
+    assert names == [n.replace("_", " ") for n in meanings]
+    # the points sit on their regime's tick
+    ys = np.concatenate([c.get_offsets()[:, 1] for c in ax.collections])
+    assert set(ys.astype(int)) == set(np.unique(ds.regime.values).tolist())
+
+
+def test_generic_figure_names_flag_axes(hopf_small):
+    ds = hopf_small.isel(alpha2=4)[["status", "n_steps"]]
+    fig = plot.figure_for(ds)
+    labels = [t.get_text() for t in fig.axes[0].get_yticklabels()]
+    assert "ok" in labels
+
+
+def test_failed_simulation_is_not_drawn():
+    ds = sc.simulate(sc.Params(5.0, 50.0, 10.0, 5.0), 1.0, method="gps", dt=1.0)
+    with pytest.raises(ValueError, match="failed simulation"):
+        plot.figure_for(ds)
