@@ -113,7 +113,7 @@ def _agrees(p, a0, a1, T):
         return False
     A0 = y0 - 2.0 / 3.0 * c2 * y0 * y0
     A1 = y1 - 2.0 / 3.0 * c2 * y1 * y1
-    if A0 * omega >= 0.5 * abs(p[V]) or c2 * A0 > 0.05 or \
+    if A0 * omega >= 0.9 * abs(p[V]) or c2 * A0 > 0.05 or \
             p[A2] / p[M] * omega * A0 * A0 > 0.05:
         return False
     u0 = 1.0 / (A0 * A0)
