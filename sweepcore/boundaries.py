@@ -63,6 +63,8 @@ PROPER = (codes.R_EQUILIBRIUM, codes.R_SLIP_CYCLE, codes.R_STICK_SLIP,
 N_SAMPLES = 5           # Hopf samples per round
 MAX_TRANSITIONS = 8     # regime changes kept per point (the first ones along the axis)
 STUCK = math.nan        # xdot0 of a request: start stuck on the belt (xdot0 = v)
+BAND = 1e-6             # relative width next to a grazing where cycles get snapped
+                        # onto the grazing orbit (measured ~3e-7 at tol 1e-10)
 
 
 # ------------------------------------------------------------- root solver
@@ -138,7 +140,7 @@ def _together(gens):
     return results
 
 
-def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, kernel):
+def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
     """Run one solver per row of ``base`` to the end; returns (results, evaluations).
 
     A solver yields a list of requests ``(value, x0, xdot0)`` (``value`` goes in
@@ -160,7 +162,9 @@ def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, kernel):
         P[:, layout.X0] = req[:, 1]
         P[:, layout.XD0] = np.where(np.isnan(req[:, 2]), P[:, layout.V], req[:, 2])
         out = np.empty((len(owners), layout.NOBS))
-        kernel(P, o, out)
+        # numba's thread pool costs ~2 ms a call: worth it for large batches only
+        (attractor_rows_parallel if parallel and len(owners) >= 64
+         else attractor_rows)(P, o, out)
         pos, nxt = 0, {}
         for i, r in asks.items():
             evals[i] += len(r)
@@ -224,28 +228,28 @@ def _fit_root(w, a2, w_lo, w_hi):
         return math.nan
 
 
-def _hopf(pt: _Point, guess: float, side: int, offset: float, amplitudes=None,
+def _hopf(pt: _Point, guess: float, side: int, offset: float, reach=None,
           max_rounds: int = 4):
     """Solver: the Hopf point near ``guess``, cycles on ``side`` (-1 below, +1 above).
 
-    ``amplitudes``: the cycle amplitudes [cm] expected at the samples (seeds); by
-    default the averaging law A ~ sqrt(distance) scaled from ``amplitudes=None`` ->
-    a start at 5 % of the length scale r_y/k + |v|/omega from x_eq.
+    ``reach``: the expected ``x_max - x_eq`` [cm] of the cycles at the samples
+    (each starts there, at rest); by default 5 % sqrt(i) of the length scale
+    r_y/k + |v|/omega.
 
-    Returns ``dict(value, error, status, amplitudes)``.
+    Returns ``dict(value, error, status, reach)``, ``reach`` measured.
     """
     r = guess
     result = {"value": math.nan, "error": math.nan, "status": FAILED,
-              "amplitudes": None}
+              "reach": None}
     for _round in range(max_rounds):
         us = r * (1.0 + side * offset * np.arange(1, N_SAMPLES + 1))
         check = r * (1.0 - side * offset)
-        if amplitudes is None:
+        if reach is None:
             row = pt.at(r)
             omega = math.sqrt(row[layout.K] / row[layout.M])
             scale = row[layout.RY] / row[layout.K] + abs(row[layout.V]) / omega
-            amplitudes = 0.05 * scale * np.sqrt(np.arange(1, N_SAMPLES + 1))
-        reqs = [(u, pt.x_eq(u) + a, 0.0) for u, a in zip(us, amplitudes)]
+            reach = 0.05 * scale * np.sqrt(np.arange(1, N_SAMPLES + 1))
+        reqs = [(u, pt.x_eq(u) + a, 0.0) for u, a in zip(us, reach)]
         rows = yield reqs + [(check, pt.x_eq(check), 0.0)]
         samples, eq_row = rows[:N_SAMPLES], rows[N_SAMPLES]
         if not all(_ok(s) for s in samples) or not _ok(eq_row):
@@ -260,7 +264,7 @@ def _hopf(pt: _Point, guess: float, side: int, offset: float, amplitudes=None,
             else:
                 result["status"] = INCONSISTENT
                 return result
-            amplitudes = None
+            reach = None
             continue
         amp = np.array([s[layout.OB_AMPLITUDE] for s in samples])
         w = pt.fit_variable(us)
@@ -273,17 +277,46 @@ def _hopf(pt: _Point, guess: float, side: int, offset: float, amplitudes=None,
         root = math.sqrt(near) if pt.along == "v" else near
         err = abs(root - (math.sqrt(far) if pt.along == "v" else far)) \
             if np.isfinite(far) else math.inf
-        result.update(value=root, error=err, status=LOCATED, amplitudes=amp)
+        got = np.array([s[layout.OB_X_MAX] - pt.x_eq(u) for s, u in zip(samples, us)])
+        result.update(value=root, error=err, status=LOCATED, reach=got)
         if abs(root - r) <= 0.3 * offset * abs(r):
             return result
         # the fit lies well off the centre: sample again around it
-        amplitudes = amp * np.sqrt(np.abs(us - root) / np.abs(us - r))
+        reach = got * np.sqrt(np.abs(us - root) / np.abs(us - r))
         r = root
     result["status"] = INCONSISTENT
     return result
 
 
 # ----------------------------------------------------------------- stick onset
+def _slip_root(pts, a):
+    """Root of g from the slip-side values nearest ``a``: (root, its uncertainty).
+
+    The polynomial through the n nearest (n <= 4) values; the uncertainty is the
+    distance of its root from that of the polynomial through the n - 1 nearest
+    (infinite with two values); (None, inf) with fewer than two values. Each root
+    is the real one nearest the previous (the secant's, first).
+    """
+    if len(pts) < 2:
+        return None, math.inf
+    near = sorted(pts, key=lambda q: abs(q[0] - a))[:4]
+    us = np.array([q[0] for q in near])
+    gs = np.array([q[1] for q in near])
+    roots = []
+    for n in range(2, len(near) + 1):
+        ref, scale = us[0], us[n - 1] - us[0]
+        found = np.roots(np.polyfit((us[:n] - ref) / scale, gs[:n], n - 1))
+        real = ref + scale * found[np.abs(found.imag) < 1e-12].real
+        if not real.size:
+            break
+        roots.append(real[np.argmin(np.abs(real - (roots[-1] if roots else ref)))])
+    if not roots:
+        return None, math.inf
+    if len(roots) < 2:
+        return float(roots[-1]), math.inf
+    return float(roots[-1]), abs(float(roots[-1] - roots[-2]))
+
+
 def _graze(pt: _Point, stick: float, slip: float, xtol: float, slip_rows=(),
            amp: float | None = None, max_rounds: int = 80):
     """Solver: the grazing of the slip cycle with the belt between a stick-slip
@@ -328,29 +361,26 @@ def _graze(pt: _Point, stick: float, slip: float, xtol: float, slip_rows=(),
     prev = None
     direction = math.copysign(1.0, b - a)
 
-    def predict():
-        if len(pts) < 2:
-            return None
-        (u1, g1, _), (u2, g2, _) = sorted(pts, key=lambda q: abs(q[0] - a))[:2]
-        return u1 - g1 * (u1 - u2) / (g1 - g2) if g1 != g2 else None
-
     step = None
     fresh = False                  # did the last round add a slip-side value?
     for _round in range(max_rounds):
-        p = predict()
-        if fresh and p is not None and prev is not None and abs(p - prev) <= xtol:
+        p, change = _slip_root(pts, a)
+        if fresh and p is not None and prev is not None:
+            change = min(change, abs(p - prev))
+        if fresh and p is not None and change <= xtol:
             near = min(pts, key=lambda q: abs(q[0] - a))
-            return {"value": p, "width": abs(p - prev), "status": LOCATED,
-                    "amp": near[2]}
+            return {"value": p, "width": change, "status": LOCATED, "amp": near[2]}
         # aim just onto the slip side of the prediction, one correction beyond it
         # (the labels switch a little before g reaches 0: the graze tolerance)
         if p is None:
             h = 0.0
         elif prev is None:
-            h = 0.1 * abs(b - p)
+            h = 0.1 * abs(b - p) if not math.isfinite(change) else 2.0 * change
         else:
-            h = 2.0 * abs(p - prev)
-        h = max(h, xtol, step or 0.0)
+            h = 2.0 * min(abs(p - prev), change)
+        # not closer than BAND to the prediction: there the slip cycles touch the
+        # belt within the graze tolerance and are snapped onto the grazing orbit
+        h = max(h, xtol, BAND * abs(p) if p is not None else 0.0, step or 0.0)
         lo, hi = min(a, b), max(a, b)
         asks = [u for u in ((p + direction * h, p + direction * 3.0 * h)
                             if p is not None else ()) if lo < u < hi]
@@ -400,7 +430,7 @@ def _bisect(pt: _Point, a: float, b: float, ra: int, rb: int, xtol: float, start
 def _empty():
     return {"v_hopf": math.nan, "v_hopf_error": math.nan, "hopf_status": ABSENT,
             "v_stick_onset": math.nan, "v_stick_onset_width": math.nan,
-            "stick_status": ABSENT, "transitions": [], "hopf_amplitudes": None}
+            "stick_status": ABSENT, "transitions": [], "hopf_reach": None}
 
 
 def _hopf_guess(pt, values, rows, j, side, offset):
@@ -481,7 +511,7 @@ def _locate_point(pt: _Point, values: np.ndarray, xtol: float, offset: float, st
         if kind == "hopf":
             side = -1 if reg[j] == codes.R_SLIP_CYCLE else 1
             guess, amp = _hopf_guess(pt, us, rows, j, side, offset)
-            subs.append(_hopf(pt, guess, side, offset, amplitudes=amp))
+            subs.append(_hopf(pt, guess, side, offset, reach=amp))
         elif kind == "graze":
             js = j if reg[j] == codes.R_SLIP_CYCLE else j + 1
             jt = j + 1 if js == j else j
@@ -504,7 +534,7 @@ def _locate_point(pt: _Point, values: np.ndarray, xtol: float, offset: float, st
         best = max(hopfs, key=lambda o: o["value"] if np.isfinite(o["value"])
                    else -math.inf)
         res.update(v_hopf=best["value"], v_hopf_error=best["error"],
-                   hopf_status=best["status"], hopf_amplitudes=best["amplitudes"])
+                   hopf_status=best["status"], hopf_reach=best["reach"])
     elif res["hopf_status"] != FAILED:
         res["hopf_status"] = ABSENT
     if grazes:
@@ -579,12 +609,11 @@ def locate_chunk(base: np.ndarray, along: str, values: np.ndarray, xtol: float,
     """Boundaries of the points ``base`` (kernel rows): the task of one chunk."""
     pts = [_Point(row, along) for row in base]
     solvers = [_locate_point(p, values, xtol, offset, start) for p in pts]
-    kernel = attractor_rows_parallel if parallel else attractor_rows
-    results, evals = _drive(solvers, base, COLUMNS[along], o, kernel)
+    results, evals = _drive(solvers, base, COLUMNS[along], o, parallel)
     for r, n in zip(results, evals):
         r["evaluations"] = int(n)
-        r.pop("hopf_amplitudes", None)
-        r.pop("graze_amp", None)
+        for key in ("hopf_reach", "graze_amp", "graze_reach"):
+            r.pop(key, None)
     return results
 
 
@@ -695,14 +724,22 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
     hx = hist["x"]
     if len(hist["hopf"]) >= 2:
         guess = _predict(hx[-2:], hist["hopf"][-2:], over_value)
-        amp = hist["amp"][-1] * guess / hist["hopf"][-1]
-        subs.append(_hopf(pt, guess, -1, offset, amplitudes=amp))
+        reach = hist["reach"][-1] * guess / hist["hopf"][-1]
+        subs.append(_hopf(pt, guess, -1, offset, reach=reach))
         kinds.append("hopf")
     if len(hist["graze"]) >= 2:
         guess = _predict(hx[-2:], hist["graze"][-2:], over_value)
-        eps = max(4.0 * hist["graze_err"], 4.0 * xtol)
-        amp = hist["graze_amp"][-1] * guess / hist["graze"][-1]
-        subs.append(_seeded_graze(pt, guess, eps, xtol, amp))
+        # slip cycles beyond the band where the labels already say stick (the
+        # graze tolerance, ~1e-6 relative) and beyond the prediction's error
+        delta = max(4.0 * hist["graze_err"], 1e-5 * guess)
+        scale = guess / hist["graze"][-1]
+        seeds = hist["graze_reach"][-1]
+        if seeds is not None and delta == hist["graze_delta"] * guess:
+            seeds = seeds * scale            # the same offsets: scaled cycles
+        else:
+            seeds = None
+        subs.append(_seeded_graze(pt, guess, delta, xtol,
+                                  hist["graze_amp"][-1] * scale, seeds))
         kinds.append("graze")
     found = yield from (_together(subs) if subs else _nothing())
     res = _empty()
@@ -711,14 +748,15 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
     for kind, out in zip(kinds, found):
         if kind == "hopf" and out["status"] == LOCATED:
             res.update(v_hopf=out["value"], v_hopf_error=out["error"],
-                       hopf_status=LOCATED, hopf_amplitudes=out["amplitudes"])
+                       hopf_status=LOCATED, hopf_reach=out["reach"])
         elif kind == "graze" and out["status"] == LOCATED:
             res.update(v_stick_onset=out["value"], v_stick_onset_width=out["width"],
                        stick_status=LOCATED, guess_error=out.get("guess_error", 0.0),
-                       graze_amp=out["amp"])
+                       graze_amp=out["amp"], graze_reach=out.get("seed_reach"),
+                       graze_delta=out.get("delta", math.nan))
     if missing:
         full = yield from _locate_point(pt, values, xtol, offset, start)
-        for key in (("v_hopf", "v_hopf_error", "hopf_status", "hopf_amplitudes")
+        for key in (("v_hopf", "v_hopf_error", "hopf_status", "hopf_reach")
                     if "hopf" in missing else ()) + \
                    (("v_stick_onset", "v_stick_onset_width", "stick_status")
                     if "graze" in missing else ()):
@@ -733,32 +771,35 @@ def _nothing():
     yield  # pragma: no cover - makes this a generator
 
 
-def _seeded_graze(pt, guess, eps, xtol, amp):
-    """Solver: bracket the grazing around a predicted ``guess`` (stick below, slip
-    above, along v), widening by 4x up to 8 times, then :func:`_graze`. ``amp``:
-    the expected x_max - x_eq of the slip cycle (a start inside it)."""
-    width = eps
-    for _ in range(8):
-        lo, hi = guess - width, guess + width
-        rows = yield [(lo, 0.0, STUCK), (hi, pt.x_eq(hi) + 0.999 * amp, 0.0)]
-        rl, rh = rows
-        if not (_ok(rl) and _ok(rh)):
-            return {"value": math.nan, "width": math.nan, "status": FAILED}
-        stick_lo = _regime(rl) in CYCLES and not (
-            _regime(rl) == codes.R_SLIP_CYCLE and
-            pt.speed(lo) - rl[layout.OB_XDOT_MAX] > 0.0)
-        slip_hi = _regime(rh) == codes.R_SLIP_CYCLE and \
-            pt.speed(hi) - rh[layout.OB_XDOT_MAX] > 0.0
-        if stick_lo and slip_hi:
-            out = yield from _graze(pt, lo, hi, xtol, [(hi, rh)])
-            out["guess_error"] = abs(out["value"] - guess) \
-                if out["status"] == LOCATED else math.inf
-            return out
-        if not (stick_lo or slip_hi) or _regime(rl) not in CYCLES or \
-                _regime(rh) not in CYCLES:
-            break
-        width *= 4.0
-    return {"value": math.nan, "width": math.nan, "status": ABSENT}
+def _seeded_graze(pt, guess, delta, xtol, amp, reach=None):
+    """Solver: the grazing near a predicted ``guess`` (stick below, slip above,
+    along v): four slip cycles at ``guess + i delta`` (i = 1..4) and a
+    stick-slip check at ``guess - delta`` in one round, then :func:`_graze` from
+    there. The cycles start at x_eq + ``reach[i]`` (the previous step's cycles,
+    scaled) or else inside, at x_eq + 0.999 ``amp``."""
+    us = [guess + i * delta for i in (1, 2, 3, 4)]
+    check = guess - delta
+    seeds = reach if reach is not None else [0.999 * amp] * 4
+    rows = yield [(u, pt.x_eq(u) + r, 0.0) for u, r in zip(us, seeds)] + \
+        [(check, 0.0, STUCK)]
+    if not all(_ok(r) for r in rows):
+        return {"value": math.nan, "width": math.nan, "status": FAILED}
+    slip = [(u, r) for u, r in zip(us, rows) if _regime(r) == codes.R_SLIP_CYCLE
+            and pt.speed(u) - r[layout.OB_XDOT_MAX] > 0.0]
+    if len(slip) < 4 or _regime(rows[4]) not in CYCLES:
+        return {"value": math.nan, "width": math.nan, "status": ABSENT}
+    out = yield from _graze(pt, check, us[0], xtol, slip)
+    out["guess_error"] = abs(out["value"] - guess) if out["status"] == LOCATED \
+        else math.inf
+    out["seed_reach"] = np.array([r[layout.OB_X_MAX] - pt.x_eq(u) for u, r in slip])
+    out["delta"] = delta / guess
+    return out
+
+
+def _history():
+    """What the continuation carries from step to step."""
+    return {"x": [], "hopf": [], "reach": [], "graze": [], "graze_amp": [],
+            "graze_reach": [], "graze_delta": math.nan, "graze_err": 0.0}
 
 
 def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
@@ -805,30 +846,30 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
     start = _start(grid)
     xs = np.asarray(other.axis(over))
     base = other.rows(0, other.size)
-    hist = {"x": [], "hopf": [], "amp": [], "graze": [], "graze_amp": [],
-                "graze_err": 0.0}
+    hist = _history()
     results = []
     for i, row in enumerate(base):
         pt = _Point(row, along)
         solver = _continued_point(pt, values, xtol, offset, start, hist, xs[i])
-        (res,), (n,) = _drive([solver], row[None, :], COLUMNS[along], o,
-                              attractor_rows_parallel)
+        (res,), (n,) = _drive([solver], row[None, :], COLUMNS[along], o, True)
         res["evaluations"] = int(n)
         res["continued"] = int(len(hist["hopf"]) >= 2 or len(hist["graze"]) >= 2)
         ok_h = res["hopf_status"] == LOCATED
         ok_g = res["stick_status"] == LOCATED
         if not (ok_h and ok_g):      # restart the histories where a curve is lost
-            hist = {"x": [], "hopf": [], "amp": [], "graze": [], "graze_amp": [],
-                "graze_err": 0.0}
+            hist = _history()
         else:
             hist["x"].append(xs[i])
             hist["hopf"].append(res["v_hopf"])
-            hist["amp"].append(res["hopf_amplitudes"])
+            hist["reach"].append(res["hopf_reach"])
             hist["graze"].append(res["v_stick_onset"])
             hist["graze_amp"].append(res["graze_amp"])
+            hist["graze_reach"].append(res.get("graze_reach"))
+            hist["graze_delta"] = res.get("graze_delta", math.nan)
             hist["graze_err"] = max(res.pop("guess_error", 0.0), xtol) \
                 if res["continued"] else abs(values[1] - values[0]) / 8
-        for key in ("hopf_amplitudes", "guess_error", "graze_amp"):
+        for key in ("hopf_reach", "guess_error", "graze_amp", "graze_reach",
+                    "graze_delta"):
             res.pop(key, None)
         results.append(res)
     call = (f"sweepcore.continue_boundary({grid!r}, over={over!r}, along={along!r}, "
