@@ -36,7 +36,9 @@ from __future__ import annotations
 
 import datetime
 import math
+from concurrent.futures import ThreadPoolExecutor
 
+import numba
 import numpy as np
 import xarray as xr
 
@@ -140,6 +142,33 @@ def _together(gens):
     return results
 
 
+_POOL = []
+
+
+def _attractors(P, o, out, parallel: bool):
+    """``attractor_rows`` over the rows of P, on every numba thread if ``parallel``.
+
+    Waking numba's thread pool costs ~2 ms a call, more than a small batch of
+    attractors: small batches are split between Python threads instead (the
+    kernel releases the GIL).
+    """
+    n = P.shape[0]
+    threads = numba.get_num_threads() if parallel else 1
+    if threads == 1 or n == 1:
+        attractor_rows(P, o, out)
+    elif n >= 64:
+        attractor_rows_parallel(P, o, out)
+    else:
+        if not _POOL:
+            _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="sweepcore"))
+        parts = [np.arange(i, n, threads) for i in range(min(threads, n))]
+        outs = [np.empty((idx.size, layout.NOBS)) for idx in parts]
+        list(_POOL[0].map(lambda j: attractor_rows(P[parts[j]], o, outs[j]),
+                          range(len(parts))))
+        for idx, part in zip(parts, outs):
+            out[idx] = part
+
+
 def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
     """Run one solver per row of ``base`` to the end; returns (results, evaluations).
 
@@ -162,9 +191,7 @@ def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
         P[:, layout.X0] = req[:, 1]
         P[:, layout.XD0] = np.where(np.isnan(req[:, 2]), P[:, layout.V], req[:, 2])
         out = np.empty((len(owners), layout.NOBS))
-        # numba's thread pool costs ~2 ms a call: worth it for large batches only
-        (attractor_rows_parallel if parallel and len(owners) >= 64
-         else attractor_rows)(P, o, out)
+        _attractors(P, o, out, parallel)
         pos, nxt = 0, {}
         for i, r in asks.items():
             evals[i] += len(r)
@@ -362,7 +389,7 @@ def _graze(pt: _Point, stick: float, slip: float, xtol: float, slip_rows=(),
     direction = math.copysign(1.0, b - a)
 
     step = None
-    fresh = False                  # did the last round add a slip-side value?
+    fresh = len(pts) >= 3          # did the last round add slip-side values?
     for _round in range(max_rounds):
         p, change = _slip_root(pts, a)
         if fresh and p is not None and prev is not None:
@@ -638,7 +665,7 @@ def _execute(kind, target, tasks):
 
 # ----------------------------------------------------------------- public API
 def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 1e-9,
-                      scan: int = 32, offset: float = 5e-3, tol: float = 1e-10,
+                      scan: int = 32, offset: float = 5e-3, tol: float = 1e-12,
                       method: str = "auto", chunks: int | None = None, client=None,
                       scheduler=None, **options) -> xr.Dataset:
     """Hopf point, stick onset and every regime change along ``along``, to ``xtol``.
@@ -804,7 +831,7 @@ def _history():
 
 def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
                       bracket=None, xtol: float = 1e-9, scan: int = 32,
-                      offset: float = 5e-3, tol: float = 1e-10, method: str = "auto",
+                      offset: float = 5e-3, tol: float = 1e-12, method: str = "auto",
                       **options) -> xr.Dataset:
     """The Hopf and stick-onset curves along ``over`` by natural continuation.
 
