@@ -140,9 +140,12 @@ def figure_for(ds: xr.Dataset, **kwargs) -> Figure:
     """
     kind = ds.attrs.get("sweepcore_kind")
     if kind == "bifurcation_diagram":
-        return diagram_figure(ds, **kwargs)
+        return diagram_figure(ds)
     if kind == "boundaries":
-        return boundaries_figure(ds, **kwargs)
+        # drawn over the map named by the study ([boundary] over), when it exists
+        over = ds.attrs.get("over")
+        return boundaries_figure(ds, over=xr.open_dataset(over)
+                                 if over and Path(over).is_file() else None)
     if "time" in ds.dims:
         extra = [d for d in ds.dims if d not in ("time", "event") and ds.sizes[d] > 1]
         if extra:          # several runs stacked along a parameter: one row each
@@ -880,7 +883,10 @@ def boundaries_figure(ds: xr.Dataset, over: xr.Dataset | None = None,
         ax.set_xlabel(label(xr.Variable((), 0.0, {"units": "cm s-1",
                                                    "long_name": "belt speed"}), "v"))
         ax.set_ylabel(label(ds[p], p))
+    regimes = ax.get_legend()          # the regime map's own legend, kept
     ax.legend(fontsize=8, loc="upper right", framealpha=0.85)
+    if regimes is not None:
+        ax.add_artist(regimes)
     ax.set_title("located boundaries", fontsize=10)
     dv = (ds["v_hopf"] - ds["v_star"]).values
     axh.plot(y, dv, color="black", lw=1.0, marker=".", ms=3, label=r"$v_{hopf} - v^*$")
