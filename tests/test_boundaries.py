@@ -216,3 +216,83 @@ def test_bad_arguments_are_refused_naming_them(kw, message):
     grid = sc.Grid(**PAPER, v=[1.0, 2.0], alpha2=0.01)
     with pytest.raises(ValueError, match=message):
         bd.locate_boundaries(grid, **kw)
+
+
+# ------------------------------------------------------------ diagrams
+def test_diagram_branches_agree_and_order_the_regimes():
+    """Supercritical Hopf point: up and down scans follow the same attractors (no
+    hysteresis) wherever both converged; along v the regimes come in the order
+    stick-slip, slip cycle, equilibrium, switching at the located boundaries."""
+    v = np.linspace(4.0, 7.0, 31)
+    ds = sc.bifurcation_diagram(sc.Grid(**PAPER, alpha2=0.01, v=v), tol=TOL)
+    assert sc.check_cf(ds) == []
+    ok = (ds.status == codes.OK).all("branch").values
+    assert ok.sum() >= v.size - 2
+    up, down = ds.sel(branch="up"), ds.sel(branch="down")
+    np.testing.assert_allclose(up.x_max.values[ok], down.x_max.values[ok], atol=1e-8)
+    reg = up.regime.values
+    order = {codes.R_STICK_SLIP: 0, codes.R_SLIP_CYCLE: 1, codes.R_EQUILIBRIUM: 2}
+    assert all(order[a] <= order[b] for a, b in zip(reg, reg[1:]))
+    hopf, stick = float(ds.v_hopf), float(ds.v_stick_onset)
+    assert v[reg == codes.R_SLIP_CYCLE].max() < hopf < v[reg == codes.R_EQUILIBRIUM].min()
+    assert v[reg == codes.R_STICK_SLIP].max() < stick < v[reg == codes.R_SLIP_CYCLE].min()
+    # a point of the branch is the attractor reached from an independent start
+    a = sc.attractor(sc.Params(**PAPER, alpha2=0.01, v=float(v[3])), tol=TOL)
+    assert abs(a.x_max - float(up.x_max[3])) <= 1e-8
+
+
+# ------------------------------------------------------------------ CLI
+STUDY = """
+title = "boundaries test"
+[axes]
+m = 5.0
+k = 50.0
+r_y = 10.0
+alpha1 = 1.0
+v = { start = 1.0, stop = 7.0, num = 12 }
+alpha2 = [0.01, 0.03]
+[boundary]
+xtol = 1e-9
+"""
+
+
+def test_cli_boundary_writes_located_boundaries(tmp_path, capsys):
+    from sweepcore.cli import main
+    study = tmp_path / "b.toml"
+    study.write_text(STUDY)
+    out = tmp_path / "b.nc"
+    assert main(["boundary", str(study), "-o", str(out), "--png",
+                 str(tmp_path / "b.png")]) == 0
+    ds = sc.open_result(out)
+    assert float(np.abs(ds.v_hopf - ds.v_star).max()) <= HOPF_TOL
+    assert "study" in ds.attrs and (tmp_path / "b.png").stat().st_size > 0
+    assert "|v_hopf - v*| <=" in capsys.readouterr().out
+
+
+def test_cli_boundary_diagram(tmp_path):
+    from sweepcore.cli import main
+    study = tmp_path / "d.toml"
+    study.write_text(STUDY.replace("alpha2 = [0.01, 0.03]", "alpha2 = 0.01")
+                     + "diagram = true\n")
+    assert main(["boundary", str(study), "-o", str(tmp_path / "d.nc")]) == 0
+    ds = sc.open_result(tmp_path / "d.nc")
+    assert ds.attrs["sweepcore_kind"] == "bifurcation_diagram"
+    assert (tmp_path / "d.png").stat().st_size > 0
+    assert main(["plot", str(tmp_path / "d.nc"), "-o", str(tmp_path / "e.png")]) == 0
+
+
+@pytest.mark.parametrize("line, message", [
+    ("bracket = [5.0, 1.0]", "lo < hi"),
+    ("bracket = [0.0, 1.0]", "v > 0"),
+    ("scan = 2", "scan"),
+    ("offset = 0.5", "offset"),
+    ("continuation = \"m\"", "continuation"),
+    ("diagram = true", "every other parameter fixed"),
+    ("tolerance = 1e-9", "unknown key 'tolerance'"),
+])
+def test_boundary_table_refusals_name_key_and_line(line, message):
+    from sweepcore.study import StudyError, parse_study
+    text = STUDY + line + "\n"
+    with pytest.raises(StudyError, match=message) as err:
+        parse_study(text, "b.toml")
+    assert err.value.line == text.splitlines().index(line) + 1

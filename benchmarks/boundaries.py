@@ -1,0 +1,175 @@
+"""Boundaries beyond the grid: the Hopf and stick-onset curves by continuation, timed
+against the 256 x 256 Hopf map in the same run, and the regime changes of a located
+scan (slide-slide-reversal band).
+
+    python benchmarks/boundaries.py            # ~3-5 min on 2 cores
+    python benchmarks/boundaries.py --quick    # no map at tol 1e-12, one repeat
+
+Writes ``benchmarks/results/boundaries.json`` (the numbers quoted in
+benchmarks/README.md and docs/physics.md).
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from benchmarks.common import (PAPER, RESULTS, load, log, machine, map_axes,  # noqa: E402
+                               median, save_json)
+
+CURVE_A2 = (2e-3, 0.1, 256)      # the continuation target: 256 alpha2 values
+BRACKET = (0.5, 14.0)            # v bracket of the first (scanned) steps [cm/s]
+SCAN_A2 = (1e-3, 0.1, 32)        # located scan: every regime change along v
+SCAN_BRACKET = (0.5, 20.0)
+
+
+def _curves(sc, bd, tol, repeats):
+    a2 = np.geomspace(*CURVE_A2)
+    grid = sc.Grid(**PAPER, alpha2=a2, v=list(BRACKET))
+    times, ds = [], None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        ds = bd.continue_boundary(grid, tol=tol)
+        times.append(time.perf_counter() - t0)
+    hopf = ds.hopf_status.values == bd.LOCATED
+    stick = ds.stick_status.values == bd.LOCATED
+    ratio = (ds.v_stick_onset / ds.v_star).values
+    return ds, {
+        "tol": tol, "points": int(a2.size), "times_s": times, "median_s": median(times),
+        "load_1min": load(),
+        "hopf_located": int(hopf.sum()), "stick_located": int(stick.sum()),
+        "continued_steps": int(ds.continued.sum()),
+        "attractors": int(ds.evaluations.sum()),
+        "attractors_per_continued_step": float(
+            ds.evaluations.values[ds.continued.values == 1].mean()),
+        "hopf_minus_vstar_max_abs": float(np.nanmax(np.abs(
+            (ds.v_hopf - ds.v_star).values[hopf]))),
+        "hopf_error_estimate_max": float(np.nanmax(ds.v_hopf_error.values[hopf])),
+        "stick_width_max": float(np.nanmax(ds.v_stick_onset_width.values[stick])),
+        "stick_ratio_min": float(np.nanmin(ratio[stick])),
+        "stick_ratio_max": float(np.nanmax(ratio[stick])),
+        "stick_ratio_median": float(np.nanmedian(ratio[stick])),
+    }
+
+
+def _map(sc, tol, repeats):
+    v, a2 = map_axes()
+    grid = sc.Grid(**PAPER, v=v, alpha2=a2)
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        ds = sc.sweep(grid, tol=tol, progress=False)
+        times.append(time.perf_counter() - t0)
+    step = float(v[1] - v[0])
+    return ds, {"tol": tol, "shape": [v.size, a2.size], "times_s": times,
+                "median_s": median(times), "load_1min": load(),
+                "v_step": step, "boundary_resolution": step / 2}
+
+
+def _transitions(sc, bd, tol):
+    a2 = np.geomspace(*SCAN_A2)
+    grid = sc.Grid(**PAPER, alpha2=a2, v=list(SCAN_BRACKET))
+    t0 = time.perf_counter()
+    ds = bd.locate_boundaries(grid, bracket=SCAN_BRACKET, scan=40, tol=tol)
+    elapsed = time.perf_counter() - t0
+    from sweepcore._kernels import codes
+    names = codes.REGIME_NAMES
+    rows = []
+    for i, a in enumerate(a2):
+        p = ds.isel(alpha2=i)
+        changes = []
+        for k in range(p.sizes["transition"]):
+            val = float(p.transition_value[k])
+            if not math.isfinite(val):
+                continue
+            changes.append({"v": val, "width": float(p.transition_width[k]),
+                            "below": names.get(int(p.regime_below[k])),
+                            "above": names.get(int(p.regime_above[k])),
+                            "status": bd.SEARCH_NAMES[int(p.transition_status[k])]})
+        rows.append({"alpha2": float(a), "v_star": float(p.v_star),
+                     "v_hopf": float(p.v_hopf), "v_stick_onset": float(p.v_stick_onset),
+                     "changes": changes})
+    # the band of slip cycles with slide-slide reversals: a slip_cycle interval
+    # below the stick onset, entered from stick-slip
+    band = []
+    for r in rows:
+        ch = r["changes"]
+        for c0, c1 in zip(ch, ch[1:]):
+            if (c0["below"], c0["above"]) == ("stick_slip", "slip_cycle") and \
+                    c1["below"] == "slip_cycle" and c1["above"] == "stick_slip":
+                band.append({"alpha2": r["alpha2"], "lower": c0["v"], "upper": c1["v"],
+                             "upper_over_vstar": c1["v"] / r["v_star"]})
+                break
+        else:
+            first = ch[0] if ch else None
+            if first and (first["below"], first["above"]) == ("stick_slip",
+                                                              "slip_cycle") and \
+                    first["v"] < 0.8 * r["v_star"]:
+                band.append({"alpha2": r["alpha2"], "lower": first["v"], "upper": None,
+                             "upper_over_vstar": None})
+    return {"tol": tol, "alpha2": list(a2), "bracket": list(SCAN_BRACKET), "scan": 40,
+            "seconds": elapsed, "attractors": int(ds.evaluations.sum()),
+            "points": rows, "reversal_band": band}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--out", default=str(RESULTS / "boundaries.json"))
+    args = ap.parse_args(argv)
+    import sweepcore as sc
+    from sweepcore import boundaries as bd
+
+    repeats = 1 if args.quick else 2
+    log("warm-up (compile or load the kernels)")
+    sc.sweep(sc.Grid(**PAPER, v=[1.0, 2.0], alpha2=0.01), progress=False)
+    bd.continue_boundary(sc.Grid(**PAPER, alpha2=[0.01, 0.011, 0.012],
+                                 v=list(BRACKET)))
+    result = {"machine": machine(), "mode": "quick" if args.quick else "full",
+              "command": "python benchmarks/boundaries.py"
+                         + (" --quick" if args.quick else "")}
+    maps = {}
+    for tol in ([1e-10] if args.quick else [1e-10, 1e-12]):
+        log(f"map 256 x 256, tol {tol:g}")
+        maps[tol] = _map(sc, tol, repeats if tol == 1e-10 else 1)[1]
+        log(f"  {maps[tol]['median_s']:.2f} s")
+    curves = {}
+    for tol in (1e-10, 1e-12):
+        log(f"curves by continuation, 256 alpha2, tol {tol:g}")
+        ds, curves[tol] = _curves(sc, bd, tol, repeats)
+        if tol == 1e-12:
+            fine = ds
+        else:
+            coarse = ds
+        log(f"  {curves[tol]['median_s']:.2f} s, |v_hopf - v*| <= "
+            f"{curves[tol]['hopf_minus_vstar_max_abs']:.2g}, stick ratio in "
+            f"[{curves[tol]['stick_ratio_min']:.12f}, {curves[tol]['stick_ratio_max']:.12f}]")
+    result["map"] = {f"{t:g}": m for t, m in maps.items()}
+    result["curves"] = {f"{t:g}": c for t, c in curves.items()}
+    result["curves_tol_1e-10_vs_1e-12"] = {
+        "hopf_max_abs": float(np.nanmax(np.abs(coarse.v_hopf - fine.v_hopf))),
+        "stick_max_abs": float(np.nanmax(np.abs(coarse.v_stick_onset
+                                                - fine.v_stick_onset))),
+    }
+    result["time_ratio"] = {
+        f"curves_tol_{tc:g}_over_map_tol_{tm:g}": curves[tc]["median_s"] / maps[tm]["median_s"]
+        for tc in curves for tm in maps}
+    log("located scan of 32 alpha2 in v = [0.5, 20]: every regime change")
+    result["transitions"] = _transitions(sc, bd, 1e-10)
+    log(f"  {result['transitions']['seconds']:.1f} s")
+    for name, val in result["time_ratio"].items():
+        log(f"{name}: {val:.3f}")
+    path = save_json(result, args.out)
+    log(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
