@@ -120,6 +120,26 @@ def _transitions(sc, bd, tol):
             "points": rows, "reversal_band": band}
 
 
+def _damping(sc, bd, tol):
+    """v_stick_onset/v* against the dimensionless damping alpha1/sqrt(k m): the
+    slip cycle and its grazing depend on nothing else (r_y only shifts x_eq, and
+    v ~ v* scales alpha2 out), so two sliders with the same damping must agree."""
+    cases = [dict(m=5.0, k=50.0 * f, r_y=10.0, alpha1=1.0) for f in (25.0, 6.25, 1.0,
+                                                                      0.4, 0.1)]
+    cases.append(dict(m=2.0, k=125.0, r_y=3.0, alpha1=1.0))  # same damping as paper
+    out = []
+    for c in cases:
+        ds = bd.locate_boundaries(sc.Grid(**c, alpha2=0.03, v=[0.5, 5.0]), scan=24,
+                                  tol=tol)
+        eps = c["alpha1"] / math.sqrt(c["k"] * c["m"])
+        ratio = float(ds.v_stick_onset / ds.v_star)
+        out.append({**c, "alpha2": 0.03, "damping": eps, "ratio": ratio,
+                    "ratio_minus_sqrt_4_5": ratio - math.sqrt(0.8),
+                    "over_damping_squared": (ratio - math.sqrt(0.8)) / eps ** 2,
+                    "hopf_minus_vstar": float(ds.v_hopf - ds.v_star)})
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true")
@@ -162,6 +182,11 @@ def main(argv=None):
     result["time_ratio"] = {
         f"curves_tol_{tc:g}_over_map_tol_{tm:g}": curves[tc]["median_s"] / maps[tm]["median_s"]
         for tc in curves for tm in maps}
+    log("stick onset / v* against the damping alpha1/sqrt(k m)")
+    result["damping"] = _damping(sc, bd, 1e-12)
+    for c in result["damping"]:
+        log(f"  damping {c['damping']:.4f}: ratio {c['ratio']:.10f} "
+            f"(- sqrt(4/5))/damping^2 = {c['over_damping_squared']:.4f}")
     log("located scan of 32 alpha2 in v = [0.5, 20]: every regime change")
     result["transitions"] = _transitions(sc, bd, 1e-10)
     log(f"  {result['transitions']['seconds']:.1f} s")
