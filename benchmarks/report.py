@@ -179,6 +179,8 @@ Files: `{rel}/`.
         parts.append("Results of other modes are kept in: " +
                      ", ".join(f"`{os.path.relpath(outdir.parent / o, readme.parent)}/`"
                                for o in sorted(other)) + ".\n")
+    from benchmarks.boundaries import stored_section   # its own script's results
+    parts.append(stored_section())
     readme.write_text("\n".join(parts))
 
 
