@@ -781,6 +781,7 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
                        stick_status=LOCATED, guess_error=out.get("guess_error", 0.0),
                        graze_amp=out["amp"], graze_reach=out.get("seed_reach"),
                        graze_delta=out.get("delta", math.nan))
+    res["fallback"] = bool(missing)
     if missing:
         full = yield from _locate_point(pt, values, xtol, offset, start)
         for key in (("v_hopf", "v_hopf_error", "hopf_status", "hopf_reach")
@@ -880,7 +881,7 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
         solver = _continued_point(pt, values, xtol, offset, start, hist, xs[i])
         (res,), (n,) = _drive([solver], row[None, :], COLUMNS[along], o, True)
         res["evaluations"] = int(n)
-        res["continued"] = int(len(hist["hopf"]) >= 2 or len(hist["graze"]) >= 2)
+        res["continued"] = int(not res.pop("fallback"))
         ok_h = res["hopf_status"] == LOCATED
         ok_g = res["stick_status"] == LOCATED
         if not (ok_h and ok_g):      # restart the histories where a curve is lost
@@ -917,6 +918,23 @@ def _flag(meanings: dict, long_name: str) -> dict:
     return {"units": "1", "long_name": long_name,
             "flag_values": np.array(keys, np.int8),
             "flag_meanings": " ".join(meanings[k] for k in keys)}
+
+
+def _analytic(ds: xr.Dataset) -> xr.Dataset:
+    """``v_star`` and the averaging estimate of the stick onset beside the located
+    boundaries (along v)."""
+    vs_units, vs_long, vs_comment = variables.ANALYTIC["v_star"]
+    vs = xr.apply_ufunc(_v_star, ds["alpha1"], ds["alpha2"])
+    ds["v_star"] = xr.Variable(vs.dims, np.asarray(vs.values, np.float64),
+                               {"units": vs_units, "long_name": vs_long,
+                                "comment": vs_comment})
+    ds["v_stick_onset_estimate"] = xr.Variable(
+        vs.dims, 2.0 / math.sqrt(5.0) * np.asarray(vs.values, np.float64),
+        {"units": "cm s-1", "long_name": "averaging estimate 2 v*/sqrt(5) of the "
+                                         "stick onset",
+         "comment": "the averaged cycle's velocity amplitude 2 sqrt(v*^2 - v^2) "
+                    "reaches v"})
+    return ds
 
 
 def _dataset(other: Grid, along: str, results, o, method, call,
@@ -981,17 +999,8 @@ def _dataset(other: Grid, along: str, results, o, method, call,
                                                              "regime above the change"))
         ds["transition_status"] = xr.Variable(tdims, st, {
             **status, "long_name": "outcome of the search of the change"})
-    vs_units, vs_long, vs_comment = variables.ANALYTIC["v_star"]
-    vs = xr.apply_ufunc(_v_star, ds["alpha1"], ds["alpha2"])
-    ds["v_star"] = xr.Variable(vs.dims, np.asarray(vs.values, np.float64),
-                               {"units": vs_units, "long_name": vs_long,
-                                "comment": vs_comment})
-    ds["v_stick_onset_estimate"] = xr.Variable(
-        vs.dims, 2.0 / math.sqrt(5.0) * np.asarray(vs.values, np.float64),
-        {"units": "cm s-1", "long_name": "averaging estimate 2 v*/sqrt(5) of the "
-                                         "stick onset",
-         "comment": "the averaged cycle's velocity amplitude 2 sqrt(v*^2 - v^2) "
-                    "reaches v"})
+    if along == "v":        # the analytic values to compare with
+        ds = _analytic(ds)
     now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     ds.attrs.update({
         "Conventions": "CF-1.11",

@@ -350,7 +350,10 @@ def cmd_info(args) -> int:
     """``sweepcore info``: what a result file holds."""
     ds = _open(args.result)
     print(f"{args.result}:")
-    print(describe(ds))
+    if ds.attrs.get("sweepcore_kind") in ("boundaries", "bifurcation_diagram"):
+        print(describe_boundaries(ds))
+    else:
+        print(describe(ds))
     return 0
 
 
@@ -550,6 +553,11 @@ def cmd_boundary(args) -> int:
         print(f"wrote {out} ({elapsed:.1f} s)")
         for line in boundary_lines(ds):
             print(line)
+    if png is not None and ds.attrs.get("sweepcore_kind") == "boundaries" and \
+            "v_star" not in ds:
+        print(f"(no picture: boundary curves are drawn for searches along v, this "
+              f"one is along {b['along']})")
+        png = None
     if png is not None:
         from .plot import figure_for, save
         save(figure_for(ds), png)
@@ -573,6 +581,29 @@ def _boundary_result(grid, study, b, args):
                              **search)
 
 
+def describe_boundaries(ds) -> str:
+    """``sweepcore info`` of a boundaries or bifurcation-diagram result."""
+    kind = ds.attrs["sweepcore_kind"].replace("_", " ")
+    shape = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items())
+    lines = [f"  {kind} ({shape})"]
+    for d in ds.dims:
+        if ds[d].dtype.kind == "f":
+            v = ds[d].values
+            lines.append(f"    {d:8s} {ds[d].attrs.get('long_name', '')} "
+                         f"[{ds[d].attrs.get('units', '')}]: {v.size} values in "
+                         f"[{v.min():.6g}, {v.max():.6g}]")
+    fixed = [n for n in ds.coords if ds[n].ndim == 0]
+    if fixed:
+        lines.append("  fixed: " + ", ".join(f"{n} = {float(ds[n]):.6g}{_units(ds[n])}"
+                                             for n in fixed))
+    lines.extend(boundary_lines(ds))
+    for key in ("tol", "history"):
+        if key in ds.attrs:
+            text = str(ds.attrs[key]).replace("\n", "\n" + " " * 12)
+            lines.append(f"  {key:9s} {text}")
+    return "\n".join(lines)
+
+
 def boundary_lines(ds) -> list[str]:
     """Summary of a boundaries or diagram result: what was located, against v*."""
     from .boundaries import LOCATED
@@ -591,6 +622,9 @@ def boundary_lines(ds) -> list[str]:
         if ok.any():
             line += f", {width} <= {np.nanmax(ds[width].values[ok]):.2g}"
         lines.append(line)
+    if "v_star" not in ds:      # searched along another parameter than v
+        lines.append(f"  attractors computed: {int(ds['evaluations'].sum())}")
+        return lines
     hopf = ds["hopf_status"].values == LOCATED
     if hopf.any():
         dv = np.abs(ds["v_hopf"] - ds["v_star"]).values[hopf]

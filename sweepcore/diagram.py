@@ -125,7 +125,7 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
                                 "comment": vs_comment})
     if boundaries:
         found = locate_boundaries(Grid(**{**kw, along: values}), along=along,
-                                  tol=max(tol, 1e-12), method=method, **options)
+                                  tol=min(tol, 1e-12), method=method, **options)
         for name in ("v_hopf", "v_stick_onset"):
             ds[name] = xr.Variable((), float(found[name].values), found[name].attrs)
     from .sweep import REFERENCE, _version

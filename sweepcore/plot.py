@@ -888,6 +888,9 @@ def boundaries_figure(ds: xr.Dataset, over: xr.Dataset | None = None,
     if regimes is not None:
         ax.add_artist(regimes)
     ax.set_title("located boundaries", fontsize=10)
+    if "v_star" not in ds:     # searched along another parameter than v
+        raise ValueError("boundary curves are drawn for boundaries along v; this "
+                         f"result was searched along {ds.attrs.get('along')!r}")
     dv = (ds["v_hopf"] - ds["v_star"]).values
     axh.plot(y, dv, color="black", lw=1.0, marker=".", ms=3, label=r"$v_{hopf} - v^*$")
     if "v_hopf_error" in ds:

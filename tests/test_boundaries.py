@@ -179,6 +179,19 @@ def test_stick_onset_agrees_with_scipy_grazing_cycle(located):
     assert abs(got - ref) <= 1e-9, (got, ref)
 
 
+def test_boundaries_along_alpha2_at_fixed_speed():
+    """Along alpha2 at v = 5: q = 0 at alpha2 = alpha1/(3 v^2) = 1/75 (eq. 46), and
+    the stick onset where v = (v_stick/v*) v*(alpha2), the ratio measured along v."""
+    grid = sc.Grid(**PAPER, v=5.0, alpha2=np.linspace(0.005, 0.02, 16))
+    ds = bd.locate_boundaries(grid, along="alpha2", tol=TOL)
+    assert abs(float(ds.v_hopf) - 1.0 / 75.0) <= 1e-9
+    ratio = float(bd.locate_boundaries(sc.Grid(**PAPER, alpha2=0.01,
+                                               v=np.linspace(1.0, 7.0, 16)),
+                                       tol=TOL).pipe(lambda d: d.v_stick_onset
+                                                     / d.v_star))
+    assert abs(float(ds.v_stick_onset) - ratio ** 2 / 75.0) <= 1e-10
+
+
 # ------------------------------------------------------------- continuation
 def test_continuation_follows_both_curves_with_few_attractors(located):
     a2 = np.geomspace(0.01, 0.05, 12)
@@ -187,6 +200,7 @@ def test_continuation_follows_both_curves_with_few_attractors(located):
     assert (ds.stick_status == bd.LOCATED).all()
     assert float(np.abs(ds.v_hopf - ds.v_star).max()) <= HOPF_TOL
     assert int(ds.continued.sum()) == a2.size - 2
+    assert sc.check_cf(ds) == []
     # seeded steps cost a fraction of a scan's step (32 scan points alone)
     assert float(ds.evaluations[2:].mean()) < 0.5 * float(ds.evaluations[:2].mean())
     # the same boundaries as the scan-based search where the two meet
