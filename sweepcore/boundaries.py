@@ -17,11 +17,15 @@ changes regime at two bifurcations of the slip cycle:
   its largest velocity reaching ``v``. The indicator ``g = v - xdot_max`` is
   smooth and positive on the slip cycles and reaches 0 at the grazing; on the
   stick-slip side only its sign is known (``xdot_max = v`` while stuck). The root
-  is found by a safeguarded one-sided secant (:func:`_graze`): secant steps on the
-  slip-side values, each evaluated as a pair ``p -+ h`` around the prediction (``h``
-  the last change of the prediction, at least ``xtol/2``), inside the bracket kept
-  by the regime labels, with bisection when the bracket stops halving. It ends when
-  the bracket is narrower than ``xtol``.
+  is extrapolated from the slip side (:func:`_slip_root`: the polynomial through
+  the nearest four values) inside the bracket kept by the regime labels
+  (:func:`_graze`): each round asks for two slip cycles just beyond the predicted
+  root (at ``h`` and ``3 h``, ``h`` twice the last correction, at least ``BAND``
+  relative), bisects when no prediction lies inside the bracket, and ends when two
+  successive estimates (or the polynomials of two degrees) agree to ``xtol``.
+  Within ``BAND`` of the grazing the labels already say stick (a cycle passing
+  within the driver's graze tolerance of the belt is snapped onto the grazing
+  orbit), which is why the indicator, not the label, decides.
 
 Any other regime change in the bracket (e.g. the edges of the band of slip cycles
 with slide-slide reversals at small alpha2, for which no smooth indicator is known)

@@ -210,12 +210,23 @@ def test_continuation_follows_both_curves_with_few_attractors(located):
                                    rtol=0, atol=2e-9)
 
 
-def test_executors_give_the_same_boundaries(located):
+@pytest.mark.parametrize("executor", [
+    dict(scheduler="threads", chunks=1), dict(scheduler="synchronous"),
+    "client", pytest.param(dict(scheduler="processes", chunks=2),
+                           marks=pytest.mark.slow)])
+def test_executors_give_the_same_boundaries(located, executor):
+    """Every attractor is computed independently: the chunking and the executor
+    cannot change a bit of the result."""
     grid = sc.Grid(**PAPER, v=np.linspace(1.0, 7.0, 16), alpha2=[0.01, 0.03, 0.05])
-    for kw in (dict(scheduler="threads", chunks=1), dict(scheduler="synchronous")):
-        ds = bd.locate_boundaries(grid, tol=TOL, **kw)
-        for name in ("v_hopf", "v_stick_onset", "transition_value"):
-            np.testing.assert_array_equal(ds[name].values, located[name].values)
+    if executor == "client":
+        from distributed import Client, LocalCluster
+        with LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                          dashboard_address=None) as cluster, Client(cluster) as client:
+            ds = bd.locate_boundaries(grid, tol=TOL, client=client, chunks=1)
+    else:
+        ds = bd.locate_boundaries(grid, tol=TOL, **executor)
+    for name in ("v_hopf", "v_stick_onset", "transition_value"):
+        np.testing.assert_array_equal(ds[name].values, located[name].values)
 
 
 # ---------------------------------------------------------------- refusals
