@@ -140,7 +140,8 @@ def _damping(sc, bd, tol):
     return out
 
 
-BEGIN, END = "<!-- boundaries: written by benchmarks/boundaries.py -->", "<!-- /boundaries -->"
+BEGIN = "<!-- boundaries: written by benchmarks/boundaries.py -->"
+END = "<!-- /boundaries -->"
 
 
 def readme_section(R) -> str:
@@ -250,7 +251,8 @@ def main(argv=None):
             coarse = ds
         log(f"  {curves[tol]['median_s']:.2f} s, |v_hopf - v*| <= "
             f"{curves[tol]['hopf_minus_vstar_max_abs']:.2g}, stick ratio in "
-            f"[{curves[tol]['stick_ratio_min']:.12f}, {curves[tol]['stick_ratio_max']:.12f}]")
+            f"[{curves[tol]['stick_ratio_min']:.12f}, "
+            f"{curves[tol]['stick_ratio_max']:.12f}]")
     result["map"] = {f"{t:g}": m for t, m in maps.items()}
     result["curves"] = {f"{t:g}": c for t, c in curves.items()}
     result["curves_tol_1e-10_vs_1e-12"] = {
@@ -259,7 +261,8 @@ def main(argv=None):
                                                 - fine.v_stick_onset))),
     }
     result["time_ratio"] = {
-        f"curves_tol_{tc:g}_over_map_tol_{tm:g}": curves[tc]["median_s"] / maps[tm]["median_s"]
+        f"curves_tol_{tc:g}_over_map_tol_{tm:g}":
+            curves[tc]["median_s"] / maps[tm]["median_s"]
         for tc in curves for tm in maps}
     log("stick onset / v* against the damping alpha1/sqrt(k m)")
     result["damping"] = _damping(sc, bd, 1e-12)

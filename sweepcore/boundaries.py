@@ -472,7 +472,7 @@ def _hopf_guess(pt, values, rows, j, side, offset):
     mid = 0.5 * (values[j] + values[j + 1])
     i2 = ic + side
     if not (0 <= i2 < len(values)) or not _ok(rows[i2]) or \
-            _regime(rows[i2]) != codes.R_SLIP_CYCLE or _regime(rows[ic]) != codes.R_SLIP_CYCLE:
+            not _regime(rows[i2]) == _regime(rows[ic]) == codes.R_SLIP_CYCLE:
         return mid, None
     w = pt.fit_variable(np.array([values[ic], values[i2]]))
     a2 = np.array([rows[ic][layout.OB_AMPLITUDE], rows[i2][layout.OB_AMPLITUDE]]) ** 2
@@ -654,8 +654,8 @@ def _execute(kind, target, tasks):
         return [f(*args, parallel=True) for f, args in tasks]
     if kind == "local":
         import dask
-        return list(dask.compute(*[dask.delayed(f, pure=True)(*args) for f, args in tasks],
-                                 scheduler=target))
+        delayed = [dask.delayed(f, pure=True)(*args) for f, args in tasks]
+        return list(dask.compute(*delayed, scheduler=target))
     from distributed import Client
 
     def run(client):
@@ -708,7 +708,7 @@ def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 
         Over the grid's other swept dimensions (CF-1.11, units on every
         variable): ``v_hopf`` and ``v_hopf_error`` (the Hopf point and the
         estimated error of its extrapolation), ``v_stick_onset`` and
-        ``v_stick_onset_width`` (final bracket), their ``*_status`` flags
+        ``v_stick_onset_width`` (its uncertainty), their ``*_status`` flags
         (located, absent, attractor_failed, inconsistent), the analytic ``v_star``
         and the averaging estimate ``v_stick_onset_estimate = 2 v*/sqrt(5)``,
         ``evaluations`` (attractors computed) and, along ``transition``, every
@@ -968,7 +968,9 @@ def _dataset(other: Grid, along: str, results, o, method, call,
             "comment": "root of v - xdot_max on the slip cycles (safeguarded secant) "
                        "inside a bracket of stick_slip | slip_cycle labels"}),
         "v_stick_onset_width": (field("v_stick_onset_width"), {
-            "units": units, "long_name": "width of the final stick-onset bracket"}),
+            "units": units, "long_name": "uncertainty of the stick onset",
+            "comment": "last correction of the root estimate, or the distance "
+                       "between the roots of the polynomials of two degrees"}),
         "stick_status": (field("stick_status", np.int8),
                          {**status, "long_name": "outcome of the stick-onset search"}),
         "evaluations": (field("evaluations", np.int64), {

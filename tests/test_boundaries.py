@@ -259,8 +259,9 @@ def test_diagram_branches_agree_and_order_the_regimes():
     order = {codes.R_STICK_SLIP: 0, codes.R_SLIP_CYCLE: 1, codes.R_EQUILIBRIUM: 2}
     assert all(order[a] <= order[b] for a, b in zip(reg, reg[1:]))
     hopf, stick = float(ds.v_hopf), float(ds.v_stick_onset)
-    assert v[reg == codes.R_SLIP_CYCLE].max() < hopf < v[reg == codes.R_EQUILIBRIUM].min()
-    assert v[reg == codes.R_STICK_SLIP].max() < stick < v[reg == codes.R_SLIP_CYCLE].min()
+    slip, eq = reg == codes.R_SLIP_CYCLE, reg == codes.R_EQUILIBRIUM
+    assert v[slip].max() < hopf < v[eq].min()
+    assert v[reg == codes.R_STICK_SLIP].max() < stick < v[slip].min()
     # a point of the branch is the attractor reached from an independent start
     a = sc.attractor(sc.Params(**PAPER, alpha2=0.01, v=float(v[3])), tol=TOL)
     assert abs(a.x_max - float(up.x_max[3])) <= 1e-8
