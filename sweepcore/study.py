@@ -388,7 +388,10 @@ BOUNDARY_ALONG = ("m", "k", "r_y", "v", "alpha1", "alpha2")
 
 
 def _boundary(ck: _Checker, doc: dict, axes: dict) -> dict:
-    """The ``[boundary]`` table of ``sweepcore boundary`` (docs/studies.md)."""
+    """The ``[boundary]`` table of ``sweepcore boundary`` (docs/studies.md); ``{}``
+    when the study has none (``sweepcore boundary`` then validates the defaults)."""
+    if "boundary" not in doc:
+        return {}
     table = ck.table(doc, "boundary")
     ck.known(table, BOUNDARY_KEYS, ("boundary",))
     kp = lambda key: ("boundary", key)   # noqa: E731

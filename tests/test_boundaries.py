@@ -307,6 +307,14 @@ def test_cli_boundary_diagram(tmp_path):
     assert main(["plot", str(tmp_path / "d.nc"), "-o", str(tmp_path / "e.png")]) == 0
 
 
+def test_studies_without_boundary_table_need_no_bracket():
+    from sweepcore.study import parse_study
+    text = STUDY.replace("v = { start = 1.0, stop = 7.0, num = 12 }", "v = 5.0")
+    assert parse_study(text.replace("[boundary]\nxtol = 1e-9\n", "")).boundary == {}
+    with pytest.raises(ValueError, match="give bracket"):
+        parse_study(text)
+
+
 @pytest.mark.parametrize("line, message", [
     ("bracket = [5.0, 1.0]", "lo < hi"),
     ("bracket = [0.0, 1.0]", "v > 0"),
