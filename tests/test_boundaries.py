@@ -221,7 +221,7 @@ def test_executors_give_the_same_boundaries(located, executor):
     if executor == "client":
         from distributed import Client, LocalCluster
         with LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
-                          dashboard_address=None) as cluster, Client(cluster) as client:
+                          dashboard_address=":0") as cluster, Client(cluster) as client:
             ds = bd.locate_boundaries(grid, tol=TOL, client=client, chunks=1)
     else:
         ds = bd.locate_boundaries(grid, tol=TOL, **executor)
