@@ -184,6 +184,8 @@ Files: `{rel}/`.
         parts.append(_peers(Pe, H))
     if C:
         parts.append(_cost(C))
+    from benchmarks.boundaries import stored_section   # its own script's results
+    parts.append(stored_section())
     readme.write_text("\n".join(parts))
 
 

@@ -19,6 +19,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 TOML = ("hopf_map", "belt_speed")
+BOUNDARY = ("boundaries",)         # `sweepcore boundary`, after hopf_map (drawn over it)
 SCRIPTS = ("paper_fig3", "paper_fig4", "paper_fig5", "design_map", "initial_conditions")
 TABLES = ("paper_claims", "method_orders")      # print markdown tables, write no files
 
@@ -28,7 +29,8 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path, default=Path("out"),
                         help="output directory (default out/)")
     parser.add_argument("--skip", nargs="*", default=[], metavar="STUDY",
-                        choices=TOML + SCRIPTS + TABLES, help="studies not to run")
+                        choices=TOML + BOUNDARY + SCRIPTS + TABLES,
+                        help="studies not to run")
     parser.add_argument("--tables", action="store_true",
                         help="also run " + ", ".join(TABLES) + " into <out>/<name>.md")
     args = parser.parse_args(argv)
@@ -36,13 +38,19 @@ def main(argv=None) -> int:
     from sweepcore.cli import main as cli
 
     times = {}
-    names = SCRIPTS + TOML + (TABLES if args.tables else ())
+    names = SCRIPTS + TOML + BOUNDARY + (TABLES if args.tables else ())
     for name in names:
         if name in args.skip or not (HERE / f"{name}.py").exists() and name in TABLES:
             continue
         t0 = time.perf_counter()
         if name in TOML:
             code = cli(["run", str(HERE / f"{name}.toml"), "-o",
+                        str(args.out / f"{name}.nc"), "--png",
+                        str(args.out / f"{name}.png")])
+            if code:
+                return code
+        elif name in BOUNDARY:
+            code = cli(["boundary", str(HERE / f"{name}.toml"), "-o",
                         str(args.out / f"{name}.nc"), "--png",
                         str(args.out / f"{name}.png")])
             if code:

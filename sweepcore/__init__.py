@@ -5,12 +5,15 @@ Units throughout: force kN, length cm, time s (mass kN s^2/cm).
 Public API::
 
     Params, simulate, attractor, Attractor, Grid, sweep, hopf_boundary,
+    locate_boundaries, continue_boundary, bifurcation_diagram,
     open_result, write_netcdf, check_cf
 """
 from importlib.metadata import PackageNotFoundError, version
 
 from .attractor import Attractor, attractor
+from .boundaries import continue_boundary, locate_boundaries
 from .boundary import hopf_boundary
+from .diagram import bifurcation_diagram
 from .grid import Grid
 from .io import check_cf, open_result, write_netcdf
 from .params import Params
@@ -23,4 +26,5 @@ except PackageNotFoundError:  # running from a source tree without install
     __version__ = "0.1.0"
 
 __all__ = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep",
-           "hopf_boundary", "open_result", "write_netcdf", "check_cf", "__version__"]
+           "hopf_boundary", "locate_boundaries", "continue_boundary",
+           "bifurcation_diagram", "open_result", "write_netcdf", "check_cf", "__version__"]

@@ -87,6 +87,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_simulate(sub)
     _add_info(sub)
     _add_export(sub)
+    _add_boundary(sub)
     return parser
 
 
@@ -433,7 +434,10 @@ def cmd_info(args) -> int:
     """``sweepcore info``: what a result file holds."""
     ds = _open(args.result)
     print(f"{args.result}:")
-    print(describe(ds))
+    if ds.attrs.get("sweepcore_kind") in ("boundaries", "bifurcation_diagram"):
+        print(describe_boundaries(ds))
+    else:
+        print(describe(ds))
     return 0
 
 
@@ -640,6 +644,153 @@ def simulation_summary(ds, p) -> str:
     return (_describe_simulation(ds) + "\n"
             f"  analytic: omega = {p.omega:.6g} s-1, q = {p.q:.6g} s-1 (eq. 46), "
             f"v* = {p.v_star:.6g} cm s-1, x_eq = {p.x_eq:.6g} cm (eq. 43)")
+
+
+# ----------------------------------------------------------------- boundary
+def _add_boundary(sub):
+    p = sub.add_parser(
+        "boundary", help="locate the Hopf point and the stick onset to full precision, "
+                         "or draw a bifurcation diagram",
+        description="Locate the regime boundaries of a study along v (the Hopf point "
+                    "from the cycle's amplitude, the stick onset from the grazing of "
+                    "the cycle with the belt, every other change from the labels) to "
+                    "xtol, for every point of the other axes, or follow them along one "
+                    "parameter by continuation, or scan a bifurcation diagram up and "
+                    "down; settings in the study's [boundary] table (docs/studies.md). "
+                    + UNITS_HELP + ".")
+    p.add_argument("study", metavar="STUDY.toml", help="study file")
+    p.add_argument("-o", "--output", metavar="OUT.nc",
+                   help="netCDF result; default [boundary] path, else "
+                        "<study stem>_boundaries.nc")
+    png = p.add_mutually_exclusive_group()
+    png.add_argument("--png", metavar="FIG.png",
+                     help="picture; default [boundary] png, else the result's path "
+                          "with .png")
+    png.add_argument("--no-png", action="store_true", help="draw no picture")
+    p.add_argument("--scheduler", metavar="ADDRESS|threads|processes|synchronous",
+                   help="as for run (not for continuation or diagrams)")
+    p.add_argument("--chunks", type=_positive_int, metavar="N",
+                   help="points per task (not for continuation or diagrams)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no summary")
+    p.set_defaults(func=cmd_boundary)
+
+
+def cmd_boundary(args) -> int:
+    """``sweepcore boundary``: boundaries, their continuation or a diagram."""
+    from .grid import Grid
+    from .io import write_netcdf
+    from .study import load_study
+
+    study = load_study(args.study)
+    b = study.boundary or {}
+    grid = Grid(**study.grid_kwargs())
+    if not b:
+        from .study import parse_study
+        b = parse_study(study.text + "\n[boundary]\n", study.path).boundary
+    out = Path(args.output or b.get("path") or f"{study.stem}_boundaries.nc")
+    if out.suffix != ".nc":
+        raise UsageError(f"output must end in .nc, got {str(out)!r}")
+    png = None if args.no_png else Path(args.png or b.get("png") or out.with_suffix(".png"))
+    if png is not None and png.suffix.lower() != ".png":
+        raise UsageError(f"picture must end in .png, got {str(png)!r}")
+    if (args.scheduler or args.chunks) and (b["continuation"] or b["diagram"]):
+        raise UsageError("--scheduler and --chunks apply to located boundaries, not to "
+                         "a continuation or a diagram (sequential by nature)")
+    _check_directories(out, png)
+    t0 = time.perf_counter()
+    ds = _boundary_result(grid, study, b, args)
+    elapsed = time.perf_counter() - t0
+    ds = label_with_study(ds, study, _command_line(args))
+    if b.get("over"):
+        ds.attrs["over"] = b["over"]
+    write_netcdf(ds, out)
+    if not args.quiet:
+        print(f"wrote {out} ({elapsed:.1f} s)")
+        for line in boundary_lines(ds):
+            print(line)
+    if png is not None and ds.attrs.get("sweepcore_kind") == "boundaries" and \
+            "v_star" not in ds:
+        print(f"(no picture: boundary curves are drawn for searches along v, this "
+              f"one is along {b['along']})")
+        png = None
+    if png is not None:
+        from .plot import figure_for, save
+        save(figure_for(ds), png)
+        if not args.quiet:
+            print(f"wrote {png}")
+    return 0
+
+
+def _boundary_result(grid, study, b, args):
+    from .boundaries import continue_boundary, locate_boundaries
+    from .diagram import bifurcation_diagram
+
+    common = dict(tol=b["tol"], method=study.method, **study.options)
+    if b["diagram"]:
+        return bifurcation_diagram(grid, along=b["along"], **common)
+    search = dict(along=b["along"], bracket=b["bracket"], xtol=b["xtol"],
+                  scan=b["scan"], offset=b["offset"], **common)
+    if b["continuation"]:
+        return continue_boundary(grid, over=b["continuation"], **search)
+    return locate_boundaries(grid, chunks=args.chunks, scheduler=args.scheduler,
+                             **search)
+
+
+def describe_boundaries(ds) -> str:
+    """``sweepcore info`` of a boundaries or bifurcation-diagram result."""
+    kind = ds.attrs["sweepcore_kind"].replace("_", " ")
+    shape = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items())
+    lines = [f"  {kind} ({shape})"]
+    for d in ds.dims:
+        if ds[d].dtype.kind == "f":
+            v = ds[d].values
+            lines.append(f"    {d:8s} {ds[d].attrs.get('long_name', '')} "
+                         f"[{ds[d].attrs.get('units', '')}]: {v.size} values in "
+                         f"[{v.min():.6g}, {v.max():.6g}]")
+    fixed = [n for n in ds.coords if ds[n].ndim == 0]
+    if fixed:
+        lines.append("  fixed: " + ", ".join(f"{n} = {float(ds[n]):.6g}{_units(ds[n])}"
+                                             for n in fixed))
+    lines.extend(boundary_lines(ds))
+    for key in ("tol", "history"):
+        if key in ds.attrs:
+            text = str(ds.attrs[key]).replace("\n", "\n" + " " * 12)
+            lines.append(f"  {key:9s} {text}")
+    return "\n".join(lines)
+
+
+def boundary_lines(ds) -> list[str]:
+    """Summary of a boundaries or diagram result: what was located, against v*."""
+    from .boundaries import LOCATED
+    if ds.attrs.get("sweepcore_kind") == "bifurcation_diagram":
+        lines = ["  " + regime_line(ds)]
+        for name in ("v_hopf", "v_stick_onset", "v_star"):
+            if name in ds:
+                lines.append(f"  {name} = {float(ds[name]):.10g} cm s-1")
+        return lines
+    lines = []
+    for name, status, width in (("v_hopf", "hopf_status", "v_hopf_error"),
+                                ("v_stick_onset", "stick_status",
+                                 "v_stick_onset_width")):
+        ok = ds[status].values == LOCATED
+        line = f"  {name}: located at {int(ok.sum())} of {ok.size} points"
+        if ok.any():
+            line += f", {width} <= {np.nanmax(ds[width].values[ok]):.2g}"
+        lines.append(line)
+    if "v_star" not in ds:      # searched along another parameter than v
+        lines.append(f"  attractors computed: {int(ds['evaluations'].sum())}")
+        return lines
+    hopf = ds["hopf_status"].values == LOCATED
+    if hopf.any():
+        dv = np.abs(ds["v_hopf"] - ds["v_star"]).values[hopf]
+        lines.append(f"  |v_hopf - v*| <= {dv.max():.3g} cm s-1")
+    stick = ds["stick_status"].values == LOCATED
+    if stick.any():
+        r = (ds["v_stick_onset"] / ds["v_star"]).values[stick]
+        lines.append(f"  v_stick_onset / v* in [{r.min():.10f}, {r.max():.10f}] "
+                     f"(averaging sqrt(4/5) = {np.sqrt(0.8):.10f})")
+    lines.append(f"  attractors computed: {int(ds['evaluations'].sum())}")
+    return lines
 
 
 # --------------------------------------------------------------------- main
