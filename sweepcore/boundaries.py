@@ -54,14 +54,12 @@ from .grid import v_star as _v_star
 from .options import make_options
 from .params import LONG_NAMES, UNITS
 
-# Outcome of one boundary search. (Kept here rather than in _kernels/codes.py because
-# no kernel returns them: they are the Python solvers' verdicts.)
-LOCATED = 0        # found to xtol (stick onset, label changes) / fitted (Hopf)
-ABSENT = 1         # no such change in the bracket (or the continuation lost it)
-FAILED = 2         # an attractor the search needed failed or did not converge
-INCONSISTENT = 3   # the smooth indicator and the regime labels disagree
-SEARCH_NAMES = {LOCATED: "located", ABSENT: "absent", FAILED: "attractor_failed",
-                INCONSISTENT: "inconsistent"}
+# Outcome of one boundary search (codes in _kernels/codes.py, the one table)
+LOCATED = codes.B_LOCATED
+ABSENT = codes.B_ABSENT
+FAILED = codes.B_FAILED
+INCONSISTENT = codes.B_INCONSISTENT
+SEARCH_NAMES = codes.SEARCH_NAMES
 
 CYCLES = (codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
 PROPER = (codes.R_EQUILIBRIUM, codes.R_SLIP_CYCLE, codes.R_STICK_SLIP,

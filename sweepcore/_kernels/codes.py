@@ -95,3 +95,16 @@ REGIME_NAMES = {
     R_UNCONVERGED: "unconverged",
     R_FAILED: "failed",
 }
+
+# --- outcome of a boundary search (sweepcore.boundaries; the Python solvers' verdicts)
+B_LOCATED = 0        # found to xtol (stick onset, label changes) / fitted (Hopf)
+B_ABSENT = 1         # no such change in the bracket (or the continuation lost it)
+B_FAILED = 2         # an attractor the search needed failed or did not converge
+B_INCONSISTENT = 3   # the smooth indicator and the regime labels disagree
+
+SEARCH_NAMES = {
+    B_LOCATED: "located",
+    B_ABSENT: "absent",
+    B_FAILED: "attractor_failed",
+    B_INCONSISTENT: "inconsistent",
+}
