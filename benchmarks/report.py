@@ -493,7 +493,11 @@ def _study_tol(study=common.ROOT / "studies" / "hopf_map.toml") -> float:
         import tomllib
     except ImportError:     # Python 3.10
         import tomli as tomllib
-    return float(tomllib.loads(Path(study).read_text())["solver"]["tol"])
+    solver = tomllib.loads(Path(study).read_text()).get("solver", {})
+    from sweepcore.options import make_options
+    import inspect
+    default = inspect.signature(make_options).parameters["tol"].default
+    return float(solver.get("tol", default))
 
 
 def readme_block(outdir) -> str:
@@ -517,8 +521,20 @@ def readme_block(outdir) -> str:
             return []
         err = a.get("amplitude_abs", {}).get("max")
         ref = H["accuracy"]
-        return [[what, f"{s(k['median_s'])}; max amplitude error {g(err)} cm "
-                       f"({ref['n_subsample']} random points against {ref['reference']})"]]
+        row = [[what, f"{s(k['median_s'])}; max amplitude error {g(err)} cm "
+                      f"({ref['n_subsample']} random points against {ref['reference']})"]]
+        hard = H.get("accuracy_hardest", {})
+        h = hard.get("by_tol", {}).get(f"{tol:g}")
+        if h:
+            statuses = ", ".join(f"{v} {k}" for k, v in sorted(h["status_counts"].items()))
+            row.append([f"same run, the {hard['n_points']} slip cycles nearest below v* "
+                        f"({hard['per_column']} per alpha2 column)",
+                        f"max amplitude error {g(h['max_amp_err'])} cm on the "
+                        f"{h['n_compared']} with an independent reference (scipy shooting "
+                        f"at rtol 1e-13, or the normal form next to v*); statuses: "
+                        f"{statuses}; points above v* not at rest: "
+                        f"{h['above_v_star_not_equilibrium']}"])
+        return row
 
     tol = _study_tol()
     rows = map_row(tol, f"{H['grid']['nv']} x {H['grid']['na']} Hopf map at tol {tol:g} "

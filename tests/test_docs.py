@@ -80,7 +80,19 @@ def test_every_variable_of_a_simulation_is_documented(documented_units):
     _assert_documented(ds, documented_units)
 
 
+def test_every_variable_of_a_boundary_file_is_documented(documented_units):
+    grid = sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, v=[1.0], alpha2=[0.01, 0.02])
+    ds = sc.locate_boundaries(grid, along="v", bracket=(1.0, 10.0))
+    _assert_documented(ds, documented_units)
+    cont = sc.continue_boundary(grid, over="alpha2", bracket=(1.0, 10.0))
+    _assert_documented(cont, documented_units)
+    diag = sc.bifurcation_diagram(sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0,
+                                          v=np.linspace(4.0, 6.5, 4), alpha2=0.01))
+    _assert_documented(diag, documented_units)
+
+
 def test_code_tables_match_the_code_table(doc):
+    assert _code_rows(doc["Boundary search codes"]) == codes.SEARCH_NAMES
     assert _code_rows(doc["Regime codes"]) == codes.REGIME_NAMES
     assert _code_rows(doc["Status codes"]) == codes.STATUS_NAMES
     written = {k: n for k, n in codes.EVENT_NAMES.items() if k <= codes.EV_ABNORMAL_STOP}
