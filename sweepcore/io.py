@@ -7,6 +7,7 @@ never sees a partial file. While a sweep runs, finished chunks go to a working s
 """
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import io
 import json
@@ -79,7 +80,8 @@ def write_netcdf(ds: xr.Dataset, path) -> Path:
     The file is written to a temporary name in the same directory and renamed over
     ``path`` only once complete; on any error the temporary file is removed and
     ``path`` is left as it was. Dask-backed variables are computed and written one
-    block at a time (synchronous scheduler), so the Dataset need not fit in memory.
+    block at a time (synchronous scheduler) into the file xarray laid out, so the
+    Dataset need not fit in memory.
 
     Parameters
     ----------
@@ -103,10 +105,13 @@ def write_netcdf(ds: xr.Dataset, path) -> Path:
     if not path.parent.is_dir():
         raise FileNotFoundError(f"directory of path={str(path)!r} does not exist")
     tmp = temporary_name(path, ".tmp")
+    lazy = {name: var for name, var in ds.variables.items() if _is_dask(var.data)}
     try:
-        with dask.config.set(scheduler="synchronous"):
-            ds.drop_encoding().to_netcdf(tmp, engine="netcdf4", format="NETCDF4",
-                                         encoding=netcdf_encoding(ds))
+        with dask.config.set(scheduler="synchronous"), _small_chunk_cache():
+            _skeleton(ds).drop_encoding().to_netcdf(
+                tmp, engine="netcdf4", format="NETCDF4", encoding=netcdf_encoding(ds))
+            if lazy:
+                _fill_blocks(tmp, lazy)
         os.replace(tmp, path)
     except (OSError, RuntimeError) as err:
         # netCDF4 reports a full disk as RuntimeError("NetCDF: HDF error")
@@ -171,6 +176,57 @@ def result_path(path, overwrite: bool = False) -> Path:
         raise ValueError(f"path={raw!r}: file name longer than "
                          f"{_name_max(target.parent)} bytes")
     return target
+
+
+@contextlib.contextmanager
+def _small_chunk_cache():
+    """HDF5 chunk caches of one chunk per variable while a file is written (netCDF's
+    default, 64 MiB per variable, would hold ~20 x 64 MiB of a large result)."""
+    import netCDF4
+
+    saved = netCDF4.get_chunk_cache()
+    netCDF4.set_chunk_cache(CHUNK_BYTES + 2**20, 31, saved[2])
+    try:
+        yield
+    finally:
+        netCDF4.set_chunk_cache(*saved)
+
+
+def _is_dask(data) -> bool:
+    return type(data).__module__.startswith("dask")
+
+
+def _fill_blocks(target: Path, lazy: dict) -> None:
+    """Compute the dask-backed variables one block at a time and write each block
+    into the file at its place (so no variable is ever whole in memory)."""
+    import netCDF4
+
+    with netCDF4.Dataset(target, "a") as nc:
+        nc.set_auto_maskandscale(False)
+        for name, var in lazy.items():
+            data = var.data
+            out = nc.variables[name]
+            starts = [np.cumsum((0,) + c[:-1]) for c in data.chunks]
+            for index in np.ndindex(*data.numblocks):
+                where = tuple(slice(s[i], s[i] + c[i])
+                              for s, c, i in zip(starts, data.chunks, index))
+                block = data.blocks[index].compute(scheduler="synchronous")
+                out[where] = np.asarray(block, dtype=var.dtype)
+
+
+def _skeleton(ds: xr.Dataset) -> xr.Dataset:
+    """``ds`` with every dask-backed variable replaced by zeros that take no memory
+    (a broadcast scalar per block): xarray writes the file's structure, metadata
+    and the in-memory variables, and :func:`_fill_blocks` the data."""
+    import dask.array as dsa
+
+    out = ds.copy()
+    for name, var in ds.variables.items():
+        if _is_dask(var.data) and name not in ds.indexes:
+            zero = dsa.broadcast_to(np.zeros((), var.dtype), var.shape,
+                                    chunks=var.data.chunks)
+            out[name] = xr.Variable(var.dims, zero, var.attrs)
+    return out
 
 
 def open_result(path) -> xr.Dataset:
@@ -331,7 +387,8 @@ class WorkingStore:
     """Finished chunks of a sweep in progress, in ``<path>.partial/``.
 
     One file per finished chunk, ``chunk-NNNNNN.START-STOP.SHA256.npy``: an ``.npy``
-    array ``(STOP - START, ncols)`` of the flat grid points ``START <= i < STOP``
+    array ``(ncols, STOP - START)`` (one contiguous row per observable, so a column
+    is read without the others) of the flat grid points ``START <= i < STOP``,
     whose SHA-256 (of the whole file) is part of its name. Each file is written to a
     temporary name and renamed into place, so one that exists was complete when
     written; on resume (:meth:`verified`) every file is read back and its name, range
@@ -497,10 +554,10 @@ class WorkingStore:
             arr = np.load(io.BytesIO(data), allow_pickle=False)
         except Exception as err:  # noqa: BLE001 - any parse failure means unusable
             return f"is not a readable array ({type(err).__name__})"
-        if arr.shape != (stop - start, self.ncols) or arr.dtype != np.float64:
+        if arr.shape != (self.ncols, stop - start) or arr.dtype != np.float64:
             return (f"holds {arr.dtype} {arr.shape}, expected float64 "
-                    f"{(stop - start, self.ncols)}")
-        return arr
+                    f"{(self.ncols, stop - start)}")
+        return arr.T
 
     def verified(self) -> list[int]:
         """Indices of the finished chunks, each read back and checked.
@@ -553,6 +610,29 @@ class WorkingStore:
                                "the same call to compute it again")
         return got
 
+    def column(self, i: int, col: int, lo: int, hi: int) -> np.ndarray:
+        """Column ``col`` of points ``lo <= j < hi`` of chunk ``i`` (offsets within
+        the chunk), read alone from the file (memory-mapped) of a chunk that
+        :meth:`verified` or :meth:`write` has listed.
+
+        Raises
+        ------
+        StoreDamaged
+            The chunk is not listed, or its file no longer holds the array.
+        """
+        entry = self._files.get(i)
+        start, stop = self.bounds(i)
+        try:
+            arr = np.load(entry, mmap_mode="r", allow_pickle=False)
+            if arr.shape != (self.ncols, stop - start) or arr.dtype != np.float64:
+                raise ValueError(f"holds {arr.dtype} {arr.shape}")
+            return np.array(arr[col, lo:hi])
+        except Exception as err:  # noqa: BLE001 - anything here means unusable
+            raise StoreDamaged(f"chunk {i} of the working store {self.directory} "
+                               f"cannot be read ({type(err).__name__}: {err}); rerun "
+                               "the same call to check the store and compute what is "
+                               "missing") from None
+
     def write(self, i: int, result: np.ndarray) -> None:
         """Store the result of chunk ``i`` (atomic: temporary file, then rename).
 
@@ -564,7 +644,8 @@ class WorkingStore:
         """
         start, stop = self.bounds(i)
         buf = io.BytesIO()
-        np.save(buf, np.ascontiguousarray(result, dtype=np.float64), allow_pickle=False)
+        np.save(buf, np.ascontiguousarray(np.asarray(result, dtype=np.float64).T),
+                allow_pickle=False)
         data = buf.getvalue()
         final = self.directory / (f"chunk-{i:06d}.{start}-{stop}."
                                   f"{hashlib.sha256(data).hexdigest()}.npy")

@@ -276,6 +276,8 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
                         call)
     with _working_store(target_path, grid, o, method, tol, options, requested) as store:
         _compute_to_store(grid, o, kind, target, store, progress)
+        # checked again before use: a chunk damaged meanwhile is computed again
+        _compute_to_store(grid, o, kind, target, store, False)
         ds = _dataset(grid, _stored_columns(grid, store), o, method, call)
         try:
             write_netcdf(ds, target_path)
@@ -331,8 +333,8 @@ def _stored_columns(grid: Grid, store):
 
     The blocks are the HDF5 chunks of a float64 variable (:func:`io.chunk_shape`:
     leading dimensions cut, trailing ones whole), so each covers a contiguous range
-    of flat indices; one task per block reads its stored chunks once for all
-    variables.
+    of flat indices; each task reads one column of one block from the chunk files
+    it overlaps, so no task holds more than a block of one variable.
     """
     import dask
     import dask.array as dsa
@@ -341,40 +343,35 @@ def _stored_columns(grid: Grid, store):
     block = chunk_shape(shape, 8) if shape else ()
     counts = [math.ceil(n / b) for n, b in zip(shape, block)]
     token = uuid.uuid4().hex
-    tables = {}
-    for k, index in enumerate(np.ndindex(*counts)):
+    ranges = {}
+    for index in np.ndindex(*counts):
         lo = [i * b for i, b in zip(index, block)]
         extent = tuple(min(b, n - s) for b, n, s in zip(block, shape, lo))
         start = int(np.ravel_multi_index(lo, shape)) if shape else 0
-        tables[index] = (dask.delayed(_table, pure=True)(
-            store, start, start + math.prod(extent),
-            dask_key_name=f"sweepcore-table-{k}-{token}"), extent)
+        ranges[index] = (start, start + math.prod(extent), extent)
 
-    def nested(prefix, col, dtype):
+    def nested(prefix, col):
         if len(prefix) == len(counts):
-            table, extent = tables[prefix]
-            return dsa.from_delayed(dask.delayed(_column, pure=True)(
-                table, col, extent, dtype), shape=extent, dtype=dtype)
-        return [nested(prefix + (i,), col, dtype) for i in range(counts[len(prefix)])]
+            start, stop, extent = ranges[prefix]
+            key = f"sweepcore-column-{col}-{start}-{token}"
+            return dsa.from_delayed(dask.delayed(_read_column)(
+                store, col, start, stop, extent, dask_key_name=key),
+                shape=extent, dtype=np.float64)
+        return [nested(prefix + (i,), col) for i in range(counts[len(prefix)])]
 
-    def columns(col, dtype=np.float64):
-        if not shape:
-            return nested((), col, dtype)
-        return dsa.block(nested((), col, dtype))
+    def columns(col):
+        return nested((), col) if not shape else dsa.block(nested((), col))
     return columns
 
 
-def _table(store, start: int, stop: int) -> np.ndarray:
-    """Stored observables ``(stop - start, ncols)`` of flat points [start, stop)."""
+def _read_column(store, col: int, start: int, stop: int, extent) -> np.ndarray:
+    """Stored observable ``col`` of flat points [start, stop), shaped ``extent``."""
     parts = []
     for i in range(start // store.chunk, (stop - 1) // store.chunk + 1):
         a, b = store.bounds(i)
-        parts.append(store.read(i)[max(start, a) - a:min(stop, b) - a])
-    return parts[0] if len(parts) == 1 else np.concatenate(parts)
-
-
-def _column(table, col, extent, dtype):
-    return table[:, col].astype(dtype).reshape(extent)
+        parts.append(store.column(i, col, max(start, a) - a, min(stop, b) - a))
+    out = parts[0] if len(parts) == 1 else np.concatenate(parts)
+    return out.reshape(extent)
 
 
 def _checked_arguments(grid, method, tol, chunks, options) -> np.ndarray:
