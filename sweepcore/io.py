@@ -148,11 +148,8 @@ def result_path(path, overwrite: bool = False) -> Path:
                          "file (e.g. 'map.nc')")
     try:
         st = os.lstat(target)
-    except FileNotFoundError:
+    except OSError:       # missing, or its directory is not one: checked below
         st = None
-    except OSError as err:
-        raise ValueError(f"path={raw!r} cannot be examined: "
-                         f"{_describe_oserror(err)}") from None
     if st is not None:
         mode = st.st_mode
         if stat.S_ISDIR(mode):
