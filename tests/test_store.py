@@ -430,6 +430,8 @@ def test_streamed_result_is_lazy_and_memory_follows_the_chunk(warm_sweep, tmp_pa
     grid = Grid(m=np.linspace(1.0, 2.0, 24), k=np.linspace(20.0, 40.0, 20), r_y=5.0,
                 v=np.linspace(0.1, 5.0, 100), alpha1=-1.0)   # 48 000 points
     columns = layout.NOBS * 8 * grid.size
+    sweep(Grid(m=5.0, k=50.0, r_y=10.0, v=[1.0, 2.0]), path=tmp_path / "warm.nc",
+          progress=False)                      # imports of the file path, untraced
 
     def peak(**kw):
         tracemalloc.start()
