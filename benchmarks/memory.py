@@ -3,7 +3,8 @@
 ``python benchmarks/memory.py [--points 1e6,1e7]`` writes
 ``benchmarks/results/memory.json``:
 
-* for each point count, ``sweep(grid, path=...)`` in a fresh subprocess: its peak
+* for each point count, ``sweep(grid, path=...)`` in a fresh subprocess (and, for
+  comparison, the first count without ``path``, in memory): its peak
   resident set size (VmHWM of /proc/self/status, so the interpreter, numpy, numba
   and dask are included), wall time, the size of the file, and what
   :func:`sweepcore.sweep.estimate` predicted. The grid is cheap on purpose
@@ -41,6 +42,7 @@ CHILD = textwrap.dedent("""\
     n, path = int(float(sys.argv[1])), sys.argv[2]
     grid = Grid(m=5.0, k=np.linspace(20.0, 80.0, n // 1000), r_y=10.0,
                 v=np.linspace(0.5, 10.0, 1000), alpha1=-1.0, alpha2=0.0)
+    path = None if path == "-" else path            # "-": in memory, for comparison
     est = estimate(grid, path=path)
     def hwm():
         status = dict(line.split(":", 1) for line in open("/proc/self/status")
@@ -52,19 +54,22 @@ CHILD = textwrap.dedent("""\
     t0 = time.perf_counter()
     ds = sweep(grid, path=path, progress=False)
     wall = time.perf_counter() - t0
-    ok = int(ds.converged.sum().compute())
+    ok = int(ds.converged.sum())
     ds.close()
     print(json.dumps({"points": grid.size, "wall_s": wall, "converged": ok,
                       "vm_hwm_mib": hwm(), "vm_hwm_before_mib": warm,
-                      "file_mib": os.path.getsize(path) / 2**20,
+                      "in_memory": path is None,
+                      "file_mib": os.path.getsize(path) / 2**20 if path else None,
                       "estimate": est}))
 """)
 
 
-def streamed(n: float, workdir: Path) -> dict:
-    """Peak RSS and wall time of a fresh process sweeping ``n`` points to a file."""
+def streamed(n: float, workdir: Path, in_memory: bool = False) -> dict:
+    """Peak RSS and wall time of a fresh process sweeping ``n`` points to a file
+    (or, ``in_memory``, without ``path``)."""
     path = workdir / f"sweep_{int(n)}.nc"
-    out = subprocess.run([sys.executable, "-c", CHILD, str(n), str(path)],
+    out = subprocess.run([sys.executable, "-c", CHILD, str(n),
+                          "-" if in_memory else str(path)],
                          capture_output=True, text=True, check=True,
                          env={**os.environ, "PYTHONPATH": str(HERE.parent)})
     path.unlink(missing_ok=True)
@@ -100,12 +105,15 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory(dir=RESULTS) as tmp:
         work = Path(tmp)
         runs = []
-        for n in (float(s) for s in args.points.split(",")):
-            runs.append(streamed(n, work))
-            print(f"{runs[-1]['points']:.3g} points streamed: peak RSS "
-                  f"{runs[-1]['vm_hwm_mib']:.0f} MiB ({runs[-1]['vm_hwm_before_mib']:.0f}"
-                  f" MiB before the sweep), {runs[-1]['wall_s']:.1f} s, "
-                  f"file {runs[-1]['file_mib']:.1f} MiB", flush=True)
+        counts = [float(s) for s in args.points.split(",")]
+        for n, in_memory in [(counts[0], True)] + [(n, False) for n in counts]:
+            runs.append(streamed(n, work, in_memory))
+            r = runs[-1]
+            where = "in memory" if in_memory else f"streamed, file {r['file_mib']:.1f} MiB"
+            print(f"{r['points']:.3g} points {where}: peak RSS {r['vm_hwm_mib']:.0f} MiB "
+                  f"({r['vm_hwm_before_mib']:.0f} MiB before the sweep; estimate "
+                  f"{r['estimate']['memory_bytes'] / 2**20:.0f} MiB), "
+                  f"{r['wall_s']:.1f} s", flush=True)
         refusals = [refusal(1000, work), refusal(10_000, work)]
         for r in refusals:
             print(f"{r['points']:.3g} points refused={r['refused']} in "
