@@ -203,6 +203,10 @@ def _fill_blocks(target: Path, lazy: dict) -> None:
         for name, var in lazy.items():
             data = var.data
             out = nc.variables[name]
+            if data.ndim == 0:
+                out.assignValue(np.asarray(data.compute(scheduler="synchronous"),
+                                           dtype=var.dtype))
+                continue
             starts = [np.cumsum((0,) + c[:-1]) for c in data.chunks]
             for index in np.ndindex(*data.numblocks):
                 where = tuple(slice(s[i], s[i] + c[i])

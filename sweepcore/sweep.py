@@ -57,6 +57,7 @@ import hashlib
 import json
 import logging
 import math
+import os
 import sys
 import uuid
 from importlib.metadata import PackageNotFoundError, version
@@ -445,6 +446,7 @@ def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
         in memory without ``path``; chunk, file block and, when ``v`` is swept, 7
         bytes per point for the Hopf boundary with ``path``); ``disk_bytes`` (with
         ``path``: the working store plus the output's upper bound, else 0);
+        ``stored_bytes`` (chunks already in the working store of ``path``);
         ``memory_available`` and ``disk_free`` [bytes] (None when unknown).
     """
     n = grid.size
@@ -462,13 +464,25 @@ def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
         disk = 0
     else:
         block = math.prod(chunk_shape(grid.shape, 8)) if grid.shape else 1
-        memory = working + 3 * block * 8 * layout.NOBS + HDF5_CACHE + \
-            (7 * n if boundary else 0)
+        # a block of one variable read, converted and compressed at a time
+        memory = working + 3 * block * 8 + HDF5_CACHE + (7 * n if boundary else 0)
         disk = n * 8 * layout.NOBS + output
     return {"points": n, "chunk": chunk, "output_bytes": int(output),
             "memory_bytes": int(memory), "disk_bytes": int(disk),
+            "stored_bytes": 0 if path is None else _stored_bytes(path),
             "memory_available": available_memory(),
             "disk_free": None if path is None else free_bytes(Path(path).parent)}
+
+
+def _stored_bytes(path) -> int:
+    """Bytes of chunk files already in the working store of ``path`` (a resume
+    needs only the rest)."""
+    try:
+        with os.scandir(WorkingStore.location(path)) as entries:
+            return sum(e.stat().st_size for e in entries if e.name.startswith("chunk-")
+                       and e.is_file(follow_symlinks=False))
+    except OSError:
+        return 0
 
 
 HDF5_CACHE = 64 * 2**20      # netCDF's chunk caches while the file is written
@@ -521,7 +535,7 @@ def _refuse_if_too_large(est: dict) -> None:
                             f"the Hopf boundary), but {_size(avail)} is available; "
                             "sweep a smaller grid or split it along v")
     free = est["disk_free"]
-    store = est["disk_bytes"] - est["output_bytes"]
+    store = est["disk_bytes"] - est["output_bytes"] - est["stored_bytes"]
     if free is not None and store > free:
         raise SweepTooLarge(f"{text} and {_size(store)} of disk for its working store "
                             f"(plus up to {_size(est['output_bytes'])} for the file), "

@@ -445,3 +445,20 @@ def test_streamed_result_is_lazy_and_memory_follows_the_chunk(warm_sweep, tmp_pa
     assert ds.amplitude.chunks is not None            # dask-backed, read on demand
     assert_same(ds, mem)
     assert streamed < 0.5 * columns < columns <= in_memory
+
+
+@pytest.mark.parametrize("grid", [
+    Grid(m=5.0, k=50.0, r_y=10.0, v=3.0, alpha1=1.0),                       # 0-d
+    Grid.points(m=5.0, k=50.0, r_y=10.0, v=[1.0, 2.0, 1.0], alpha1=[0.5, 1.0, 2.0]),
+    Grid(m=[4.0, 5.0], k=50.0, r_y=10.0, v=[0.5, 3.0, 6.0], alpha1=1.0,
+         alpha2=[0.0, 0.02], x0=[0.0, 0.3]),                                # 4-d
+], ids=["scalar", "points", "product"])
+def test_streamed_file_equals_the_in_memory_result(warm_sweep, tmp_path, grid):
+    want = sweep(grid, progress=False)
+    got = sweep(grid, path=tmp_path / "r.nc", chunks=5, progress=False)
+    assert set(got.variables) == set(want.variables)
+    for name in want.variables:
+        assert got[name].dtype == want[name].dtype, name
+        assert got[name].dims == want[name].dims, name
+        np.testing.assert_array_equal(got[name].values, want[name].values, err_msg=name)
+        assert got[name].attrs.keys() == want[name].attrs.keys(), name
