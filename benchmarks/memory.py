@@ -109,7 +109,8 @@ def main(argv=None) -> int:
         for n, in_memory in [(counts[0], True)] + [(n, False) for n in counts]:
             runs.append(streamed(n, work, in_memory))
             r = runs[-1]
-            where = "in memory" if in_memory else f"streamed, file {r['file_mib']:.1f} MiB"
+            where = ("in memory" if in_memory
+                     else f"streamed, file {r['file_mib']:.1f} MiB")
             print(f"{r['points']:.3g} points {where}: peak RSS {r['vm_hwm_mib']:.0f} MiB "
                   f"({r['vm_hwm_before_mib']:.0f} MiB before the sweep; estimate "
                   f"{r['estimate']['memory_bytes'] / 2**20:.0f} MiB), "

@@ -8,6 +8,7 @@ file), never used.
 import errno
 import importlib
 import os
+import re
 import stat
 import tracemalloc
 
@@ -154,17 +155,12 @@ def test_damaged_chunk_is_recomputed_with_a_warning(paper_map, reference, tmp_pa
     with pytest.warns(DamagedChunkWarning) as record:
         ds = sweep(paper_map, chunks=CHUNKS, path=path, progress=False)
     messages = [str(w.message) for w in record]
-    assert any(bad.name in m and re_search(reason, m) for m in messages), messages
+    assert any(bad.name in m and re.search(reason, m) for m in messages), messages
     # exactly the damaged chunk and the never-computed ones ran again
     damaged = int(bad.name.split(".")[0].split("-")[1]) * CHUNKS
     assert sorted(resumed) == sorted({damaged} | set(range(50, 72, CHUNKS)))
     assert_same(ds, reference)
     assert_same(open_result(path), reference)
-
-
-def re_search(pattern, text):
-    import re
-    return re.search(pattern, text) is not None
 
 
 def test_stray_file_named_like_a_chunk_is_discarded(paper_map, reference, tmp_path,
