@@ -2,8 +2,12 @@
 
 The final product of a sweep is one netCDF4 file written once, to a temporary name in
 the target directory, then renamed over the target (``os.replace``), so a reader
-never sees a partial file. While a sweep runs, finished chunks go to a working store
-``<path>.partial/`` (:class:`WorkingStore`) from which an interrupted sweep resumes.
+never sees a partial file; dask-backed variables are written block by block, so the
+result need not fit in memory (:func:`write_netcdf`). :func:`result_path` decides,
+before any work, which paths may become a result file. While a sweep runs, finished
+chunks go to a working store ``<path>.partial/`` (:class:`WorkingStore`), each with
+its SHA-256 and grid range, from which an interrupted sweep resumes after checking
+them. Write errors name what was being written, where, and the space it needed.
 """
 from __future__ import annotations
 
@@ -313,6 +317,10 @@ class StoreBusy(RuntimeError):
 class StoreDamaged(ValueError):
     """The working store cannot be used (its configuration file is unreadable, or
     it is not a directory); the message names it and says what to do."""
+
+
+class DamagedChunkWarning(UserWarning):
+    """A chunk file of a working store failed its check and is computed again."""
 
 
 def _name_max(directory: Path) -> int:
@@ -671,7 +679,3 @@ class WorkingStore:
         os.rename(self.directory, doomed)
         shutil.rmtree(doomed)
         self.close()
-
-
-class DamagedChunkWarning(UserWarning):
-    """A chunk file of a working store failed its check and is computed again."""
