@@ -84,6 +84,14 @@ def garble(files):
     return files[2]
 
 
+def garble_header(files):
+    """The .npy header (where a parser would raise EOFError or TokenError)."""
+    data = bytearray(files[2].read_bytes())
+    data[8:60] = b"{'descr': '<f8', 'fortran_order': ((((((((((((((((((((("
+    files[2].write_bytes(bytes(data))
+    return files[2]
+
+
 def copy_over(files):
     files[3].write_bytes(files[1].read_bytes())
     return files[3]
@@ -138,6 +146,7 @@ def empty(files):
 
 @pytest.mark.parametrize("damage, reason", [
     (garble, "fails its SHA-256"),
+    (garble_header, "fails its SHA-256"),
     (copy_over, "fails its SHA-256"),
     (copy_with_name, r"records points \[10, 20\), but chunk 3 is \[30, 40\)"),
     (rewrite_values(scale), "fails its SHA-256"),
@@ -458,3 +467,23 @@ def test_streamed_file_equals_the_in_memory_result(warm_sweep, tmp_path, grid):
         assert got[name].dims == want[name].dims, name
         np.testing.assert_array_equal(got[name].values, want[name].values, err_msg=name)
         assert got[name].attrs.keys() == want[name].attrs.keys(), name
+
+
+def test_available_memory_follows_an_address_space_limit(tmp_path):
+    """In a process limited (RLIMIT_AS) to its current size + 300 MiB, the memory
+    available is at most those 300 MiB."""
+    import subprocess
+    import sys
+    script = tmp_path / "limited.py"
+    script.write_text(
+        "import resource\n"
+        "from sweepcore.sweep import available_memory\n"
+        "vm = next(int(line.split()[1]) * 1024 for line in open('/proc/self/status')"
+        " if line.startswith('VmSize:'))\n"
+        "limit = vm + 300 * 2**20\n"
+        "resource.setrlimit(resource.RLIMIT_AS, (limit, resource.RLIM_INFINITY))\n"
+        "print(available_memory())\n")
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join(sys.path)}
+    out = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                         env=env, check=True)
+    assert 0 < int(out.stdout) <= 300 * 2**20
