@@ -60,6 +60,19 @@ def _positive_int(text: str) -> int:
     return n
 
 
+def _thread_count(text: str) -> int:
+    """--threads: an integer from 1 to the threads numba allows (its
+    NUMBA_NUM_THREADS, by default the number of cores)."""
+    n = _positive_int(text)
+    import numba
+    top = numba.config.NUMBA_NUM_THREADS
+    if n > top:
+        raise argparse.ArgumentTypeError(
+            f"must be at most {top} (the threads numba allows here: "
+            f"NUMBA_NUM_THREADS, by default the number of cores), got {text!r}")
+    return n
+
+
 # ------------------------------------------------------------------- parser
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``sweepcore`` (subcommands run, plot, simulate, info)."""
@@ -74,7 +87,7 @@ def build_parser() -> argparse.ArgumentParser:
                "sweepcore simulate --m 5 --k 50 --r-y 10 --v 5 --png fig3.png. "
                "Output variables and codes: docs/variables.md. "
                "Exit codes: 0 ok, 1 failure, 2 refused input.")
-    parser.add_argument("--threads", type=_positive_int, metavar="N",
+    parser.add_argument("--threads", type=_thread_count, metavar="N",
                         help="numba threads (sets NUMBA_NUM_THREADS and friends); "
                              "default: numba's (all cores)")
     parser.add_argument("--traceback", action="store_true",

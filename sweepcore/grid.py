@@ -16,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from ._kernels import layout
-from .params import LONG_NAMES, UNITS, check_real, did_you_mean
+from .params import LONG_NAMES, UNITS, check_derived, check_real, did_you_mean
 
 # axes in dimension order, with their kernel column and their check_real rule
 AXES = ("m", "k", "r_y", "v", "alpha1", "alpha2", "x0", "xdot0")
@@ -139,7 +139,9 @@ class Grid:
     -----
     Everything is validated here, before a sweep starts: finite values, m > 0,
     k > 0, r_y >= 0, alpha2 >= 0, 1-D non-empty axes of real numbers, distinct values
-    along a product axis, equal lengths of point axes. Errors name the axis and the
+    along a product axis, equal lengths of point axes, and magnitudes whose derived
+    quantities (omega, q, x_eq, the length scale) stay finite over the axes' ranges
+    (:func:`sweepcore.params.check_derived`). Errors name the axis and the
     offending value. Arrays are copied and frozen (read-only float64).
     """
 
@@ -165,6 +167,11 @@ class Grid:
                 shown = ", ".join(f"{n}: {n_}" for n, n_ in lengths.items())
                 raise ValueError("the array axes of Grid.points must have equal "
                                  f"lengths, got {shown}")
+        ranges = {}
+        for name in ("m", "k", "r_y", "v", "alpha1", "alpha2"):
+            val = np.atleast_1d(self.axis(name))
+            ranges[name] = (float(val.min()), float(val.max()))
+        check_derived("Grid", ranges)
 
     @classmethod
     def points(cls, m, k, r_y, v, alpha1=0.0, alpha2=0.0, x0=0.0, xdot0=None) -> Grid:

@@ -9,6 +9,7 @@ from ._kernels import codes, layout
 
 METHODS = ("auto", "exact", "gps", "rk4", "dopri5")
 AUTO = -1.0   # resolved per point in the kernel: exact if alpha2 == 0 else dopri5
+MAX_STEPS_CAP = 2**53   # largest integer a float64 option row holds exactly
 
 
 def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = None,
@@ -25,7 +26,8 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
     dt : float, optional
         Fixed step of gps and rk4 [s]; default 2 pi / omega / 50 per point.
     max_steps : int
-        Stepper calls allowed for one run or one grid point.
+        Stepper calls allowed for one run or one grid point, 1 ... 2**53 (the
+        option row is float64, exact for integers up to 2**53).
     max_periods : float
         Time budget of one attractor search, in natural periods 2 pi / omega.
     gps_a : float, optional
@@ -43,8 +45,10 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
                            or not (math.isfinite(dt) and dt > 0.0)):
         raise ValueError(f"dt must be a finite number > 0 [s], got {dt!r}")
     if isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) \
-            or max_steps < 1:
-        raise ValueError(f"max_steps must be an integer >= 1, got {max_steps!r}")
+            or not 1 <= max_steps <= MAX_STEPS_CAP:
+        raise ValueError(f"max_steps must be an integer in [1, 2**53], got "
+                         f"{max_steps!r} (it travels in a float64 option row, exact "
+                         "up to 2**53)")
     if isinstance(max_periods, bool) or not isinstance(max_periods, (int, float)) or \
             not (math.isfinite(max_periods) and max_periods > 0):
         raise ValueError(f"max_periods must be a finite number > 0, got {max_periods!r}")

@@ -52,6 +52,56 @@ def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
     return x
 
 
+DERIVED = {
+    "omega": "natural frequency sqrt(k/m) [1/s]",
+    "q": "Hopf quantity (alpha1 - 3 alpha2 v^2)/m [1/s] of eq. (46)",
+    "x_eq": "equilibrium (r_y - alpha1 |v| + alpha2 |v|^3)/k [cm] of eq. (43)",
+    "length": "length scale r_y/k + |v|/omega [cm]",
+}
+
+
+def derived_bounds(m, k, r_y, v, alpha1, alpha2) -> dict[str, float]:
+    """Largest magnitudes of the derived quantities over the given ranges.
+
+    Each argument is a (low, high) pair of the parameter's range (or its value
+    twice). Sums of absolute values are used, so a finite bound means every
+    derived quantity of every combination is finite; ``omega`` is bounded below as
+    well (its low value, which must be > 0). Overflow gives inf or NaN.
+    """
+    with np.errstate(all="ignore"):
+        lo = {n: np.float64(min(x)) for n, x in dict(m=m, k=k).items()}
+        hi = {n: np.float64(max(np.abs(x))) for n, x in dict(
+            m=m, k=k, r_y=r_y, v=v, alpha1=alpha1, alpha2=alpha2).items()}
+        w_hi = np.sqrt(hi["k"] / lo["m"])
+        w_lo = np.sqrt(lo["k"] / hi["m"])
+        va = hi["v"]
+        return {
+            "omega": float(w_hi if w_lo > 0.0 else np.nan),
+            "q": float((hi["alpha1"] + 3.0 * hi["alpha2"] * va ** 2) / lo["m"]),
+            "x_eq": float((hi["r_y"] + hi["alpha1"] * va + hi["alpha2"] * va ** 3)
+                          / lo["k"]),
+            "length": float(hi["r_y"] / lo["k"] + va / w_lo),
+        }
+
+
+def check_derived(where: str, ranges: dict) -> None:
+    """Refuse parameter magnitudes whose derived quantities overflow float64 (or
+    whose natural frequency underflows to 0), naming them and the values.
+
+    ``ranges``: parameter name -> (low, high).
+    """
+    bounds = derived_bounds(**ranges)
+    bad = [n for n, b in bounds.items() if not math.isfinite(b)]
+    if bad:
+        shown = ", ".join(f"{n}={lo!r}" if lo == hi else f"{n} in [{lo!r}, {hi!r}]"
+                          for n, (lo, hi) in ranges.items())
+        what = " and the ".join(DERIVED[n] for n in bad)
+        verb = "overflow" if len(bad) > 1 else "overflows"
+        zero = " (or omega underflows to 0)" if "omega" in bad else ""
+        raise ValueError(f"{where}: the {what} {verb} float64{zero} with {shown}; "
+                         "choose units in which the magnitudes are moderate")
+
+
 @dataclass(frozen=True)
 class Params:
     """One slider on the belt (Liu, Fig. 1), friction law eq. (40).
@@ -71,6 +121,12 @@ class Params:
         Linear coefficient of eq. (40) [kN s/cm], any finite value.
     alpha2 : float
         Cubic coefficient of eq. (40) [kN s^3/cm^3], >= 0.
+
+    Raises
+    ------
+    TypeError, ValueError
+        A parameter that is not a finite real number in its range, or magnitudes
+        whose derived quantities (omega, q, x_eq, the length scale) overflow.
     """
 
     m: float
@@ -85,6 +141,8 @@ class Params:
                          ("r_y", dict(nonnegative=True)), ("v", {}), ("alpha1", {}),
                          ("alpha2", dict(nonnegative=True))):
             object.__setattr__(self, name, check_real(name, getattr(self, name), **kw))
+        check_derived("Params", {n: (getattr(self, n),) * 2 for n in
+                                 ("m", "k", "r_y", "v", "alpha1", "alpha2")})
 
     @property
     def omega(self) -> float:

@@ -64,10 +64,15 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
     if output_dt is None:
         output_dt = 2.0 * math.pi / params.omega / 100.0
     output_dt = check_real("output_dt", output_dt, positive=True)
-    n = int(math.floor(t_end / output_dt + 1e-9)) + 1
-    if n > 10_000_000:
-        raise ValueError(f"output_dt={output_dt} gives {n} samples over t_end={t_end}; "
-                         "use a larger output_dt (at most 10^7 samples)")
+    ratio = t_end / output_dt
+    if not ratio < 10_000_000:      # also inf: output_dt tiny against t_end
+        raise ValueError(f"output_dt={output_dt!r} gives {ratio:.3g} samples over "
+                         f"t_end={t_end!r}; use a larger output_dt (at most 10^7 "
+                         "samples)")
+    n = int(math.floor(ratio + 1e-9)) + 1
+    if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) \
+            or max_events < 1:
+        raise ValueError(f"max_events must be an integer >= 1, got {max_events!r}")
     if method == "exact" and params.alpha2 != 0.0:
         raise ValueError("method='exact' needs alpha2 == 0 (the sliding phase has a "
                          f"closed form only for the piecewise-linear law); got "

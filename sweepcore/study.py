@@ -364,6 +364,16 @@ def _output(ck: _Checker, doc: dict) -> dict:
     return out
 
 
+def sweep_variables() -> list[str]:
+    """Names of the data variables a sweep can write (what ``[plot] variables``
+    may name)."""
+    from . import variables
+    from .boundary import BOUNDARY_VARIABLES
+
+    return [*variables.OBSERVABLES, "regime", "status", "converged",
+            *variables.ANALYTIC, *BOUNDARY_VARIABLES]
+
+
 def _plot(ck: _Checker, doc: dict, axes: dict) -> dict:
     table = ck.table(doc, "plot")
     ck.known(table, PLOT_KEYS, ("plot",))
@@ -375,6 +385,13 @@ def _plot(ck: _Checker, doc: dict, axes: dict) -> dict:
                 not all(isinstance(s, str) for s in val):
             ck.fail(("plot", "variables"), f"must be a non-empty array of variable "
                                            f"names, got {_describe(val)}")
+        known = sweep_variables()
+        unknown = [n for n in val if n not in known]
+        if unknown:
+            ck.fail(("plot", "variables"), f"{', '.join(map(repr, unknown))} "
+                                           f"{'is' if len(unknown) == 1 else 'are'} "
+                                           f"not a variable of a sweep; known: "
+                                           f"{', '.join(known)}")
         out["variables"] = list(val)
     for key in ("x", "y"):
         if key in table:

@@ -31,12 +31,23 @@ starting a thread pool per worker process; for a ``LocalCluster`` pass
 numba compile then fails). The first task
 on each worker process compiles the kernel, or loads it from numba's cache.
 
-Resumable runs
---------------
-With ``path``, each finished chunk is stored in ``<path>.partial/``
-(:class:`sweepcore.io.WorkingStore`); the netCDF file is written once at the end
-(atomically) and the store removed. Running the same call again after an
-interruption computes only the chunks not yet stored.
+Size, files and resumable runs
+------------------------------
+Before any work, :func:`estimate` gives the point count, the bytes of the output
+and the memory the call needs; a call that cannot fit in the memory available
+(``MemAvailable``, or an address-space limit) is refused with that estimate
+(:class:`SweepTooLarge`), leaving nothing behind.
+
+Without ``path`` the result is built in memory (13 float64 columns per point and
+the Dataset's variables). With ``path`` memory follows the chunk: each finished
+chunk is stored, with its SHA-256 and grid range, in ``<path>.partial/``
+(:class:`sweepcore.io.WorkingStore`); at the end the chunks are checked again and
+the netCDF file is filled from them block by block (one HDF5 chunk of one variable
+at a time) under a temporary name, renamed over ``path``, and returned opened
+lazily (dask-backed); the store is then removed. Running the same call again after
+an interruption checks the stored chunks and computes only those missing or
+damaged. ``python benchmarks/memory.py`` measures the peak memory of streamed
+sweeps of 1e6 and 1e7 points and the time of a refusal.
 """
 from __future__ import annotations
 
@@ -44,7 +55,9 @@ import datetime
 import functools
 import hashlib
 import json
+import logging
 import math
+import os
 import sys
 import uuid
 from importlib.metadata import PackageNotFoundError, version
@@ -61,7 +74,7 @@ from ._kernels import codes, layout
 from ._kernels.attractor import attractor_rows, attractor_rows_parallel
 from .boundary import BOUNDARY_VARIABLES, hopf_boundary
 from .grid import Grid
-from .io import WorkingStore, write_netcdf
+from .io import WorkingStore, chunk_shape, free_bytes, result_path, write_netcdf
 from .options import make_options
 
 CHUNK_MAX = 50_000        # default chunks hold 20 000 - 50 000 points,
@@ -70,6 +83,7 @@ CHUNK_SPLIT = 16          # and mid-size grids are cut in up to 16 (progress, wo
 LOCAL_SCHEDULERS = {"threads": "threads", "processes": "processes",
                     "synchronous": "synchronous", "sync": "synchronous",
                     "single-threaded": "synchronous"}
+_log = logging.getLogger(__name__)
 REFERENCE = ('C.-S. Liu, "Coulomb friction applied to analyze the cutting vibration '
              'of tool on workpiece"')
 
@@ -197,7 +211,7 @@ def _execute(kind, target, grid, o, bounds, todo, handle):
 # -------------------------------------------------------------------- sweep
 def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | None = None,
           client=None, path=None, progress: bool | None = None, scheduler=None,
-          **options) -> xr.Dataset:
+          overwrite: bool = False, **options) -> xr.Dataset:
     """The attractor of every point of ``grid``, as one labelled Dataset.
 
     Parameters
@@ -215,19 +229,31 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
         chunk, not with the grid. Results do not depend on it.
     client : distributed.Client or str, optional
         Run one task per chunk on this cluster (or on the scheduler at this address).
-    path : str or path-like, optional
-        Write the result to this netCDF4 file (atomically, at the end) and keep
-        finished chunks in ``<path>.partial/`` meanwhile; rerunning the same call
-        after an interruption resumes from there. Another call on the same path
-        with different arguments raises, naming the store; so does one started
-        while another sweep on the same path is running
-        (:class:`sweepcore.io.StoreBusy`).
+    path : str or os.PathLike, optional
+        Write the result to this netCDF4 file and return it opened lazily
+        (dask-backed): memory then follows the chunk, not the grid. Finished chunks
+        are kept, each with its SHA-256 and grid range, in a working store
+        ``<path>.partial/`` (:class:`sweepcore.io.WorkingStore`), from which the
+        file is filled block by block at the end, under a temporary name beside
+        ``path`` renamed over it once complete. Rerunning the same call after an
+        interruption resumes: stored chunks are checked, a damaged one is computed
+        again (with a warning naming it). Another call on the same path with
+        different arguments raises, naming the store; so does one started while
+        another sweep on the same path is running (:class:`sweepcore.io.StoreBusy`).
+        Rules, checked before any work (:func:`sweepcore.io.result_path`): an
+        existing regular file is replaced atomically; a directory, symbolic link,
+        FIFO, device or socket is refused; a read-only file is refused unless
+        ``overwrite=True``; a name too long to take the ``.partial`` suffix gets a
+        short hashed store name beside it. A write error (disk full) names the
+        file, the bytes needed and the space free, and keeps the store resumable.
     progress : bool, optional
         Show a tqdm bar; default: only when stderr is a terminal (and the sweep
         lasts more than half a second).
     scheduler : {"threads", "processes", "synchronous"} or str, optional
         Run one dask task per chunk with this local scheduler (or a scheduler
         address). Default (with no ``client``): numba threads in this process.
+    overwrite : bool
+        Replace ``path`` even if it is a read-only file.
     **options
         dt, max_steps, max_periods, gps_a, graze: see
         :func:`sweepcore.options.make_options`.
@@ -243,53 +269,133 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
         they depend on, and, when ``v`` is swept with >= 2 values, the measured
         Hopf boundary of :func:`sweepcore.boundary.hopf_boundary`. CF-1.11
         attributes record the call, the version and the resolved options.
+
+    Raises
+    ------
+    SweepTooLarge
+        Before any work, when the memory the call needs (:func:`estimate`) exceeds
+        the memory available (or, with ``path``, the working store exceeds the
+        free disk space); nothing is written.
     """
-    o = _checked_arguments(grid, method, tol, chunks, path, options)
+    o = _checked_arguments(grid, method, tol, chunks, options)
+    target_path = None if path is None else result_path(path, overwrite=overwrite)
     kind, target = _executor(client, scheduler)
     call = _call_repr(grid, method, tol, chunks, client, path, scheduler, options)
     requested = None if chunks is None else min(int(chunks), grid.size)
-    if path is None:
-        chunk = default_chunk(grid.size) if requested is None else requested
-        cols = _compute(grid, o, kind, target, chunk, None, progress)
-        return _dataset(grid, cols, o, method, call)
-    with _working_store(path, grid, o, method, tol, options, requested) as store:
-        cols = _compute(grid, o, kind, target, store.chunk, store, progress)
-        ds = _dataset(grid, cols, o, method, call)
-        write_netcdf(ds, path)
+    chunk = default_chunk(grid.size) if requested is None else requested
+    est = estimate(grid, chunk, target_path)
+    _log.info("sweep of %d points: output %s, memory about %s (available %s)",
+              est["points"], _size(est["output_bytes"]), _size(est["memory_bytes"]),
+              "unknown" if est["memory_available"] is None
+              else _size(est["memory_available"]))
+    _refuse_if_too_large(est)
+    if target_path is None:
+        cols = _compute(grid, o, kind, target, chunk, progress)
+        return _dataset(grid, lambda col: cols[col].reshape(grid.shape), o, method,
+                        call)
+    with _working_store(target_path, grid, o, method, tol, options, requested) as store:
+        _compute_to_store(grid, o, kind, target, store, progress)
+        # checked again before use: a chunk damaged meanwhile is computed again
+        _compute_to_store(grid, o, kind, target, store, False)
+        ds = _dataset(grid, _stored_columns(grid, store), o, method, call)
+        try:
+            write_netcdf(ds, target_path)
+        except OSError as err:
+            raise OSError(err.errno, f"{err.strerror or err} The working store "
+                          f"{store.directory} is kept: free space and rerun the same "
+                          "call to finish.") from err
         store.remove()
-    return ds
+    return xr.open_dataset(target_path, engine="netcdf4", chunks={},
+                           decode_times=False, decode_timedelta=False)
 
 
-def _compute(grid, o, kind, target, chunk, store, progress) -> np.ndarray:
-    """Observables ``(layout.NOBS, grid.size)``: stored chunks read back, the others
-    computed (and stored as they finish when there is a store)."""
+def _progress_bar(size, initial, progress):
+    show = sys.stderr.isatty() if progress is None else bool(progress)
+    return tqdm(total=size, initial=initial, unit="pt", unit_scale=True, desc="sweep",
+                disable=not show, delay=0.5 if progress is None else 0.0,
+                file=sys.stderr)
+
+
+def _compute(grid, o, kind, target, chunk, progress) -> np.ndarray:
+    """Observables ``(layout.NOBS, grid.size)``, computed in memory."""
     size = grid.size
     bounds = [(a, min(a + chunk, size)) for a in range(0, size, chunk)]
     cols = np.empty((layout.NOBS, size))     # one contiguous row per observable
-    finished = store.done(len(bounds)) if store is not None else []
-    for i in finished:
-        a, b = bounds[i]
-        cols[:, a:b] = store.read(i, b - a).T
-    todo = sorted(set(range(len(bounds))) - set(finished))
-
-    show = sys.stderr.isatty() if progress is None else bool(progress)
-    with tqdm(total=size, initial=sum(bounds[i][1] - bounds[i][0] for i in finished),
-              unit="pt", unit_scale=True, desc="sweep", disable=not show,
-              delay=0.5 if progress is None else 0.0, file=sys.stderr) as bar:
+    with _progress_bar(size, 0, progress) as bar:
         def handle(i, result):
             a, b = bounds[i]
             cols[:, a:b] = result.T
-            if store is not None:
-                store.write(i, result)
             bar.update(b - a)
 
-        if todo:
-            _execute(kind, target, grid, o, bounds, todo, handle)
+        _execute(kind, target, grid, o, bounds, range(len(bounds)), handle)
     return cols
 
 
-def _checked_arguments(grid, method, tol, chunks, path, options) -> np.ndarray:
-    """Validate everything before work starts; return the kernel option row."""
+def _compute_to_store(grid, o, kind, target, store, progress) -> None:
+    """Compute the chunks the store lacks (or holds damaged), storing each as it
+    finishes; nothing grid-sized is held in memory."""
+    finished = set(store.verified())
+    bounds = [store.bounds(i) for i in range(store.n_chunks)]
+    todo = [i for i in range(len(bounds)) if i not in finished]
+    initial = sum(bounds[i][1] - bounds[i][0] for i in finished)
+    with _progress_bar(grid.size, initial, progress) as bar:
+        def handle(i, result):
+            store.write(i, result)
+            bar.update(bounds[i][1] - bounds[i][0])
+
+        if todo:
+            _execute(kind, target, grid, o, bounds, todo, handle)
+
+
+def _stored_columns(grid: Grid, store):
+    """``col -> dask array`` of the grid's shape, read from the store block by block.
+
+    The blocks are the HDF5 chunks of a float64 variable (:func:`io.chunk_shape`:
+    leading dimensions cut, trailing ones whole), so each covers a contiguous range
+    of flat indices; each task reads one column of one block from the chunk files
+    it overlaps, so no task holds more than a block of one variable.
+    """
+    import dask
+    import dask.array as dsa
+
+    shape = grid.shape
+    block = chunk_shape(shape, 8) if shape else ()
+    counts = [math.ceil(n / b) for n, b in zip(shape, block)]
+    token = uuid.uuid4().hex
+    ranges = {}
+    for index in np.ndindex(*counts):
+        lo = [i * b for i, b in zip(index, block)]
+        extent = tuple(min(b, n - s) for b, n, s in zip(block, shape, lo))
+        start = int(np.ravel_multi_index(lo, shape)) if shape else 0
+        ranges[index] = (start, start + math.prod(extent), extent)
+
+    def nested(prefix, col):
+        if len(prefix) == len(counts):
+            start, stop, extent = ranges[prefix]
+            key = f"sweepcore-column-{col}-{start}-{token}"
+            return dsa.from_delayed(dask.delayed(_read_column)(
+                store, col, start, stop, extent, dask_key_name=key),
+                shape=extent, dtype=np.float64)
+        return [nested(prefix + (i,), col) for i in range(counts[len(prefix)])]
+
+    def columns(col):
+        return nested((), col) if not shape else dsa.block(nested((), col))
+    return columns
+
+
+def _read_column(store, col: int, start: int, stop: int, extent) -> np.ndarray:
+    """Stored observable ``col`` of flat points [start, stop), shaped ``extent``."""
+    parts = []
+    for i in range(start // store.chunk, (stop - 1) // store.chunk + 1):
+        a, b = store.bounds(i)
+        parts.append(store.column(i, col, max(start, a) - a, min(stop, b) - a))
+    out = parts[0] if len(parts) == 1 else np.concatenate(parts)
+    return out.reshape(extent)
+
+
+def _checked_arguments(grid, method, tol, chunks, options) -> np.ndarray:
+    """Validate everything but the path before work starts; return the kernel
+    option row."""
     if not isinstance(grid, Grid):
         raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
     o = make_options(method, tol=tol, **options)
@@ -301,15 +407,140 @@ def _checked_arguments(grid, method, tol, chunks, path, options) -> np.ndarray:
             chunks, (int, np.integer)) or chunks < 1):
         raise ValueError(f"chunks must be an integer >= 1 (points per chunk), "
                          f"got {chunks!r}")
-    if path is not None:
-        target = Path(path)
-        if str(path) == "" or target.is_dir():
-            raise ValueError(f"path={str(path)!r} is a directory; give the name of "
-                             "the result file (e.g. 'map.nc')")
-        if not target.parent.is_dir():
-            raise FileNotFoundError(f"path={str(path)!r}: directory {target.parent} "
-                                    "does not exist")
     return o
+
+
+# ------------------------------------------------------------- size estimate
+class SweepTooLarge(ValueError):
+    """A sweep refused before any work: it would not fit in memory (or on disk)."""
+
+
+def _analytic_sizes(grid: Grid) -> int:
+    """Points of the analytic variables together (each over its own dimensions)."""
+    total = 0
+    for _func, args in _grid.ANALYTIC.values():
+        swept = [a for a in args if a in grid.swept]
+        if grid.mode == "points":
+            total += grid.size if swept else 1
+        else:
+            total += math.prod(len(grid.axis(a)) for a in swept)
+    return total
+
+
+def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
+    """Size of a sweep, before any work: points, bytes of output, memory and disk.
+
+    Parameters
+    ----------
+    grid : Grid
+    chunks : int, optional
+        Points per chunk (default :func:`default_chunk`).
+    path : optional
+        The result file: memory then follows the chunk (the result streams to disk).
+
+    Returns
+    -------
+    dict
+        ``points``; ``output_bytes`` (the Dataset's variables, uncompressed: an
+        upper bound of the file); ``memory_bytes`` the call will need (the result
+        in memory without ``path``; chunk, file block and, when ``v`` is swept, 7
+        bytes per point for the Hopf boundary with ``path``); ``disk_bytes`` (with
+        ``path``: the working store plus the output's upper bound, else 0);
+        ``stored_bytes`` (chunks already in the working store of ``path``);
+        ``memory_available`` and ``disk_free`` [bytes] (None when unknown).
+    """
+    n = grid.size
+    chunk = default_chunk(n) if chunks is None else min(int(chunks), n)
+    n_obs = len(variables.OBSERVABLES)
+    output = n * (8 * n_obs + 3) + 8 * _analytic_sizes(grid)
+    boundary = "v" in grid.dims and len(np.atleast_1d(grid.v)) >= 2
+    if boundary:
+        output += 8 * 4 * (n // len(grid.v))
+    # one chunk: its kernel rows and results, the result's transpose, dask's copies
+    working = 3 * chunk * 8 * (layout.NP + layout.NOBS)
+    if path is None:
+        memory = n * (8 * layout.NOBS + 4) + 8 * _analytic_sizes(grid) + working
+        memory += 7 * n if boundary else 0
+        disk = 0
+    else:
+        block = math.prod(chunk_shape(grid.shape, 8)) if grid.shape else 1
+        # a block of one variable read, converted and compressed at a time
+        memory = working + 3 * block * 8 + HDF5_CACHE + (7 * n if boundary else 0)
+        disk = n * 8 * layout.NOBS + output
+    return {"points": n, "chunk": chunk, "output_bytes": int(output),
+            "memory_bytes": int(memory), "disk_bytes": int(disk),
+            "stored_bytes": 0 if path is None else _stored_bytes(path),
+            "memory_available": available_memory(),
+            "disk_free": None if path is None else free_bytes(Path(path).parent)}
+
+
+def _stored_bytes(path) -> int:
+    """Bytes of chunk files already in the working store of ``path`` (a resume
+    needs only the rest)."""
+    try:
+        with os.scandir(WorkingStore.location(path)) as entries:
+            return sum(e.stat().st_size for e in entries if e.name.startswith("chunk-")
+                       and e.is_file(follow_symlinks=False))
+    except OSError:
+        return 0
+
+
+HDF5_CACHE = 64 * 2**20      # netCDF's chunk caches while the file is written
+
+
+def available_memory() -> int | None:
+    """Bytes this process may still allocate: ``MemAvailable`` of /proc/meminfo,
+    lowered by an address-space limit (``RLIMIT_AS``) if one is set; None if
+    neither is known."""
+    limits = []
+    try:
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    limits.append(int(line.split()[1]) * 1024)
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        import resource
+        soft, _hard = resource.getrlimit(resource.RLIMIT_AS)
+        if soft != resource.RLIM_INFINITY:
+            with open("/proc/self/status") as f:
+                used = next(int(line.split()[1]) * 1024 for line in f
+                            if line.startswith("VmSize:"))
+            limits.append(max(0, soft - used))
+    except (ImportError, OSError, ValueError, StopIteration):
+        pass
+    return min(limits) if limits else None
+
+
+def _size(nbytes) -> str:
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if abs(nbytes) < 1024 or unit == "PiB":
+            return f"{nbytes:.3g} {unit}" if unit != "B" else f"{int(nbytes)} B"
+        nbytes /= 1024
+
+
+def _refuse_if_too_large(est: dict) -> None:
+    """Raise :class:`SweepTooLarge` (nothing written) if the call cannot fit."""
+    text = (f"a sweep of {est['points']:,} points (output {_size(est['output_bytes'])}"
+            f" uncompressed) needs about {_size(est['memory_bytes'])} of memory")
+    avail = est["memory_available"]
+    if avail is not None and est["memory_bytes"] > avail:
+        if est["disk_free"] is None:
+            raise SweepTooLarge(f"{text}, but {_size(avail)} is available; pass "
+                                "path='map.nc' to stream the result to a file chunk by "
+                                "chunk (memory then follows the chunk size), or sweep "
+                                "a smaller grid")
+        raise SweepTooLarge(f"{text} even streamed to a file (7 bytes per point for "
+                            f"the Hopf boundary), but {_size(avail)} is available; "
+                            "sweep a smaller grid or split it along v")
+    free = est["disk_free"]
+    store = est["disk_bytes"] - est["output_bytes"] - est["stored_bytes"]
+    if free is not None and store > free:
+        raise SweepTooLarge(f"{text} and {_size(store)} of disk for its working store "
+                            f"(plus up to {_size(est['output_bytes'])} for the file), "
+                            f"but {_size(free)} is free there; choose a path on a "
+                            "larger disk or sweep a smaller grid")
 
 
 @functools.lru_cache(maxsize=1)
@@ -366,14 +597,16 @@ def _attrs(units: str, long_name: str, comment: str) -> dict:
     return {**attrs, "comment": comment} if comment else attrs
 
 
-def _dataset(grid: Grid, cols: np.ndarray, o: np.ndarray, method: str,
+def _dataset(grid: Grid, column, o: np.ndarray, method: str,
              call: str) -> xr.Dataset:
-    dims, shape = grid.dims, grid.shape
+    """The labelled result; ``column(col)`` gives observable column ``col`` over the
+    grid's shape (a numpy view, or a dask array read from the working store)."""
+    dims = grid.dims
     data = {}
     for name, (col, *meta) in variables.OBSERVABLES.items():
-        data[name] = xr.Variable(dims, cols[col].reshape(shape), _attrs(*meta))
-    status = cols[layout.OB_STATUS].astype(np.int8).reshape(shape)
-    regime = cols[layout.OB_REGIME].astype(np.int8).reshape(shape)
+        data[name] = xr.Variable(dims, column(col), _attrs(*meta))
+    status = column(layout.OB_STATUS).astype(np.int8)
+    regime = column(layout.OB_REGIME).astype(np.int8)
     data["regime"] = xr.Variable(dims, regime, _flag_attrs(variables.REGIME))
     data["status"] = xr.Variable(dims, status, _flag_attrs(variables.STATUS))
     data["converged"] = xr.Variable(
@@ -382,14 +615,26 @@ def _dataset(grid: Grid, cols: np.ndarray, o: np.ndarray, method: str,
          "flag_values": np.array([0, 1], dtype=np.int8),
          "flag_meanings": "not_converged converged"})
     ds = xr.Dataset(data, grid.coords())
+    lazy = not isinstance(status, np.ndarray)
+    inputs = {a: ds[a] for a in grid.coords()}
+    if lazy and grid.shape:
+        # analytic variables in blocks too: each coordinate cut like the data
+        import dask.array as dsa
+        block = dict(zip(dims, chunk_shape(grid.shape, 8)))
+        inputs = {a: xr.DataArray(dsa.from_array(c.values, chunks=block[c.dims[0]]),
+                                  dims=c.dims) if c.ndim else c.variable
+                  for a, c in inputs.items()}
 
     for name, (func, args) in _grid.ANALYTIC.items():
-        da = xr.apply_ufunc(func, *(ds[a] for a in args), keep_attrs=False)
+        da = xr.apply_ufunc(func, *(inputs[a] for a in args), keep_attrs=False,
+                            dask="parallelized", output_dtypes=[np.float64])
         da = da.transpose(*(d for d in dims if d in da.dims))
         ds[name] = xr.Variable(da.dims, da.data, _attrs(*variables.ANALYTIC[name]))
 
     if "v" in ds.dims and ds.sizes["v"] >= 2:
-        bd = hopf_boundary(ds)
+        # lazily: the boundary needs the regime of the whole grid, 1 byte per point
+        bd = hopf_boundary(ds[["regime"]].compute(scheduler="synchronous") if lazy
+                           else ds)
         ds = ds.assign({n: bd[n].variable for n in BOUNDARY_VARIABLES})
 
     now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")

@@ -136,7 +136,7 @@ def wait_for_chunks(store, n, proc, timeout=90):
 
 
 def chunk_index(f):
-    return int(f.stem.split("-")[1])
+    return int(f.name.split(".")[0].split("-")[1])
 
 
 def kill_and_resume(tmp_path, kill_after):

@@ -12,8 +12,8 @@ import pytest
 import xarray as xr
 
 from sweepcore.grid import Grid
-from sweepcore.io import (StoreBusy, WorkingStore, check_cf, chunk_shape, open_result,
-                          write_netcdf)
+from sweepcore.io import (DamagedChunkWarning, StoreBusy, StoreDamaged, WorkingStore,
+                          check_cf, chunk_shape, open_result, write_netcdf)
 from sweepcore.sweep import sweep
 
 
@@ -117,11 +117,11 @@ def test_store_round_trips_chunks_and_survives_a_reopen(tmp_path):
     path = tmp_path / "map.nc"
     block = np.arange(12.0).reshape(4, 3)
     with open_store(path) as store:
-        assert store.chunk == 4 and store.done(3) == []
+        assert store.chunk == 4 and store.verified() == []
         store.write(1, block)
     with open_store(path) as store:          # resumed: chunk size adopted
-        assert store.chunk == 4 and store.done(3) == [1]
-        np.testing.assert_array_equal(store.read(1, 4), block)
+        assert store.chunk == 4 and store.verified() == [1]
+        np.testing.assert_array_equal(store.read(1), block)
         store.remove()
     assert sorted(p.name for p in tmp_path.iterdir()) == []
 
@@ -145,12 +145,17 @@ def test_store_refuses_other_configuration_and_chunking(tmp_path):
     open_store(path).close()                 # a refusal leaves the store unlocked
 
 
-def test_damaged_chunk_is_reported_naming_the_store(tmp_path):
+def test_chunk_damaged_during_the_sweep_is_reported_naming_the_store(tmp_path):
     path = tmp_path / "map.nc"
     with open_store(path) as store:
-        np.save(store.directory / "chunk-000000.npy", np.zeros(5))
-        with pytest.raises(ValueError, match="the store is damaged; remove .*partial"):
-            store.read(0, 4)
+        store.write(0, np.zeros((4, 3)))
+        (f,) = store.directory.glob("chunk-*.npy")
+        f.write_bytes(f.read_bytes()[:-8])
+        with pytest.warns(DamagedChunkWarning, match="fails its SHA-256"):
+            with pytest.raises(StoreDamaged, match=r"chunk 0 of the working store "
+                               r".*partial .*rerun the same call"):
+                store.read(0)
+        assert not f.exists()
 
 
 # ------------------------------------------------------------- the checker

@@ -85,3 +85,66 @@ def test_attractor_refuses_bad_arguments():
         sc.attractor({"m": 5})
     with pytest.raises(ValueError, match="max_periods"):
         sc.attractor(sc.Params(**GOOD), max_periods=-1)
+
+
+# ------------------------------------------------ magnitudes that overflow
+@pytest.mark.parametrize("kw, quantity", [
+    (dict(v=1e103), "equilibrium"),                     # |v|^3 overflows
+    (dict(v=1e200, alpha2=0.01), "Hopf quantity"),      # alpha2 v^2 overflows
+    (dict(m=1e-300, k=1e300), "natural frequency"),     # k/m overflows
+    (dict(m=1e300, k=1e-300), "natural frequency"),     # k/m underflows to 0
+    (dict(r_y=1e300, k=1e-100), "equilibrium"),         # r_y/k overflows
+])
+def test_magnitudes_whose_derived_quantities_overflow_are_refused(kw, quantity):
+    with pytest.raises(ValueError, match=f"Params: the .*{quantity}.* float64") as err:
+        sc.Params(**{**GOOD, **kw})
+    name, value = next(iter(kw.items()))
+    assert f"{name}={value!r}" in str(err.value)
+
+
+def test_large_but_representable_magnitudes_are_accepted_with_finite_derived_values():
+    p = sc.Params(m=1e-100, k=1e100, r_y=1e100, v=1e100, alpha1=1e-100, alpha2=1e-250)
+    for value in (p.omega, p.q, p.x_eq):
+        assert math.isfinite(value)
+    # x_eq = (1e100 - 1 + 1e50)/1e100 = 1 + 1e-50, q = (1e-100 - 3e-50)/1e-100
+    assert p.omega == 1e100 and p.x_eq == pytest.approx(1.0, rel=1e-15)
+    assert p.q == pytest.approx(-3e50, rel=1e-15)
+
+
+def test_grid_refuses_an_axis_range_whose_derived_quantities_overflow():
+    from sweepcore.grid import Grid
+    with pytest.raises(ValueError, match=r"Grid: the .*equilibrium.* v in \[1\.0, "
+                       r"1e\+103\]"):
+        Grid(m=5.0, k=50.0, r_y=10.0, v=[1.0, 1e103])
+    with pytest.raises(ValueError, match="Grid: the natural frequency"):
+        Grid.points(m=[1e-300, 1.0], k=[1e300, 1.0], r_y=1.0, v=1.0)
+
+
+@pytest.mark.parametrize("max_steps", [2**53 + 1, 2**63, 10**30])
+def test_max_steps_beyond_the_option_row_is_refused(max_steps):
+    from sweepcore.options import make_options
+    with pytest.raises(ValueError, match=rf"max_steps must be an integer in \[1, "
+                       rf"2\*\*53\], got {max_steps}"):
+        make_options(max_steps=max_steps)
+    o = make_options(max_steps=2**53)
+    from sweepcore._kernels import layout
+    assert int(o[layout.O_MAX_STEPS]) == 2**53        # exact in the float64 row
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(output_dt=5e-324), r"output_dt=5e-324 gives inf samples"),
+    (dict(output_dt=1e-300), r"output_dt=1e-300 gives 1e\+300 samples"),
+    (dict(max_events="a"), r"max_events must be an integer >= 1, got 'a'"),
+    (dict(max_events=0), r"max_events must be an integer >= 1, got 0"),
+    (dict(max_events=2.5), r"max_events must be an integer >= 1, got 2.5"),
+])
+def test_simulate_refuses_output_dt_and_max_events_before_simulating(kw, match,
+                                                                     monkeypatch):
+    import importlib
+    sim = importlib.import_module("sweepcore.simulate")
+
+    def no_run(*args):
+        raise AssertionError("simulated")
+    monkeypatch.setattr(sim, "run_trajectory", no_run)
+    with pytest.raises(ValueError, match=match):
+        sc.simulate(sc.Params(**GOOD), 1.0, **kw)

@@ -471,7 +471,7 @@ def test_cf_checkers_catch_a_broken_file(result_file, tmp_path):
     """Both checkers can fail: a file without units, with an unpaired flag and an
     out-of-range flag value is reported by each."""
     path, ds = result_file
-    broken = ds.copy(deep=True)
+    broken = ds.load().copy(deep=True)     # sweep(path=...) returns it lazily
     del broken["amplitude"].attrs["units"]
     broken["regime"].attrs["flag_meanings"] += " extra"
     broken["status"].values[(0,) * broken.status.ndim] = 99
