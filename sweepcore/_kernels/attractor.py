@@ -33,6 +33,7 @@ from .jit import kernel
 from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
+from .resolution import check_cycle
 from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
                      A_XMIN, A1, A2, K, M, NA, NOBS, NS, O_DT, O_GPS_A, O_LV, O_LX, O_MAX_STEPS,
                      O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
@@ -251,7 +252,7 @@ def attractor_point(p, o_in, out):
                 regime = codes.R_STICK_SLIP if acc_cyc[A_NSTICK] > 0 else codes.R_SLIP_CYCLE
                 _write_cycle(out, acc_cyc, t_cyc, omega, regime)
                 out[OB_FLOQUET] = 0.0     # every period restarts from the same point
-                out[OB_STATUS] = codes.OK
+                check_cycle(out, p)
                 out[OB_NSTEPS] = st[S_N]
                 return
             reset_seen = True
@@ -309,7 +310,7 @@ def attractor_point(p, o_in, out):
                 and not (conservative and p[RY] > 0.0 and e_hist[2] > 0):
             regime = codes.R_NEUTRAL if conservative else codes.R_SLIP_CYCLE
             _write_cycle(out, acc_last, t_last_sec, omega, regime)
-            out[OB_STATUS] = codes.OK
+            check_cycle(out, p)
             out[OB_NSTEPS] = st[S_N]
             return
         # Aitken jump on the section sequence, only where the return map is smooth
