@@ -10,6 +10,10 @@ from ._kernels import codes, layout
 METHODS = ("auto", "exact", "gps", "rk4", "dopri5")
 AUTO = -1.0   # resolved per point in the kernel: exact if alpha2 == 0 else dopri5
 MAX_STEPS_CAP = 2**53   # largest integer a float64 option row holds exactly
+# Largest touch tolerance: the accuracy of an answer (1e-6 relative). A touch reset to
+# the breakaway point drops the excursion of zdot past 0; above this it can drop a
+# real stick or a growing cycle.
+GRAZE_MAX = 1e-6
 
 
 def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = None,
@@ -33,7 +37,8 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
     gps_a : float, optional
         GPS shift constant a [cm]; default the point's length scale r_y/k + |v|/omega.
     graze : float
-        Relative tolerance that decides a tangential touch of zdot = 0.
+        Relative tolerance that decides a tangential touch of zdot = 0 (of the
+        motion's velocity scale |v|), in (0, 1e-6]; dopri5 uses at least 20 tol.
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}")
@@ -41,6 +46,12 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
         if isinstance(val, bool) or not isinstance(val, (int, float)) or \
                 not (math.isfinite(val) and 0.0 < val < 1.0):
             raise ValueError(f"{name} must be a number in (0, 1), got {val!r}")
+    if not graze <= GRAZE_MAX:
+        raise ValueError(
+            f"graze must be <= {GRAZE_MAX:g}, got {graze!r}: a wider touch tolerance "
+            "reads a real crossing of zdot = 0 as a touch and changes the topology of "
+            "the orbit (a stick-slip cycle becomes a slip cycle); it is meant for "
+            "rounding and integration error, not as a model parameter")
     if dt is not None and (isinstance(dt, bool) or not isinstance(dt, (int, float))
                            or not (math.isfinite(dt) and dt > 0.0)):
         raise ValueError(f"dt must be a finite number > 0 [s], got {dt!r}")

@@ -44,6 +44,7 @@ from .dopri5 import scales
 from .driver import advance, init_state
 from .normal_form import nf_cycle, nf_decays_to_rest, nf_seed
 from .return_map import log_saltation, return_slope
+from .resolution import check_cycle
 from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
                      A_XMIN, A1, A2, K, M, NA, NOBS, NS, O_DT, O_GPS_A, O_LV, O_LX, O_MAX_STEPS,
                      O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
@@ -273,7 +274,7 @@ def attractor_point(p, o_in, out):
                 regime = codes.R_STICK_SLIP if acc_cyc[A_NSTICK] > 0 else codes.R_SLIP_CYCLE
                 _write_cycle(out, acc_cyc, t_cyc, omega, regime)
                 out[OB_FLOQUET] = 0.0     # every period restarts from the same point
-                out[OB_STATUS] = codes.OK
+                check_cycle(out, p)
                 out[OB_NSTEPS] = st[S_N]
                 return
             reset_seen = True
@@ -331,7 +332,7 @@ def attractor_point(p, o_in, out):
             if abs(d1) <= tol * lx and abs(T1 - T0) <= 10.0 * tol * T1 \
                     and not (p[RY] > 0.0 and e_hist[2] > 0):
                 _write_cycle(out, acc_last, t_last_sec, omega, codes.R_NEUTRAL)
-                out[OB_STATUS] = codes.OK
+                check_cycle(out, p)
                 out[OB_NSTEPS] = st[S_N]
                 return
             continue
@@ -346,7 +347,7 @@ def attractor_point(p, o_in, out):
                 rem = abs(d1) * abs(rho) / (1.0 - abs(rho)) if abs(rho) < 1.0 else np.inf
                 if abs(d1) <= tol * lx and rem <= tol * lx:
                     _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
-                    out[OB_STATUS] = codes.OK
+                    check_cycle(out, p)
                     out[OB_NSTEPS] = st[S_N]
                     return
             continue
@@ -396,7 +397,7 @@ def attractor_point(p, o_in, out):
             # accurate (if it is not accurate enough either: "unresolved")
             if nf_cycle(p, a1, 0.5 * tol * lx, out):
                 out[OB_T_SETTLE] = t_last_sec
-                out[OB_STATUS] = codes.OK
+                check_cycle(out, p)
                 out[OB_NSTEPS] = st[S_N]
                 return
             a_nf = nf_seed(p, a0, a1, acc_last[A_DT], 0.5 * tol * lx)
@@ -419,7 +420,9 @@ def attractor_point(p, o_in, out):
                 # neutral to float64 resolution, and the returns stand still
                 _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
                 out[OB_FLOQUET] = dP
-                out[OB_STATUS] = codes.UNRESOLVED
+                check_cycle(out, p)
+                if out[OB_STATUS] == codes.OK:
+                    out[OB_STATUS] = codes.UNRESOLVED
                 out[OB_NSTEPS] = st[S_N]
                 return
             continue            # no Newton step on an unresolved slope
@@ -430,7 +433,9 @@ def attractor_point(p, o_in, out):
         if err0 <= max(0.5 * tol * lx, 4.0 * RTOL_FLOOR * lx / gap) and fine:
             _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
             out[OB_FLOQUET] = dP
-            out[OB_STATUS] = codes.UNRESOLVED if floor else codes.OK
+            check_cycle(out, p)
+            if floor and out[OB_STATUS] == codes.OK:
+                out[OB_STATUS] = codes.UNRESOLVED
             out[OB_NSTEPS] = st[S_N]
             return
         if not fine and (err0 <= 4.0 * rtol_hist[1] * lx / gap or need >= 0.1 * tol):

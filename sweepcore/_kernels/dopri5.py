@@ -3,7 +3,8 @@
 Tableau from Dormand & Prince (1980), as in Hairer, Norsett & Wanner, Solving ODEs I,
 table II.5.2. The error is measured per component against
 ``rtol * (L + |y|)`` with the point's own scales ``L`` (length ``r_y/k + |v|/omega``
-and its velocity ``omega L``), so the tolerance is relative and the units cancel.
+and the velocity of the motion, see ``scales``), so the tolerance is relative and the
+units cancel.
 """
 import numpy as np
 from .jit import kernel
@@ -12,6 +13,7 @@ from .friction import friction, zdd_im
 from .layout import K, M, O_LV, O_LX, O_RTOL, RY, V
 
 ORDER = 5
+EPS = np.finfo(np.float64).eps
 ERROR_ORDER = 4
 
 C2, C3, C4, C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
@@ -43,15 +45,22 @@ TABLEAU_E = np.array([E1, 0, E3, E4, E5, E6, E7])
 def scales(p):
     """Length scale [cm] and velocity scale [cm/s] of a point's attractor.
 
-    ``r_y/k + |v|/omega``: the size of the breakaway offset plus the constant-friction
-    cycle. The start does not enter: a far start is covered by the relative part of
-    the error weights, and must not loosen the tolerance of the attractor.
+    Length ``r_y/k + |v|/omega``: the size of the breakaway offset plus the
+    constant-friction cycle. Velocity: that of the motion relative to the belt,
+    ``|v|`` (a stick-slip cycle spans zdot in [-2|v|, 0]; a slip cycle has
+    |zdot| ~ |v|), and ``omega r_y/k`` for a still belt. It is not ``omega`` times the
+    length: the offset ``r_y/k`` is a position, not a motion, and with
+    ``omega r_y/k >> |v|`` it would let the zdot error outgrow the whole cycle
+    (tiny v, soft springs). The start does not enter: a far start is covered by the
+    relative part of the error weights, and must not loosen the tolerance of the
+    attractor.
     """
     omega = np.sqrt(p[K] / p[M])
     lx = p[RY] / p[K] + abs(p[V]) / omega
     if not lx > 0.0:
         lx = 1.0
-    return lx, omega * lx
+    lv = abs(p[V]) if p[V] != 0.0 else omega * lx
+    return lx, lv
 
 
 @kernel
@@ -59,6 +68,11 @@ def dopri5_step(x, zd, h, s, p, o, want_q):
     """One Dormand-Prince step of the sliding field; see ``stepper.py``."""
     v = p[V]
     im = 1.0 / p[M]
+    # zdot's weight has a floor at the rounding of the spring force k x, which the
+    # estimate carries as noise ~ 0.15 h eps k |x| / m: a tolerance below the
+    # resolution of x (tiny v far from x = 0) would otherwise shrink the steps for
+    # ever. (From the step's start: off the chain of dependent stages.)
+    floor_z = EPS * h * p[K] * im * abs(x)
     k1x = zd + v
     k1z = zdd_im(x, zd, s, p, im)
     x2 = x + h * A21 * k1x
@@ -91,7 +105,7 @@ def dopri5_step(x, zd, h, s, p, o, want_q):
     lv = o[O_LV]
     rtol = o[O_RTOL]
     err = max(abs(ex) / (rtol * (lx + max(abs(x), abs(x1)))),
-              abs(ez) / (rtol * (lv + max(abs(zd), abs(zd1)))))
+              abs(ez) / (rtol * (lv + max(abs(zd), abs(zd1))) + floor_z))
     qx = 0.0
     qv = 0.0
     qw = 0.0

@@ -18,7 +18,10 @@ Rules (eq. numbers of Liu's paper):
 * tangential touches (grazes): ``zdot`` touching 0 with ``zdd = 0`` (the constant-
   friction cycle's abnormal stop) is found at its turning point, not by a sign test,
   and a touch within the graze tolerance of the breakaway point ``x_s`` is snapped to
-  it: no stick of finite duration, no chain of zero-length events.
+  it: no stick of finite duration, no chain of zero-length events. Both tolerances
+  come from the motion (``touch_tol``): the velocity scale ``|v|`` of the cycle
+  relative to the belt, never the offset ``r_y/k``, so tiny belt speeds, tiny
+  cycles and stiff springs keep their sticks and their growth.
 * after leaving the switching line (slip, stop) the event test is disarmed until
   ``zdot`` turns back towards 0, so the departure itself is never an event.
 """
@@ -28,7 +31,6 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .dopri5 import scales
 from .friction import zdd, zddd
 from .layout import (A_DT, A_IX, A_IXD2, A_NSTEPS, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS, O_METHOD,
@@ -134,16 +136,46 @@ def _critical(f0, f1, d0, d1):
 
 
 @kernel
+def touch_tol(p, o):
+    """Velocity tolerance [cm/s] within which ``zdot = 0`` is a touch.
+
+    It is the error of zdot at a touch: for dopri5 at most ~9 rtol lv after a whole
+    period (measured on constant-friction circles, whose touch is exact, over
+    m, k in [1e-3, 1e3], r_y in [1e-3, 1e2], |v| in [1e-9, 1e2], rtol 1e-6 .. 1e-12),
+    so 20 rtol lv; the user's ``graze`` lv for the exact and fixed-step methods. The
+    floor is the rounding of x near the breakaway point seen as a velocity,
+    ``omega eps |x|`` over ~1e3 steps. It scales with the motion (``lv = |v|``, see
+    ``dopri5.scales``): a real crossing whose excursion grows by more than this per
+    period (a slowly growing cycle, k = 1e10) is a crossing, not a touch reset to the
+    breakaway point. Never so wide that sliding at rest (zdot = -v) looks like a
+    touch: at most 1e-2 |v|.
+    """
+    v = p[V]
+    omega = math.sqrt(p[K] / p[M])
+    g = o[O_GRAZE]
+    if int(o[O_METHOD]) == codes.DOPRI5:
+        g = max(g, 20.0 * o[O_RTOL])
+    gtol = g * o[O_LV] + 1e3 * EPS * omega * o[O_LX]
+    if v != 0.0:
+        gtol = min(gtol, 1e-2 * abs(v))
+    return gtol
+
+
+@kernel
 def classify_zero(x, s, p, gtol):
     """Mode after zdot reached 0 while sliding with sign s, and the event kind.
 
-    Returns (new_mode, event, x_new): x_new is x, or the breakaway point when a
-    touch within the graze tolerance of it is snapped there.
+    ``gtol`` is the touch tolerance [cm/s] (``touch_tol``). Returns
+    (new_mode, event, x_new): x_new is x, or the breakaway point when a zero within
+    ``tolx = gtol / omega`` of it is snapped there. Snapping skips a stick of at most
+    ``gtol / (omega |v|)``, a few rtol of a natural period (the state after it is the
+    same: the slip restarts from ``x_s``). That is a motion scale: ``r_y/k`` does not
+    enter (tiny v: a stick 1e-11 of ``x_s`` long is a stick). The floor is the
+    rounding of ``x_s``.
     """
     v = p[V]
     xs = p[RY] / p[K]
-    lx, _lv = scales(p)
-    tolx = gtol * lx
+    tolx = gtol / math.sqrt(p[K] / p[M]) + 4.0 * EPS * xs
     new = codes.STICK
     xn = x
     if v > 0.0:
@@ -174,7 +206,8 @@ def classify_zero(x, s, p, gtol):
 
 @kernel
 def initial_mode(x0, xd0, p, gtol):
-    """Phase of a start (x0, xdot0): slide by the sign of zdot, else as at a stop."""
+    """Phase of a start (x0, xdot0): slide by the sign of zdot, else as at a stop
+    (``gtol``: touch tolerance [cm/s])."""
     zd0 = xd0 - p[V]
     if zd0 > 0.0:
         return codes.SLIDE_POS, x0
@@ -199,7 +232,7 @@ def _note_x(acc, x, xd):
 @kernel
 def init_state(st, x0, xd0, p, o):
     """Fill st for a start at t = 0; returns the start's mode."""
-    mode, xs = initial_mode(x0, xd0, p, o[O_GRAZE])
+    mode, xs = initial_mode(x0, xd0, p, touch_tol(p, o))
     st[S_T] = 0.0
     st[S_X] = xs
     st[S_ZD] = 0.0 if mode == codes.STICK else xd0 - p[V]
@@ -321,7 +354,7 @@ def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
     st[S_N] += 1.0
     _book(acc, qx, qv, qw, h)
     st[S_T] += h
-    new, ev, xn = classify_zero(xe, s, p, o[O_GRAZE])
+    new, ev, xn = classify_zero(xe, s, p, touch_tol(p, o))
     st[S_X] = xn
     st[S_ZD] = 0.0
     st[S_MODE] = new
@@ -342,12 +375,7 @@ def slide_until_event(st, p, o, acc, t_stop):
     max_steps = o[O_MAX_STEPS]
     lx = o[O_LX]
     lv = o[O_LV]
-    # a touch is decided at the method's own accuracy: the adaptive method's error
-    # over a period is ~100 local errors of rtol (fixed steps: the user's graze)
-    gtol = (max(o[O_GRAZE], 100.0 * o[O_RTOL]) if adaptive else o[O_GRAZE]) * lv
-    if v != 0.0:
-        # never so wide that sliding at rest (zdot = -v) looks like a touch
-        gtol = min(gtol, 1e-2 * abs(v))
+    gtol = touch_tol(p, o)
     near = max(gtol, 1e-3 * lv)
     omega = math.sqrt(p[K] / p[M])
     h_max = 0.5 / omega
@@ -392,7 +420,7 @@ def slide_until_event(st, p, o, acc, t_stop):
                 st[S_H] = h * fac
                 continue
             st[S_H] = h * min(5.0, max(0.2, 0.9 * (err + 1e-300) ** -0.2))
-        if not (abs(x1) < 1e12 * lx and abs(z1) < 1e12 * lv):
+        if not (abs(x1) < 1e12 * lx and abs(z1) < 1e12 * omega * lx):
             return codes.EV_STOP_TIME, codes.DIVERGED
         a0 = zdd(x, zd, s, p)
         a1 = zdd(x1, z1, s, p)
