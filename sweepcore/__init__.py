@@ -4,7 +4,8 @@ Units throughout: force kN, length cm, time s (mass kN s^2/cm).
 
 Public API::
 
-    Params, simulate, attractor, Attractor, Grid, sweep, hopf_boundary,
+    Params, simulate, attractor, Attractor, Grid, sweep, estimate, SweepTooLarge,
+    hopf_boundary,
     locate_boundaries, continue_boundary, bifurcation_diagram,
     open_result, write_netcdf, check_cf
 """
@@ -18,13 +19,14 @@ from .grid import Grid
 from .io import check_cf, open_result, write_netcdf
 from .params import Params
 from .simulate import simulate
-from .sweep import sweep
+from .sweep import SweepTooLarge, estimate, sweep
 
 try:
     __version__ = version("sweepcore")
 except PackageNotFoundError:  # running from a source tree without install
     __version__ = "0.1.0"
 
-__all__ = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep",
+__all__ = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "estimate",
+           "SweepTooLarge",
            "hopf_boundary", "locate_boundaries", "continue_boundary",
            "bifurcation_diagram", "open_result", "write_netcdf", "check_cf", "__version__"]
