@@ -3,7 +3,7 @@ against the 256 x 256 Hopf map in the same run, and the regime changes of a loca
 scan (slide-slide-reversal band).
 
     python benchmarks/boundaries.py            # ~3-5 min on 2 cores
-    python benchmarks/boundaries.py --quick    # no map at tol 1e-12, one repeat
+    python benchmarks/boundaries.py --quick    # one repeat
 
 Writes ``benchmarks/results/boundaries.json`` (the numbers quoted in
 benchmarks/README.md and docs/physics.md).
@@ -148,7 +148,7 @@ def readme_section(R) -> str:
     """The README section of a result of this script (markdown, between markers)."""
     m, c, mp, r = R["machine"], R["curves"], R["map"], R["time_ratio"]
     rows = []
-    for tol in ("1e-10", "1e-12"):
+    for tol in ("1e-8", "1e-10"):
         if tol not in c:
             continue
         x = c[tol]
@@ -163,11 +163,11 @@ def readme_section(R) -> str:
     same = [v for k, v in r.items() if k.split("_")[2] == k.split("_")[-1]]
     verdict = ("met" if same and max(same) < 0.1 else "not met") + \
         " at equal tolerance (" + ", ".join(f"{v:.3f}" for v in same) + ")"
-    mixed = r.get("curves_tol_1e-12_over_map_tol_1e-10")
+    mixed = r.get("curves_tol_1e-10_over_map_tol_1e-08")
     if mixed is not None:
-        verdict += (f"; the default-accuracy curves (tol 1e-12) against the study's "
-                    f"map (tol 1e-10): {mixed:.3f}, " +
-                    ("met" if mixed < 0.1 else "not met"))
+        verdict += (f"; the curves at the searches' default (tol 1e-10, needed for "
+                    f"1e-9 cm/s) against the main job's map (the default tol 1e-8): "
+                    f"{mixed:.3f}, " + ("met" if mixed < 0.1 else "not met"))
     t = R["transitions"]
     return f"""{BEGIN}
 ## Boundaries beyond the grid
@@ -186,10 +186,10 @@ the 256 x 256 Hopf map in the same run (medians of the repeats in the JSON):
 
 Time ratios, curves over map: {ratios}. The target (curves under 10 % of the map):
 {verdict}. The machine is shared: the ratios move with its load (stored in the
-JSON). At tol 1e-10 the Hopf root inherits the samples' amplitude
-error; tol 1e-12 is the searches' default. Curves at tol 1e-10 against 1e-12: Hopf
-{R['curves_tol_1e-10_vs_1e-12']['hopf_max_abs']:.2g} cm/s, stick onset
-{R['curves_tol_1e-10_vs_1e-12']['stick_max_abs']:.2g} cm/s. A located scan of every
+JSON). The roots inherit the samples' error (~tol L): tol 1e-10 is the searches'
+default. Curves at tol 1e-8 against 1e-10: Hopf
+{R['curves_tol_1e-8_vs_1e-10']['hopf_max_abs']:.2g} cm/s, stick onset
+{R['curves_tol_1e-8_vs_1e-10']['stick_max_abs']:.2g} cm/s. A located scan of every
 regime change (32 alpha2 in [1e-3, 0.1], v in [0.5, 20], tol {t['tol']:g}) took
 {t['seconds']:.1f} s ({t['attractors']} attractors). Physics read-out:
 [docs/physics.md](../docs/physics.md), "Boundaries beyond the grid".
@@ -237,15 +237,15 @@ def main(argv=None):
               "command": "python benchmarks/boundaries.py"
                          + (" --quick" if args.quick else "")}
     maps = {}
-    for tol in ([1e-10] if args.quick else [1e-10, 1e-12]):
+    for tol in (1e-8, 1e-10):
         log(f"map 256 x 256, tol {tol:g}")
-        maps[tol] = _map(sc, tol, repeats if tol == 1e-10 else 1)[1]
+        maps[tol] = _map(sc, tol, repeats)[1]
         log(f"  {maps[tol]['median_s']:.2f} s")
     curves = {}
-    for tol in (1e-10, 1e-12):
+    for tol in (1e-8, 1e-10):
         log(f"curves by continuation, 256 alpha2, tol {tol:g}")
         ds, curves[tol] = _curves(sc, bd, tol, repeats)
-        if tol == 1e-12:
+        if tol == 1e-10:
             fine = ds
         else:
             coarse = ds
@@ -255,7 +255,7 @@ def main(argv=None):
             f"{curves[tol]['stick_ratio_max']:.12f}]")
     result["map"] = {f"{t:g}": m for t, m in maps.items()}
     result["curves"] = {f"{t:g}": c for t, c in curves.items()}
-    result["curves_tol_1e-10_vs_1e-12"] = {
+    result["curves_tol_1e-8_vs_1e-10"] = {
         "hopf_max_abs": float(np.nanmax(np.abs(coarse.v_hopf - fine.v_hopf))),
         "stick_max_abs": float(np.nanmax(np.abs(coarse.v_stick_onset
                                                 - fine.v_stick_onset))),
@@ -265,7 +265,7 @@ def main(argv=None):
             curves[tc]["median_s"] / maps[tm]["median_s"]
         for tc in curves for tm in maps}
     log("stick onset / v* against the damping alpha1/sqrt(k m)")
-    result["damping"] = _damping(sc, bd, 1e-12)
+    result["damping"] = _damping(sc, bd, 1e-10)
     for c in result["damping"]:
         log(f"  damping {c['damping']:.4f}: ratio {c['ratio']:.10f} "
             f"(- sqrt(4/5))/damping^2 = {c['over_damping_squared']:.4f}")
