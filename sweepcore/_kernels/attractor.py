@@ -79,6 +79,17 @@ def _merge(dst, src):
     dst[A_XDMIN] = min(dst[A_XDMIN], src[A_XDMIN])
 
 
+@kernel(inline="always")
+def _jump(st, a_hist, t_hist, acc_sec, a_new, v, t):
+    """Move the motion to the section point a_new [cm] (xdot = 0) at time t: the
+    newest section value becomes a_new and the interval being measured restarts."""
+    st[S_X] = a_new
+    st[S_ZD] = -v
+    a_hist[3] = a_new
+    t_hist[3] = t
+    _clear(acc_sec)
+
+
 @kernel
 def _write_cycle(out, acc, t0, omega, regime):
     T = acc[A_DT]
@@ -371,13 +382,9 @@ def attractor_point(p, o_in, out):
             a_nf = nf_seed(p, a0, a1, acc_last[A_DT], 0.01 * abs(a1 - xe))
             if not math.isnan(a_nf) and (a_nf - a1) * F > 0.0:
                 seeded = True
-                st[S_X] = a_nf
-                st[S_ZD] = -v
+                _jump(st, a_hist, t_hist, acc_sec, a_nf, v, t)
                 n_sec = 1
-                a_hist[3] = a_nf
-                t_hist[3] = t
-                _clear(acc_sec)
-                reset_seen = False
+                reset_seen = False       # a jump ends any period being measured
                 continue
         # The return map computed at rtol is wrong by ~ rtol lx / |a - x_eq| in its
         # slope (the integrator's own growth or decay); a slope within that noise
@@ -404,12 +411,8 @@ def attractor_point(p, o_in, out):
             if not math.isnan(a_nf):
                 # the normal form describes this return and is accurate at the
                 # cycle: go to its cycle and confirm it there on the next return
-                st[S_X] = a_nf
-                st[S_ZD] = -v
+                _jump(st, a_hist, t_hist, acc_sec, a_nf, v, t)
                 n_sec = 1
-                a_hist[3] = a_nf
-                t_hist[3] = t
-                _clear(acc_sec)
                 reset_seen = False       # a jump ends any period being measured
                 continue
         if not resolved:
@@ -453,12 +456,8 @@ def attractor_point(p, o_in, out):
             elif r > 2.0:
                 a_new = xe + 2.0 * (a1 - xe)
             if abs(a_new - a1) > 0.1 * tol * lx:
-                st[S_X] = a_new
-                st[S_ZD] = -v
+                _jump(st, a_hist, t_hist, acc_sec, a_new, v, t)
                 n_sec = 1
-                a_hist[3] = a_new
-                t_hist[3] = t
-                _clear(acc_sec)
                 reset_seen = False       # a jump ends any period being measured
     # budget spent or numerical failure
     if exhausted and status == codes.OK:
