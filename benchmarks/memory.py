@@ -126,3 +126,34 @@ def main(argv=None) -> int:
 
 if __name__ == "__main__":
     sys.exit(main())
+
+
+def stored_section(path=None) -> str:
+    """The benchmarks/README.md section of the stored ``results/memory.json``."""
+    path = Path(path or HERE / "results" / "memory.json")
+    if not path.is_file():
+        return ""
+    R = json.loads(path.read_text())
+    m = R["machine"]
+    rows = []
+    for r in R["streamed"]:
+        where = "in memory" if r["in_memory"] else f"streamed to a {r['file_mib']:.1f} MiB file"
+        rows.append(f"| {r['points']:,} | {where} | {r['vm_hwm_mib']:.0f} MiB "
+                    f"({r['vm_hwm_before_mib']:.0f} MiB before the sweep) | "
+                    f"{r['wall_s']:.1f} s |")
+    refusals = "; ".join(f"{r['points']:.0e} points refused in {1e3 * r['seconds']:.2f} ms"
+                         for r in R["refusals"])
+    return f"""## Memory of large sweeps
+
+`python benchmarks/memory.py` ({m['date']}, commit `{m['git_commit'][:10]}`) writes
+`results/memory.json`: peak resident memory (VmHWM, a fresh process each) of sweeps
+of a cheap grid (alpha2 = 0, closed-form stepper), in memory and with `path=`
+(the result streamed from the verified working store into the file):
+
+| points | result | peak memory | wall time |
+|---|---|---|---|
+{chr(10).join(rows)}
+
+A grid whose in-memory result would not fit is refused before any work, with the
+estimate and a pointer to `path=`: {refusals}.
+"""

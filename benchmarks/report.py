@@ -184,8 +184,9 @@ Files: `{rel}/`.
         parts.append(_peers(Pe, H))
     if C:
         parts.append(_cost(C))
-    from benchmarks.boundaries import stored_section   # its own script's results
-    parts.append(stored_section())
+    from benchmarks import boundaries, memory     # their own scripts' results
+    parts.append(boundaries.stored_section())
+    parts.append(memory.stored_section())
     readme.write_text("\n".join(parts))
 
 
