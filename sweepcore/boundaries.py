@@ -67,6 +67,7 @@ PROPER = (codes.R_EQUILIBRIUM, codes.R_SLIP_CYCLE, codes.R_STICK_SLIP,
 N_SAMPLES = 5           # Hopf samples per round
 MAX_TRANSITIONS = 8     # regime changes kept per point (the first ones along the axis)
 STUCK = math.nan        # xdot0 of a request: start stuck on the belt (xdot0 = v)
+RETRY = (codes.UNCONVERGED, codes.STEP_BUDGET)   # statuses retried from rest on the belt
 BAND = 1e-6             # relative width next to a grazing where cycles get snapped
                         # onto the grazing orbit (measured ~3e-7 at tol 1e-10)
 
@@ -194,6 +195,20 @@ def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
         P[:, layout.XD0] = np.where(np.isnan(req[:, 2]), P[:, layout.V], req[:, 2])
         out = np.empty((len(owners), layout.NOBS))
         _attractors(P, o, out, parallel)
+        # A start inside a cycle that the search does not bring to an attractor
+        # (a motion growing slowly onto a stick-slip cycle at low damping ends with
+        # the budget spent) is retried once from rest on the belt at x = 0.
+        again = np.flatnonzero(np.isin(out[:, layout.OB_STATUS], RETRY)
+                               & ~np.isnan(req[:, 2]))
+        if again.size:
+            Q = P[again].copy()
+            Q[:, layout.X0] = 0.0
+            Q[:, layout.XD0] = Q[:, layout.V]
+            redo = np.empty((again.size, layout.NOBS))
+            _attractors(Q, o, redo, parallel)
+            out[again] = redo
+            for j in again:
+                evals[owners[j]] += 1
         pos, nxt = 0, {}
         for i, r in asks.items():
             evals[i] += len(r)

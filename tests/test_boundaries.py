@@ -179,6 +179,24 @@ def test_stick_onset_agrees_with_scipy_grazing_cycle(located):
     assert abs(got - ref) <= 1e-9, (got, ref)
 
 
+def test_both_boundaries_are_located_at_low_damping():
+    """alpha1/sqrt(k m) = 0.0126: the slip cycles contract by ~1 % a period, a
+    motion started inside a cycle just below the grazing grows only slowly onto
+    the stick-slip cycle. The stick onset must still be located, between the
+    labels of independent attractors started stuck on the belt just either side,
+    and the Hopf point at v*."""
+    c = dict(m=5.0, k=1250.0, r_y=10.0, alpha1=1.0, alpha2=0.03)
+    ds = bd.locate_boundaries(sc.Grid(**c, v=[0.5, 5.0]), scan=24, tol=TOL)
+    assert int(ds.hopf_status) == bd.LOCATED
+    assert abs(float(ds.v_hopf - ds.v_star)) <= HOPF_TOL
+    assert int(ds.stick_status) == bd.LOCATED
+    vs = float(ds.v_stick_onset)
+    below = sc.attractor(sc.Params(**c, v=vs * (1 - 1e-5)), tol=TOL)
+    above = sc.attractor(sc.Params(**c, v=vs * (1 + 1e-5)), tol=TOL)
+    assert below.regime == "stick_slip"
+    assert above.regime == "slip_cycle" and above.xdot_max < vs * (1 + 1e-5)
+
+
 def test_boundaries_along_alpha2_at_fixed_speed():
     """Along alpha2 at v = 5: q = 0 at alpha2 = alpha1/(3 v^2) = 1/75 (eq. 46), and
     the stick onset where v = (v_stick/v*) v*(alpha2), the ratio measured along v."""
