@@ -70,6 +70,9 @@ STUCK = math.nan        # xdot0 of a request: start stuck on the belt (xdot0 = v
 RETRY = (codes.UNCONVERGED, codes.STEP_BUDGET)   # statuses retried from rest on the belt
 BAND = 1e-6             # relative width next to a grazing where cycles get snapped
                         # onto the grazing orbit (measured ~3e-7 at tol 1e-10)
+N_GRAZE = 3             # slip cycles per seeded grazing step
+SEED_SPACING = 2 * BAND  # their relative spacing (beyond the band, close enough that
+                         # the quadratic and linear roots agree to ~1e-11 relative)
 
 
 # ------------------------------------------------------------- root solver
@@ -775,7 +778,7 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
         guess = _predict(hx[-2:], hist["graze"][-2:], over_value)
         # slip cycles beyond the band where the labels already say stick (the
         # graze tolerance, ~1e-6 relative) and beyond the prediction's error
-        delta = max(4.0 * hist["graze_err"], 1e-5 * guess)
+        delta = max(4.0 * hist["graze_err"], SEED_SPACING * guess)
         scale = guess / hist["graze"][-1]
         seeds = hist["graze_reach"][-1]
         if seeds is not None and delta == hist["graze_delta"] * guess:
@@ -818,20 +821,20 @@ def _nothing():
 
 def _seeded_graze(pt, guess, delta, xtol, amp, reach=None):
     """Solver: the grazing near a predicted ``guess`` (stick below, slip above,
-    along v): four slip cycles at ``guess + i delta`` (i = 1..4) and a
+    along v): three slip cycles at ``guess + i delta`` (i = 1..3) and a
     stick-slip check at ``guess - delta`` in one round, then :func:`_graze` from
     there. The cycles start at x_eq + ``reach[i]`` (the previous step's cycles,
     scaled) or else inside, at x_eq + 0.999 ``amp``."""
-    us = [guess + i * delta for i in (1, 2, 3, 4)]
+    us = [guess + i * delta for i in range(1, N_GRAZE + 1)]
     check = guess - delta
-    seeds = reach if reach is not None else [0.999 * amp] * 4
+    seeds = reach if reach is not None else [0.999 * amp] * N_GRAZE
     rows = yield [(u, pt.x_eq(u) + r, 0.0) for u, r in zip(us, seeds)] + \
         [(check, 0.0, STUCK)]
     if not all(_ok(r) for r in rows):
         return {"value": math.nan, "width": math.nan, "status": FAILED}
     slip = [(u, r) for u, r in zip(us, rows) if _regime(r) == codes.R_SLIP_CYCLE
             and pt.speed(u) - r[layout.OB_XDOT_MAX] > 0.0]
-    if len(slip) < 4 or _regime(rows[4]) not in CYCLES:
+    if len(slip) < N_GRAZE or _regime(rows[N_GRAZE]) not in CYCLES:
         return {"value": math.nan, "width": math.nan, "status": ABSENT}
     out = yield from _graze(pt, check, us[0], xtol, slip)
     out["guess_error"] = abs(out["value"] - guess) if out["status"] == LOCATED \
@@ -856,11 +859,11 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
     Each step is seeded by the previous ones: the two boundaries are predicted by
     linear extrapolation of the last two (in log-log when positive); the Hopf
     samples start on the previous step's cycles, scaled by the predicted ratio;
-    the grazing is extrapolated from four slip cycles just above its prediction
-    (spacing 1e-5 relative, or four times the last prediction error), started on the
+    the grazing is extrapolated from three slip cycles just above its prediction
+    (spacing 2e-6 relative, or four times the last prediction error), started on the
     previous step's cycles, with one stick-slip check below it. A step whose seeds
     do not bracket falls back to the full scan of :func:`locate_boundaries` (so do
-    the first two, and the ``continued`` flag says which). About 11 attractors a
+    the first two, and the ``continued`` flag says which). About 10 attractors a
     step against 32 for the scan alone. Only ``v`` is supported as ``along`` here.
 
     Parameters
