@@ -7,8 +7,10 @@ changes regime at two bifurcations of the slip cycle:
   ``(A omega)^2 = 4 m q / (3 alpha2)`` (docs/physics.md), and ``q`` (eq. 46) is
   linear in ``v^2``: the cycle's amplitude squared ``A^2`` is a smooth function of
   ``w = v^2`` that vanishes at the Hopf point. It is measured on a few cycles a
-  little away from the point (relative offsets ``i * offset``, i = 1..5), where the
-  attractor search is fast and accurate, and its root found by a cubic through the
+  little away from the point (relative offsets ``i * offset``, i = 1..5; the offset
+  is widened where the cycles would contract too weakly to be resolved at ``tol``,
+  :func:`_hopf_offset`, which sets it at low damping), where the attractor search
+  is fast and accurate, and its root found by a cubic through the
   four nearest samples (root of the polynomial by :func:`bracketed_root`). The
   cubic through samples 2..5 gives a second root; their difference is reported as
   the error estimate. The root must lie between the nearest cycle and an
@@ -26,6 +28,10 @@ changes regime at two bifurcations of the slip cycle:
   Within ``BAND`` of the grazing the labels already say stick (a cycle passing
   within the driver's graze tolerance of the belt is snapped onto the grazing
   orbit), which is why the indicator, not the label, decides.
+
+A start that does not reach an attractor within the kernel's budget is retried
+once from rest on the belt (:func:`_drive`); an ``unresolved`` cycle next to the
+Hopf point keeps its label in the scan.
 
 Any other regime change in the bracket (e.g. the edges of the band of slip cycles
 with slide-slide reversals at small alpha2, for which no smooth indicator is known)
@@ -48,7 +54,7 @@ import xarray as xr
 
 from . import variables
 from ._kernels import codes, layout
-from ._kernels.attractor import attractor_rows, attractor_rows_parallel
+from ._kernels.attractor import RTOL_FLOOR, attractor_rows, attractor_rows_parallel
 from .grid import AXES, COLUMNS, Grid
 from .grid import v_star as _v_star
 from .options import make_options
@@ -65,6 +71,9 @@ CYCLES = (codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
 PROPER = (codes.R_EQUILIBRIUM, codes.R_SLIP_CYCLE, codes.R_STICK_SLIP,
           codes.R_NEUTRAL, codes.R_STUCK)
 N_SAMPLES = 5           # Hopf samples per round
+RESOLVABLE = 2.0 * RTOL_FLOOR   # lowest rtol asked of a Hopf sample's cycle
+MAX_OFFSET = 0.015      # widest relative spacing of the Hopf samples (the fifth stays
+                        # well above the grazing, ~10 % below the Hopf point)
 MAX_TRANSITIONS = 8     # regime changes kept per point (the first ones along the axis)
 STUCK = math.nan        # xdot0 of a request: start stuck on the belt (xdot0 = v)
 RETRY = (codes.UNCONVERGED, codes.STEP_BUDGET)   # statuses retried from rest on the belt
@@ -228,8 +237,8 @@ def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
 class _Point:
     """The fixed parameters of one search and what the solvers need from them."""
 
-    def __init__(self, row: np.ndarray, along: str):
-        self.row, self.along = row, along
+    def __init__(self, row: np.ndarray, along: str, tol: float | None = None):
+        self.row, self.along, self.tol = row, along, tol
         self.col = COLUMNS[along]
 
     def at(self, value: float) -> np.ndarray:
@@ -249,6 +258,14 @@ class _Point:
 
     def speed(self, value: float) -> float:
         return self.at(value)[layout.V]
+
+    def contraction(self, value: float) -> float:
+        """``|q| T`` at ``along = value``: q = (alpha1 - 3 alpha2 v^2)/m (eq. 46),
+        T = 2 pi/omega; ``1 - mu`` of a small slip cycle there (mu its Floquet
+        multiplier) is about this."""
+        r = self.at(value)
+        q = (r[layout.A1] - 3.0 * r[layout.A2] * r[layout.V] ** 2) / r[layout.M]
+        return abs(q) * 2.0 * math.pi * math.sqrt(r[layout.M] / r[layout.K])
 
     def fit_variable(self, value):
         """The variable in which A^2 is fitted: v^2 along v (q is linear in it)."""
@@ -275,6 +292,28 @@ def _fit_root(w, a2, w_lo, w_hi):
         return math.nan
 
 
+def _hopf_offset(pt: _Point, r: float, side: int, offset: float) -> float:
+    """``offset``, widened where the samples would come too close to the Hopf
+    point for the attractor search to resolve them.
+
+    The kernel integrates a slip cycle at rtol = tol (1 - mu) / 2 and gives up
+    (status ``unresolved``) below RTOL_FLOOR; ``1 - mu`` grows about linearly with
+    the distance from the Hopf point (:meth:`_Point.contraction`), so the nearest
+    sample is moved out until tol (1 - mu) / 2 >= RESOLVABLE (at most MAX_OFFSET).
+    At low damping (alpha1/sqrt(k m) << 0.1) this is what sets the offset.
+    """
+    if pt.tol is None:
+        return offset
+    need = 2.0 * RESOLVABLE / pt.tol
+    s = offset
+    for _ in range(4):          # 1 - mu is nearly linear in s: one step is enough
+        c = pt.contraction(r * (1.0 + side * s))
+        if c >= need or s >= MAX_OFFSET:
+            break
+        s = min(MAX_OFFSET, s * 1.05 * need / c if c > 0.0 else 2.0 * s)
+    return s
+
+
 def _hopf(pt: _Point, guess: float, side: int, offset: float, reach=None,
           max_rounds: int = 4):
     """Solver: the Hopf point near ``guess``, cycles on ``side`` (-1 below, +1 above).
@@ -288,7 +327,9 @@ def _hopf(pt: _Point, guess: float, side: int, offset: float, reach=None,
     r = guess
     result = {"value": math.nan, "error": math.nan, "status": FAILED,
               "reach": None}
+    asked = offset
     for _round in range(max_rounds):
+        offset = _hopf_offset(pt, r, side, asked)
         us = r * (1.0 + side * offset * np.arange(1, N_SAMPLES + 1))
         check = r * (1.0 - side * offset)
         if reach is None:
@@ -500,14 +541,19 @@ def _hopf_guess(pt, values, rows, j, side, offset):
     if not lo < r < hi:
         return mid, None
     # seeds: A^2 linear in the fit variable, through the scan's nearest cycle
+    offset = _hopf_offset(pt, r, side, offset)
     us = r * (1.0 + side * offset * np.arange(1, N_SAMPLES + 1))
     amp = np.sqrt(a2[0] * np.abs(pt.fit_variable(us) - w0) / abs(w[0] - w0))
     return r, amp
 
 
 def _changes(us, rows):
-    """Indices j with a change of proper regimes between scan points j and j+1."""
-    reg = [_regime(r) if _ok(r) else -1 for r in rows]
+    """Indices j with a change of proper regimes between scan points j and j+1.
+
+    A cycle returned ``unresolved`` (next to the Hopf point, its numbers only
+    estimates) keeps its label: the scan needs no more."""
+    reg = [_regime(r) if _ok(r) or int(r[layout.OB_STATUS]) == codes.UNRESOLVED
+           else -1 for r in rows]
     return reg, [j for j in range(len(us) - 1) if reg[j] != reg[j + 1]
                  and reg[j] in PROPER and reg[j + 1] in PROPER]
 
@@ -654,7 +700,7 @@ def _start(grid: Grid):
 def locate_chunk(base: np.ndarray, along: str, values: np.ndarray, xtol: float,
                  offset: float, start, o: np.ndarray, parallel: bool = False):
     """Boundaries of the points ``base`` (kernel rows): the task of one chunk."""
-    pts = [_Point(row, along) for row in base]
+    pts = [_Point(row, along, float(o[layout.O_RTOL])) for row in base]
     solvers = [_locate_point(p, values, xtol, offset, start) for p in pts]
     results, evals = _drive(solvers, base, COLUMNS[along], o, parallel)
     for r, n in zip(results, evals):
@@ -900,7 +946,7 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
     hist = _history()
     results = []
     for i, row in enumerate(base):
-        pt = _Point(row, along)
+        pt = _Point(row, along, tol)
         solver = _continued_point(pt, values, xtol, offset, start, hist, xs[i])
         (res,), (n,) = _drive([solver], row[None, :], COLUMNS[along], o, True)
         res["evaluations"] = int(n)

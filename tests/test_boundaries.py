@@ -197,6 +197,16 @@ def test_both_boundaries_are_located_at_low_damping():
     assert above.regime == "slip_cycle" and above.xdot_max < vs * (1 + 1e-5)
 
 
+@pytest.mark.parametrize("damping", [0.002, 0.001])
+def test_hopf_point_is_vstar_at_very_low_damping(damping):
+    """Cycles within 0.5 % of v* contract by ~1e-4 a period: the kernel cannot
+    resolve them at tol 1e-10 (status unresolved), so the samples must move out."""
+    c = dict(m=5.0, k=1.0 / (5.0 * damping ** 2), r_y=10.0, alpha1=1.0, alpha2=0.03)
+    ds = bd.locate_boundaries(sc.Grid(**c, v=[0.5, 5.0]), scan=24, tol=TOL)
+    assert int(ds.hopf_status) == bd.LOCATED
+    assert abs(float(ds.v_hopf - ds.v_star)) <= HOPF_TOL
+
+
 def test_boundaries_along_alpha2_at_fixed_speed():
     """Along alpha2 at v = 5: q = 0 at alpha2 = alpha1/(3 v^2) = 1/75 (eq. 46), and
     the stick onset where v = (v_stick/v*) v*(alpha2), the ratio measured along v."""
