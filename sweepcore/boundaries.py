@@ -14,7 +14,9 @@ changes regime at two bifurcations of the slip cycle:
   four nearest samples (root of the polynomial by :func:`bracketed_root`). The
   cubic through samples 2..5 gives a second root; their difference is reported as
   the error estimate. The root must lie between the nearest cycle and an
-  equilibrium (label check), else the status says so.
+  equilibrium (label check), else the status says so. A continued step
+  (:func:`continue_boundary`) keeps the shape of that polynomial and needs three
+  cycles (:func:`_seeded_hopf`).
 * the **stick onset** (slip cycle <-> stick-slip): the slip cycle grazes the belt,
   its largest velocity reaching ``v``. The indicator ``g = v - xdot_max`` is
   smooth and positive on the slip cycles and reaches 0 at the grazing; on the
@@ -71,12 +73,14 @@ CYCLES = (codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
 PROPER = (codes.R_EQUILIBRIUM, codes.R_SLIP_CYCLE, codes.R_STICK_SLIP,
           codes.R_NEUTRAL, codes.R_STUCK)
 N_SAMPLES = 5           # Hopf samples per round
+N_SEEDED = 3            # Hopf samples of a continued step (the shape of A^2 known)
+LOOKAHEAD = 8           # continuation steps predicted from one history, run together
 RESOLVABLE = 2.0 * RTOL_FLOOR   # lowest rtol asked of a Hopf sample's cycle
 MAX_OFFSET = 0.015      # widest relative spacing of the Hopf samples (the fifth stays
                         # well above the grazing, ~10 % below the Hopf point)
 MAX_TRANSITIONS = 8     # regime changes kept per point (the first ones along the axis)
 STUCK = math.nan        # xdot0 of a request: start stuck on the belt (xdot0 = v)
-RETRY = (codes.UNCONVERGED, codes.STEP_BUDGET)   # statuses retried from rest on the belt
+RETRY = (codes.UNCONVERGED, codes.STEP_BUDGET)  # retried from rest on the belt
 BAND = 1e-6             # relative width next to a grazing where cycles get snapped
                         # onto the grazing orbit (measured ~3e-7 at tol 1e-10)
 N_GRAZE = 3             # slip cycles per seeded grazing step
@@ -366,7 +370,8 @@ def _hopf(pt: _Point, guess: float, side: int, offset: float, reach=None,
         err = abs(root - (math.sqrt(far) if pt.along == "v" else far)) \
             if np.isfinite(far) else math.inf
         got = np.array([s[layout.OB_X_MAX] - pt.x_eq(u) for s, u in zip(samples, us)])
-        result.update(value=root, error=err, status=LOCATED, reach=got)
+        result.update(value=root, error=err, status=LOCATED, reach=got,
+                      shape=_shape(w[:4], amp[:4] ** 2, near))
         if abs(root - r) <= 0.3 * offset * abs(r):
             return result
         # the fit lies well off the centre: sample again around it
@@ -374,6 +379,74 @@ def _hopf(pt: _Point, guess: float, side: int, offset: float, reach=None,
         r = root
     result["status"] = INCONSISTENT
     return result
+
+
+def _shape(w, a2, w0):
+    """(b2, b3) of ``A^2 = c1 x (1 + b2 x + b3 x^2)``, x = (w0 - w)/w0, by least
+    squares through the samples with the root ``w0`` fixed."""
+    x = (w0 - np.asarray(w)) / w0
+    c = np.linalg.lstsq(np.c_[x, x ** 2, x ** 3], a2, rcond=None)[0]
+    return c[1] / c[0], c[2] / c[0]
+
+
+def _shaped_root(wa, a2a, wb, a2b, shape, hi):
+    """Root w0 of ``A^2 = c1 x (1 + b2 x + b3 x^2)`` (x = (w0 - w)/w0, shape
+    (b2, b3) given) through two samples below it, searched in (wa, hi]; NaN if
+    none."""
+    b2, b3 = shape
+
+    def f(x):
+        return x * (1.0 + b2 * x + b3 * x * x)
+
+    def F(w0):
+        return a2a * f((w0 - wb) / w0) - a2b * f((w0 - wa) / w0)
+    lo = wa * (1.0 + 1e-9 * (1.0 if hi > wa else -1.0))
+    try:
+        return bracketed_root(F, lo, hi, 1e-15 * abs(hi))
+    except ValueError:
+        return math.nan
+
+
+def _seeded_hopf(pt: _Point, guess: float, offset: float, reach, shape, xtol):
+    """Solver: the Hopf point near a predicted ``guess`` (cycles below, along v)
+    from three cycles, the shape of A^2 (:func:`_shape`) taken from the previous
+    steps: the root through samples 1 and 2, checked against the root through 1
+    and 3 (their difference, doubled, is the error estimate; the shape's error
+    moves the two apart), plus the root's move under amplitude errors of 2 tol L
+    (L = r_y/k + |v|/omega). Falls back to :func:`_hopf` when the check fails."""
+    s = _hopf_offset(pt, guess, -1, offset)
+    us = guess * (1.0 - s * np.arange(1, N_SEEDED + 1))
+    check = guess * (1.0 + s)
+    rows = yield [(u, pt.x_eq(u) + a, 0.0) for u, a in zip(us, reach[:N_SEEDED])] \
+        + [(check, pt.x_eq(check), 0.0)]
+    samples, eq_row = rows[:N_SEEDED], rows[N_SEEDED]
+    if all(_ok(r) and _regime(r) == codes.R_SLIP_CYCLE for r in samples) and \
+            _ok(eq_row) and _regime(eq_row) == codes.R_EQUILIBRIUM:
+        w = us ** 2
+        a2 = np.array([r[layout.OB_AMPLITUDE] for r in samples]) ** 2
+        hi = check ** 2
+        r12 = _shaped_root(w[0], a2[0], w[1], a2[1], shape, hi)
+        r13 = _shaped_root(w[0], a2[0], w[2], a2[2], shape, hi)
+        if np.isfinite(r12) and np.isfinite(r13):
+            root = math.sqrt(r12)
+            err = 2.0 * abs(root - math.sqrt(r13))
+            # plus the amplitudes' error (measured up to ~2 tol L) moving them apart
+            row = pt.at(guess)
+            omega = math.sqrt(row[layout.K] / row[layout.M])
+            dA = 2.0 * (pt.tol or 0.0) * (row[layout.RY] / row[layout.K]
+                                          + abs(row[layout.V]) / omega)
+            amp = np.sqrt(a2)
+            moved = _shaped_root(w[0], (amp[0] + dA) ** 2, w[1], (amp[1] - dA) ** 2,
+                                 shape, hi)
+            if err <= 0.5 * xtol and np.isfinite(moved):
+                err += abs(math.sqrt(moved) - root)
+                got = np.array([r[layout.OB_X_MAX] - pt.x_eq(u)
+                                for r, u in zip(samples, us)])
+                full = np.r_[got, got[-1] * np.sqrt(np.arange(N_SEEDED + 1, N_SAMPLES
+                                                              + 1) / N_SEEDED)]
+                return {"value": root, "error": err, "status": LOCATED,
+                        "reach": full, "shape": shape}
+    return (yield from _hopf(pt, guess, -1, offset, reach=reach))
 
 
 # ----------------------------------------------------------------- stick onset
@@ -518,7 +591,8 @@ def _bisect(pt: _Point, a: float, b: float, ra: int, rb: int, xtol: float, start
 def _empty():
     return {"v_hopf": math.nan, "v_hopf_error": math.nan, "hopf_status": ABSENT,
             "v_stick_onset": math.nan, "v_stick_onset_width": math.nan,
-            "stick_status": ABSENT, "transitions": [], "hopf_reach": None}
+            "stick_status": ABSENT, "transitions": [], "hopf_reach": None,
+            "hopf_shape": None}
 
 
 def _hopf_guess(pt, values, rows, j, side, offset):
@@ -627,7 +701,8 @@ def _locate_point(pt: _Point, values: np.ndarray, xtol: float, offset: float, st
         best = max(hopfs, key=lambda o: o["value"] if np.isfinite(o["value"])
                    else -math.inf)
         res.update(v_hopf=best["value"], v_hopf_error=best["error"],
-                   hopf_status=best["status"], hopf_reach=best["reach"])
+                   hopf_status=best["status"], hopf_reach=best["reach"],
+                   hopf_shape=best.get("shape"))
     elif res["hopf_status"] != FAILED:
         res["hopf_status"] = ABSENT
     if grazes:
@@ -705,7 +780,7 @@ def locate_chunk(base: np.ndarray, along: str, values: np.ndarray, xtol: float,
     results, evals = _drive(solvers, base, COLUMNS[along], o, parallel)
     for r, n in zip(results, evals):
         r["evaluations"] = int(n)
-        for key in ("hopf_reach", "graze_amp", "graze_reach"):
+        for key in ("hopf_reach", "hopf_shape", "graze_amp", "graze_reach"):
             r.pop(key, None)
     return results
 
@@ -818,7 +893,9 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
     if len(hist["hopf"]) >= 2:
         guess = _predict(hx[-2:], hist["hopf"][-2:], over_value)
         reach = hist["reach"][-1] * guess / hist["hopf"][-1]
-        subs.append(_hopf(pt, guess, -1, offset, reach=reach))
+        shape = hist["shape"][-1]
+        subs.append(_seeded_hopf(pt, guess, offset, reach, shape, xtol)
+                    if shape is not None else _hopf(pt, guess, -1, offset, reach=reach))
         kinds.append("hopf")
     if len(hist["graze"]) >= 2:
         guess = _predict(hx[-2:], hist["graze"][-2:], over_value)
@@ -841,7 +918,8 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
     for kind, out in zip(kinds, found):
         if kind == "hopf" and out["status"] == LOCATED:
             res.update(v_hopf=out["value"], v_hopf_error=out["error"],
-                       hopf_status=LOCATED, hopf_reach=out["reach"])
+                       hopf_status=LOCATED, hopf_reach=out["reach"],
+                       hopf_shape=out.get("shape"))
         elif kind == "graze" and out["status"] == LOCATED:
             res.update(v_stick_onset=out["value"], v_stick_onset_width=out["width"],
                        stick_status=LOCATED, guess_error=out.get("guess_error", 0.0),
@@ -850,7 +928,8 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
     res["fallback"] = bool(missing)
     if missing:
         full = yield from _locate_point(pt, values, xtol, offset, start)
-        for key in (("v_hopf", "v_hopf_error", "hopf_status", "hopf_reach")
+        for key in (("v_hopf", "v_hopf_error", "hopf_status", "hopf_reach",
+                     "hopf_shape")
                     if "hopf" in missing else ()) + \
                    (("v_stick_onset", "v_stick_onset_width", "stick_status")
                     if "graze" in missing else ()):
@@ -892,7 +971,7 @@ def _seeded_graze(pt, guess, delta, xtol, amp, reach=None):
 
 def _history():
     """What the continuation carries from step to step."""
-    return {"x": [], "hopf": [], "reach": [], "graze": [], "graze_amp": [],
+    return {"x": [], "hopf": [], "reach": [], "shape": [], "graze": [], "graze_amp": [],
             "graze_reach": [], "graze_delta": math.nan, "graze_err": 0.0}
 
 
@@ -903,13 +982,16 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
     """The Hopf and stick-onset curves along ``over`` by natural continuation.
 
     Each step is seeded by the previous ones: the two boundaries are predicted by
-    linear extrapolation of the last two (in log-log when positive); the Hopf
-    samples start on the previous step's cycles, scaled by the predicted ratio;
+    linear extrapolation of the last two (in log-log when positive), for
+    ``LOOKAHEAD`` steps at once (one batch of attractors); the Hopf point is
+    extrapolated from three cycles with the shape of A^2 fitted on an earlier
+    step (:func:`_seeded_hopf`, five cycles where that check fails), started on
+    the previous step's cycles, scaled by the predicted ratio;
     the grazing is extrapolated from three slip cycles just above its prediction
     (spacing 2e-6 relative, or four times the last prediction error), started on the
     previous step's cycles, with one stick-slip check below it. A step whose seeds
     do not bracket falls back to the full scan of :func:`locate_boundaries` (so do
-    the first two, and the ``continued`` flag says which). About 10 attractors a
+    the first two, and the ``continued`` flag says which). About 8 attractors a
     step against 32 for the scan alone. Only ``v`` is supported as ``along`` here.
 
     Parameters
@@ -945,30 +1027,41 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
     base = other.rows(0, other.size)
     hist = _history()
     results = []
-    for i, row in enumerate(base):
-        pt = _Point(row, along, tol)
-        solver = _continued_point(pt, values, xtol, offset, start, hist, xs[i])
-        (res,), (n,) = _drive([solver], row[None, :], COLUMNS[along], o, True)
-        res["evaluations"] = int(n)
-        res["continued"] = int(not res.pop("fallback"))
-        ok_h = res["hopf_status"] == LOCATED
-        ok_g = res["stick_status"] == LOCATED
-        if not (ok_h and ok_g):      # restart the histories where a curve is lost
-            hist = _history()
-        else:
-            hist["x"].append(xs[i])
-            hist["hopf"].append(res["v_hopf"])
-            hist["reach"].append(res["hopf_reach"])
-            hist["graze"].append(res["v_stick_onset"])
-            hist["graze_amp"].append(res["graze_amp"])
-            hist["graze_reach"].append(res.get("graze_reach"))
-            hist["graze_delta"] = res.get("graze_delta", math.nan)
-            hist["graze_err"] = max(res.pop("guess_error", 0.0), xtol) \
-                if res["continued"] else abs(values[1] - values[0]) / 8
-        for key in ("hopf_reach", "guess_error", "graze_amp", "graze_reach",
-                    "graze_delta"):
-            res.pop(key, None)
-        results.append(res)
+    i = 0
+    while i < len(base):
+        # the next steps, all predicted from the same history, in one batch: the
+        # kernel gets ~10 LOOKAHEAD attractors a round instead of ~10
+        n = LOOKAHEAD if len(hist["x"]) >= 2 else 1
+        rows = base[i:i + n]
+        solvers = [_continued_point(_Point(row, along, tol), values, xtol, offset,
+                                    start, hist, xs[i + j])
+                   for j, row in enumerate(rows)]
+        found, evals = _drive(solvers, rows, COLUMNS[along], o, True)
+        errs = []
+        for j, (res, ne) in enumerate(zip(found, evals)):
+            res["evaluations"] = int(ne)
+            res["continued"] = int(not res.pop("fallback"))
+            ok_h = res["hopf_status"] == LOCATED
+            ok_g = res["stick_status"] == LOCATED
+            if not (ok_h and ok_g):      # restart the histories where a curve is lost
+                hist = _history()
+            else:
+                hist["x"].append(xs[i + j])
+                hist["hopf"].append(res["v_hopf"])
+                hist["reach"].append(res["hopf_reach"])
+                hist["shape"].append(res.get("hopf_shape"))
+                hist["graze"].append(res["v_stick_onset"])
+                hist["graze_amp"].append(res["graze_amp"])
+                hist["graze_reach"].append(res.get("graze_reach"))
+                hist["graze_delta"] = res.get("graze_delta", math.nan)
+                errs.append(max(res.pop("guess_error", 0.0), xtol)
+                            if res["continued"] else abs(values[1] - values[0]) / 8)
+                hist["graze_err"] = max(errs)
+            for key in ("hopf_reach", "hopf_shape", "guess_error", "graze_amp",
+                        "graze_reach", "graze_delta"):
+                res.pop(key, None)
+            results.append(res)
+        i += len(rows)
     call = (f"sweepcore.continue_boundary({grid!r}, over={over!r}, along={along!r}, "
             f"bracket={(float(values[0]), float(values[-1]))!r}, xtol={xtol!r}, "
             f"scan={scan!r}, offset={offset!r}, tol={tol!r}, method={method!r})")
