@@ -47,6 +47,7 @@ kernel inside a dask task), so Python costs a few microseconds per attractor.
 from __future__ import annotations
 
 import datetime
+import itertools
 import math
 from concurrent.futures import ThreadPoolExecutor
 
@@ -56,7 +57,8 @@ import xarray as xr
 
 from . import variables
 from ._kernels import codes, layout
-from ._kernels.attractor import RTOL_FLOOR, attractor_rows, attractor_rows_parallel
+from ._kernels.attractor import (_LANES, RTOL_FLOOR, attractor_rows,
+                                 attractor_rows_parallel)
 from .grid import AXES, COLUMNS, Grid
 from .grid import v_star as _v_star
 from .options import make_options
@@ -168,24 +170,30 @@ def _attractors(P, o, out, parallel: bool):
     """``attractor_rows`` over the rows of P, on every numba thread if ``parallel``.
 
     Waking numba's thread pool costs ~2 ms a call, more than a small batch of
-    attractors: small batches are split between Python threads instead (the
-    kernel releases the GIL).
+    attractors, and the parallel kernel deals its ``_LANES`` lanes to the threads
+    in contiguous blocks, so a batch of fewer rows than lanes runs on one thread
+    only: batches below ``threads * _LANES`` rows are shared by Python threads
+    instead, row by row (the kernel releases the GIL).
     """
     n = P.shape[0]
     threads = numba.get_num_threads() if parallel else 1
     if threads == 1 or n == 1:
         attractor_rows(P, o, out)
-    elif n >= 64:
+    elif n >= threads * _LANES:
         attractor_rows_parallel(P, o, out)
     else:
         if not _POOL:
             _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="sweepcore"))
-        parts = [np.arange(i, n, threads) for i in range(min(threads, n))]
-        outs = [np.empty((idx.size, layout.NOBS)) for idx in parts]
-        list(_POOL[0].map(lambda j: attractor_rows(P[parts[j]], o, outs[j]),
-                          range(len(parts))))
-        for idx, part in zip(parts, outs):
-            out[idx] = part
+        # each thread takes the next row when done (their costs differ ~10x)
+        P = np.ascontiguousarray(P)
+        rows = itertools.count()
+
+        def work(_):
+            for i in rows:
+                if i >= n:
+                    return
+                attractor_rows(P[i:i + 1], o, out[i:i + 1])
+        list(_POOL[0].map(work, range(min(threads, n))))
 
 
 def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
