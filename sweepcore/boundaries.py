@@ -474,8 +474,22 @@ def _slip_root(pts, a):
     roots = []
     for n in range(2, len(near) + 1):
         ref, scale = us[0], us[n - 1] - us[0]
-        found = np.roots(np.polyfit((us[:n] - ref) / scale, gs[:n], n - 1))
-        real = ref + scale * found[np.abs(found.imag) < 1e-12].real
+        t = (us[:n] - ref) / scale
+        coef = np.linalg.solve(np.vander(t, n), gs[:n])    # interpolation
+        if n == 2:
+            found = np.array([-coef[1] / coef[0]])
+        elif n == 3:
+            a, b, c = coef
+            disc = b * b - 4.0 * a * c
+            if disc < 0.0:
+                break
+            # the two real roots, without cancellation
+            qq = -0.5 * (b + math.copysign(math.sqrt(disc), b))
+            found = np.array([qq / a, c / qq]) if qq != 0.0 else np.array([0.0])
+        else:
+            found = np.roots(coef)
+            found = found[np.abs(found.imag) < 1e-12].real
+        real = ref + scale * found[np.isfinite(found)]
         if not real.size:
             break
         roots.append(real[np.argmin(np.abs(real - (roots[-1] if roots else ref)))])
