@@ -15,8 +15,8 @@ changes regime at two bifurcations of the slip cycle:
   cubic through samples 2..5 gives a second root; their difference is reported as
   the error estimate. The root must lie between the nearest cycle and an
   equilibrium (label check), else the status says so. A continued step
-  (:func:`continue_boundary`) keeps the shape of that polynomial and needs three
-  cycles (:func:`_seeded_hopf`).
+  (:func:`continue_boundary`) keeps the shape of that polynomial and needs two
+  or three cycles (:func:`_seeded_hopf`).
 * the **stick onset** (slip cycle <-> stick-slip): the slip cycle grazes the belt,
   its largest velocity reaching ``v``. The indicator ``g = v - xdot_max`` is
   smooth and positive on the slip cycles and reaches 0 at the grazing; on the
@@ -75,7 +75,7 @@ CYCLES = (codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
 PROPER = (codes.R_EQUILIBRIUM, codes.R_SLIP_CYCLE, codes.R_STICK_SLIP,
           codes.R_NEUTRAL, codes.R_STUCK)
 N_SAMPLES = 5           # Hopf samples per round
-N_SEEDED = 3            # Hopf samples of a continued step (the shape of A^2 known)
+N_SEEDED = 3            # Hopf samples of a continued step, at most (the shape known)
 LOOKAHEAD = 8           # continuation steps predicted from one history, run together
 RESOLVABLE = 2.0 * RTOL_FLOOR   # lowest rtol asked of a Hopf sample's cycle
 MAX_OFFSET = 0.015      # widest relative spacing of the Hopf samples (the fifth stays
@@ -85,7 +85,7 @@ STUCK = math.nan        # xdot0 of a request: start stuck on the belt (xdot0 = v
 RETRY = (codes.UNCONVERGED, codes.STEP_BUDGET)  # retried from rest on the belt
 BAND = 1e-6             # relative width next to a grazing where cycles get snapped
                         # onto the grazing orbit (measured ~3e-7 at tol 1e-10)
-N_GRAZE = 3             # slip cycles per seeded grazing step
+N_GRAZE = 3             # slip cycles of a seeded grazing step, at most
 SEED_SPACING = 2 * BAND  # their relative spacing (beyond the band, close enough that
                          # the quadratic and linear roots agree to ~1e-11 relative)
 
@@ -416,45 +416,57 @@ def _shaped_root(wa, a2a, wb, a2b, shape, hi):
 
 
 def _seeded_hopf(pt: _Point, guess: float, offset: float, reach, shape, xtol):
-    """Solver: the Hopf point near a predicted ``guess`` (cycles below, along v)
-    from three cycles, the shape of A^2 (:func:`_shape`) taken from the previous
-    steps: the root through samples 1 and 2, checked against the root through 1
-    and 3 (their difference, doubled, is the error estimate; the shape's error
-    moves the two apart), plus the root's move under amplitude errors of 2 tol L
-    (L = r_y/k + |v|/omega). Falls back to :func:`_hopf` when the check fails."""
+    """Solver: the Hopf point near a predicted ``guess`` (cycles below, along v),
+    the shape of A^2 (:func:`_shape`) taken from the previous steps.
+
+    Two cycles first: the root through them is accepted where it agrees with the
+    prediction to ``xtol / 4`` (two independent estimates: the previous steps and
+    these samples). Else a third cycle, and the root through samples 1 and 2 is
+    accepted where it agrees with the root through 1 and 3 (their difference,
+    doubled, being the error estimate: the shape's error moves them apart); else
+    :func:`_hopf`. The error estimate adds the root's move under amplitude errors
+    of 2 tol L (L = r_y/k + |v|/omega), the samples' accuracy.
+    """
     s = _hopf_offset(pt, guess, -1, offset)
     us = guess * (1.0 - s * np.arange(1, N_SEEDED + 1))
     check = guess * (1.0 + s)
-    rows = yield [(u, pt.x_eq(u) + a, 0.0) for u, a in zip(us, reach[:N_SEEDED])] \
+    rows = yield [(u, pt.x_eq(u) + a, 0.0) for u, a in zip(us[:2], reach)] \
         + [(check, pt.x_eq(check), 0.0)]
-    samples, eq_row = rows[:N_SEEDED], rows[N_SEEDED]
-    if all(_ok(r) and _regime(r) == codes.R_SLIP_CYCLE for r in samples) and \
-            _ok(eq_row) and _regime(eq_row) == codes.R_EQUILIBRIUM:
-        w = us ** 2
-        a2 = np.array([r[layout.OB_AMPLITUDE] for r in samples]) ** 2
-        hi = check ** 2
-        r12 = _shaped_root(w[0], a2[0], w[1], a2[1], shape, hi)
-        r13 = _shaped_root(w[0], a2[0], w[2], a2[2], shape, hi)
-        if np.isfinite(r12) and np.isfinite(r13):
-            root = math.sqrt(r12)
-            err = 2.0 * abs(root - math.sqrt(r13))
-            # plus the amplitudes' error (measured up to ~2 tol L) moving them apart
-            row = pt.at(guess)
-            omega = math.sqrt(row[layout.K] / row[layout.M])
-            dA = 2.0 * (pt.tol or 0.0) * (row[layout.RY] / row[layout.K]
-                                          + abs(row[layout.V]) / omega)
-            amp = np.sqrt(a2)
-            moved = _shaped_root(w[0], (amp[0] + dA) ** 2, w[1], (amp[1] - dA) ** 2,
-                                 shape, hi)
-            if err <= 0.5 * xtol and np.isfinite(moved):
-                err += abs(math.sqrt(moved) - root)
-                got = np.array([r[layout.OB_X_MAX] - pt.x_eq(u)
-                                for r, u in zip(samples, us)])
-                full = np.r_[got, got[-1] * np.sqrt(np.arange(N_SEEDED + 1, N_SAMPLES
-                                                              + 1) / N_SEEDED)]
-                return {"value": root, "error": err, "status": LOCATED,
-                        "reach": full, "shape": shape}
-    return (yield from _hopf(pt, guess, -1, offset, reach=reach))
+    samples, eq_row = list(rows[:2]), rows[2]
+    if not (all(_ok(r) and _regime(r) == codes.R_SLIP_CYCLE for r in samples) and
+            _ok(eq_row) and _regime(eq_row) == codes.R_EQUILIBRIUM):
+        return (yield from _hopf(pt, guess, -1, offset, reach=reach))
+    w, hi = us ** 2, check ** 2
+
+    def a2(k):
+        return samples[k][layout.OB_AMPLITUDE] ** 2
+    r12 = _shaped_root(w[0], a2(0), w[1], a2(1), shape, hi)
+    if not np.isfinite(r12):
+        return (yield from _hopf(pt, guess, -1, offset, reach=reach))
+    root = math.sqrt(r12)
+    err = abs(root - guess)
+    if err > 0.25 * xtol:
+        (row,) = yield [(us[2], pt.x_eq(us[2]) + reach[2], 0.0)]
+        if not (_ok(row) and _regime(row) == codes.R_SLIP_CYCLE):
+            return (yield from _hopf(pt, guess, -1, offset, reach=reach))
+        samples.append(row)
+        r13 = _shaped_root(w[0], a2(0), w[2], a2(2), shape, hi)
+        err = 2.0 * abs(root - math.sqrt(r13)) if np.isfinite(r13) else math.inf
+        if not err <= 0.5 * xtol:
+            return (yield from _hopf(pt, guess, -1, offset, reach=reach))
+    # plus the amplitudes' error (measured up to ~2 tol L) moving the root
+    row = pt.at(guess)
+    omega = math.sqrt(row[layout.K] / row[layout.M])
+    dA = 2.0 * (pt.tol or 0.0) * (row[layout.RY] / row[layout.K]
+                                  + abs(row[layout.V]) / omega)
+    amp = np.sqrt([a2(0), a2(1)])
+    moved = _shaped_root(w[0], (amp[0] + dA) ** 2, w[1], (amp[1] - dA) ** 2, shape, hi)
+    err += abs(math.sqrt(moved) - root) if np.isfinite(moved) else math.inf
+    got = np.array([r[layout.OB_X_MAX] - pt.x_eq(u) for r, u in zip(samples, us)])
+    n = got.size
+    full = np.r_[got, got[-1] * np.sqrt(np.arange(n + 1, N_SAMPLES + 1) / n)]
+    return {"value": root, "error": err, "status": LOCATED, "reach": full,
+            "shape": shape}
 
 
 # ----------------------------------------------------------------- stick onset
@@ -926,12 +938,14 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
         delta = max(4.0 * hist["graze_err"], SEED_SPACING * guess)
         scale = guess / hist["graze"][-1]
         seeds = hist["graze_reach"][-1]
-        if seeds is not None and delta == hist["graze_delta"] * guess:
+        same = abs(delta - hist["graze_delta"] * guess) <= 1e-9 * delta
+        if seeds is not None and same:
             seeds = seeds * scale            # the same offsets: scaled cycles
         else:
             seeds = None
         subs.append(_seeded_graze(pt, guess, delta, xtol,
-                                  hist["graze_amp"][-1] * scale, seeds))
+                                  hist["graze_amp"][-1] * scale, seeds,
+                                  hist["graze_width"]))
         kinds.append("graze")
     found = yield from (_together(subs) if subs else _nothing())
     res = _empty()
@@ -966,24 +980,44 @@ def _nothing():
     yield  # pragma: no cover - makes this a generator
 
 
-def _seeded_graze(pt, guess, delta, xtol, amp, reach=None):
+def _seeded_graze(pt, guess, delta, xtol, amp, reach=None, width=math.inf):
     """Solver: the grazing near a predicted ``guess`` (stick below, slip above,
-    along v): three slip cycles at ``guess + i delta`` (i = 1..3) and a
-    stick-slip check at ``guess - delta`` in one round, then :func:`_graze` from
-    there. The cycles start at x_eq + ``reach[i]`` (the previous step's cycles,
-    scaled) or else inside, at x_eq + 0.999 ``amp``."""
+    along v): slip cycles at ``guess + delta`` and ``guess + 2 delta`` and a
+    stick-slip check at ``guess - delta`` in one round. The root through the two
+    (linear; the curvature moves it by ~the last step's ``width``) is accepted
+    where it agrees with the prediction to ``xtol / 4``; else a third cycle at
+    ``guess + 3 delta`` and :func:`_graze` from there. The cycles start at x_eq +
+    ``reach[i]`` (the previous step's cycles, scaled) or else inside, at x_eq +
+    0.999 ``amp``."""
     us = [guess + i * delta for i in range(1, N_GRAZE + 1)]
     check = guess - delta
-    seeds = reach if reach is not None else [0.999 * amp] * N_GRAZE
-    rows = yield [(u, pt.x_eq(u) + r, 0.0) for u, r in zip(us, seeds)] + \
+    seeds = list(reach) if reach is not None else [0.999 * amp]
+    seeds += [seeds[-1]] * (N_GRAZE - len(seeds))
+    rows = yield [(u, pt.x_eq(u) + r, 0.0) for u, r in zip(us[:2], seeds)] + \
         [(check, 0.0, STUCK)]
     if not all(_ok(r) for r in rows):
         return {"value": math.nan, "width": math.nan, "status": FAILED}
-    slip = [(u, r) for u, r in zip(us, rows) if _regime(r) == codes.R_SLIP_CYCLE
-            and pt.speed(u) - r[layout.OB_XDOT_MAX] > 0.0]
-    if len(slip) < N_GRAZE or _regime(rows[N_GRAZE]) not in CYCLES:
+
+    def slip_of(pairs):
+        return [(u, r) for u, r in pairs if _regime(r) == codes.R_SLIP_CYCLE
+                and pt.speed(u) - r[layout.OB_XDOT_MAX] > 0.0]
+    slip = slip_of(zip(us[:2], rows[:2]))
+    if len(slip) < 2 or _regime(rows[2]) not in CYCLES:
         return {"value": math.nan, "width": math.nan, "status": ABSENT}
-    out = yield from _graze(pt, check, us[0], xtol, slip)
+    root, _ = _slip_root([(u, pt.speed(u) - r[layout.OB_XDOT_MAX]) for u, r in slip],
+                         check)
+    if root is not None and abs(root - guess) <= 0.25 * xtol:
+        near = slip[0]
+        out = {"value": root, "width": max(abs(root - guess), width),
+               "status": LOCATED, "amp": near[1][layout.OB_X_MAX] - pt.x_eq(near[0])}
+    else:
+        (row,) = yield [(us[2], pt.x_eq(us[2]) + seeds[2], 0.0)]
+        if not _ok(row):
+            return {"value": math.nan, "width": math.nan, "status": FAILED}
+        slip += slip_of([(us[2], row)])
+        if len(slip) < N_GRAZE:
+            return {"value": math.nan, "width": math.nan, "status": ABSENT}
+        out = yield from _graze(pt, check, us[0], xtol, slip)
     out["guess_error"] = abs(out["value"] - guess) if out["status"] == LOCATED \
         else math.inf
     out["seed_reach"] = np.array([r[layout.OB_X_MAX] - pt.x_eq(u) for u, r in slip])
@@ -994,7 +1028,8 @@ def _seeded_graze(pt, guess, delta, xtol, amp, reach=None):
 def _history():
     """What the continuation carries from step to step."""
     return {"x": [], "hopf": [], "reach": [], "shape": [], "graze": [], "graze_amp": [],
-            "graze_reach": [], "graze_delta": math.nan, "graze_err": 0.0}
+            "graze_reach": [], "graze_delta": math.nan, "graze_err": 0.0,
+            "graze_width": math.inf}
 
 
 def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
@@ -1009,11 +1044,13 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
     extrapolated from three cycles with the shape of A^2 fitted on an earlier
     step (:func:`_seeded_hopf`, five cycles where that check fails), started on
     the previous step's cycles, scaled by the predicted ratio;
-    the grazing is extrapolated from three slip cycles just above its prediction
+    the grazing is extrapolated from two slip cycles just above its prediction
     (spacing 2e-6 relative, or four times the last prediction error), started on the
-    previous step's cycles, with one stick-slip check below it. A step whose seeds
+    previous step's cycles, with one stick-slip check below it. Where the root
+    through the two samples does not agree with the prediction to xtol/4, a
+    third cycle is asked (and so for the Hopf point, :func:`_seeded_hopf`). A step whose seeds
     do not bracket falls back to the full scan of :func:`locate_boundaries` (so do
-    the first two, and the ``continued`` flag says which). About 8 attractors a
+    the first two, and the ``continued`` flag says which). About 6 attractors a
     step against 32 for the scan alone. Only ``v`` is supported as ``along`` here.
 
     Parameters
@@ -1076,6 +1113,7 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
                 hist["graze_amp"].append(res["graze_amp"])
                 hist["graze_reach"].append(res.get("graze_reach"))
                 hist["graze_delta"] = res.get("graze_delta", math.nan)
+                hist["graze_width"] = res["v_stick_onset_width"]
                 errs.append(max(res.pop("guess_error", 0.0), xtol)
                             if res["continued"] else abs(values[1] - values[0]) / 8)
                 hist["graze_err"] = max(errs)
