@@ -1177,7 +1177,9 @@ def _dataset(other: Grid, along: str, results, o, method, call,
         "v_hopf_error": (field("v_hopf_error"), {
             "units": units, "long_name": "estimated error of the Hopf point",
             "comment": "difference between the roots of the cubics through samples "
-                       "1-4 and 2-5"}),
+                       "1-4 and 2-5; continued steps: between the root and the "
+                       "prediction (or a third sample's root), plus the move of "
+                       "the root under amplitude errors of 2 tol L"}),
         "hopf_status": (field("hopf_status", np.int8),
                         {**status, "long_name": "outcome of the Hopf point search"}),
         "v_stick_onset": (field("v_stick_onset"), {
