@@ -7,12 +7,16 @@ changes regime at two bifurcations of the slip cycle:
   ``(A omega)^2 = 4 m q / (3 alpha2)`` (docs/physics.md), and ``q`` (eq. 46) is
   linear in ``v^2``: the cycle's amplitude squared ``A^2`` is a smooth function of
   ``w = v^2`` that vanishes at the Hopf point. It is measured on a few cycles a
-  little away from the point (relative offsets ``i * offset``, i = 1..5), where the
-  attractor search is fast and accurate, and its root found by a cubic through the
+  little away from the point (relative offsets ``i * offset``, i = 1..5; the offset
+  is widened where the cycles would contract too weakly to be resolved at ``tol``,
+  :func:`_hopf_offset`, which sets it at low damping), where the attractor search
+  is fast and accurate, and its root found by a cubic through the
   four nearest samples (root of the polynomial by :func:`bracketed_root`). The
   cubic through samples 2..5 gives a second root; their difference is reported as
   the error estimate. The root must lie between the nearest cycle and an
-  equilibrium (label check), else the status says so.
+  equilibrium (label check), else the status says so. A continued step
+  (:func:`continue_boundary`) keeps the shape of that polynomial and needs two
+  or three cycles (:func:`_seeded_hopf`).
 * the **stick onset** (slip cycle <-> stick-slip): the slip cycle grazes the belt,
   its largest velocity reaching ``v``. The indicator ``g = v - xdot_max`` is
   smooth and positive on the slip cycles and reaches 0 at the grazing; on the
@@ -27,6 +31,10 @@ changes regime at two bifurcations of the slip cycle:
   within the driver's graze tolerance of the belt is snapped onto the grazing
   orbit), which is why the indicator, not the label, decides.
 
+A start that does not reach an attractor within the kernel's budget is retried
+once from rest on the belt (:func:`_drive`); an ``unresolved`` cycle next to the
+Hopf point keeps its label in the scan.
+
 Any other regime change in the bracket (e.g. the edges of the band of slip cycles
 with slide-slide reversals at small alpha2, for which no smooth indicator is known)
 is located by bisection on the regime labels, to ``xtol``.
@@ -39,6 +47,7 @@ kernel inside a dask task), so Python costs a few microseconds per attractor.
 from __future__ import annotations
 
 import datetime
+import itertools
 import math
 from concurrent.futures import ThreadPoolExecutor
 
@@ -48,7 +57,8 @@ import xarray as xr
 
 from . import variables
 from ._kernels import codes, layout
-from ._kernels.attractor import attractor_rows, attractor_rows_parallel
+from ._kernels.attractor import (_LANES, RTOL_FLOOR, attractor_rows,
+                                 attractor_rows_parallel)
 from .grid import AXES, COLUMNS, Grid
 from .grid import v_star as _v_star
 from .options import make_options
@@ -65,10 +75,19 @@ CYCLES = (codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
 PROPER = (codes.R_EQUILIBRIUM, codes.R_SLIP_CYCLE, codes.R_STICK_SLIP,
           codes.R_NEUTRAL, codes.R_STUCK)
 N_SAMPLES = 5           # Hopf samples per round
+N_SEEDED = 3            # Hopf samples of a continued step, at most (the shape known)
+LOOKAHEAD = 8           # continuation steps predicted from one history, run together
+RESOLVABLE = 2.0 * RTOL_FLOOR   # lowest rtol asked of a Hopf sample's cycle
+MAX_OFFSET = 0.015      # widest relative spacing of the Hopf samples (the fifth stays
+                        # well above the grazing, ~10 % below the Hopf point)
 MAX_TRANSITIONS = 8     # regime changes kept per point (the first ones along the axis)
 STUCK = math.nan        # xdot0 of a request: start stuck on the belt (xdot0 = v)
+RETRY = (codes.UNCONVERGED, codes.STEP_BUDGET)  # retried from rest on the belt
 BAND = 1e-6             # relative width next to a grazing where cycles get snapped
                         # onto the grazing orbit (measured ~3e-7 at tol 1e-10)
+N_GRAZE = 3             # slip cycles of a seeded grazing step, at most
+SEED_SPACING = 2 * BAND  # their relative spacing (beyond the band, close enough that
+                         # the quadratic and linear roots agree to ~1e-11 relative)
 
 
 # ------------------------------------------------------------- root solver
@@ -151,24 +170,30 @@ def _attractors(P, o, out, parallel: bool):
     """``attractor_rows`` over the rows of P, on every numba thread if ``parallel``.
 
     Waking numba's thread pool costs ~2 ms a call, more than a small batch of
-    attractors: small batches are split between Python threads instead (the
-    kernel releases the GIL).
+    attractors, and the parallel kernel deals its ``_LANES`` lanes to the threads
+    in contiguous blocks, so a batch of fewer rows than lanes runs on one thread
+    only: batches below ``threads * _LANES`` rows are shared by Python threads
+    instead, row by row (the kernel releases the GIL).
     """
     n = P.shape[0]
     threads = numba.get_num_threads() if parallel else 1
     if threads == 1 or n == 1:
         attractor_rows(P, o, out)
-    elif n >= 64:
+    elif n >= threads * _LANES:
         attractor_rows_parallel(P, o, out)
     else:
         if not _POOL:
             _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="sweepcore"))
-        parts = [np.arange(i, n, threads) for i in range(min(threads, n))]
-        outs = [np.empty((idx.size, layout.NOBS)) for idx in parts]
-        list(_POOL[0].map(lambda j: attractor_rows(P[parts[j]], o, outs[j]),
-                          range(len(parts))))
-        for idx, part in zip(parts, outs):
-            out[idx] = part
+        # each thread takes the next row when done (their costs differ ~10x)
+        P = np.ascontiguousarray(P)
+        rows = itertools.count()
+
+        def work(_):
+            for i in rows:
+                if i >= n:
+                    return
+                attractor_rows(P[i:i + 1], o, out[i:i + 1])
+        list(_POOL[0].map(work, range(min(threads, n))))
 
 
 def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
@@ -194,6 +219,20 @@ def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
         P[:, layout.XD0] = np.where(np.isnan(req[:, 2]), P[:, layout.V], req[:, 2])
         out = np.empty((len(owners), layout.NOBS))
         _attractors(P, o, out, parallel)
+        # A start inside a cycle that the search does not bring to an attractor
+        # (a motion growing slowly onto a stick-slip cycle at low damping ends with
+        # the budget spent) is retried once from rest on the belt at x = 0.
+        again = np.flatnonzero(np.isin(out[:, layout.OB_STATUS], RETRY)
+                               & ~np.isnan(req[:, 2]))
+        if again.size:
+            Q = P[again].copy()
+            Q[:, layout.X0] = 0.0
+            Q[:, layout.XD0] = Q[:, layout.V]
+            redo = np.empty((again.size, layout.NOBS))
+            _attractors(Q, o, redo, parallel)
+            out[again] = redo
+            for j in again:
+                evals[owners[j]] += 1
         pos, nxt = 0, {}
         for i, r in asks.items():
             evals[i] += len(r)
@@ -210,8 +249,8 @@ def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
 class _Point:
     """The fixed parameters of one search and what the solvers need from them."""
 
-    def __init__(self, row: np.ndarray, along: str):
-        self.row, self.along = row, along
+    def __init__(self, row: np.ndarray, along: str, tol: float | None = None):
+        self.row, self.along, self.tol = row, along, tol
         self.col = COLUMNS[along]
 
     def at(self, value: float) -> np.ndarray:
@@ -231,6 +270,14 @@ class _Point:
 
     def speed(self, value: float) -> float:
         return self.at(value)[layout.V]
+
+    def contraction(self, value: float) -> float:
+        """``|q| T`` at ``along = value``: q = (alpha1 - 3 alpha2 v^2)/m (eq. 46),
+        T = 2 pi/omega; ``1 - mu`` of a small slip cycle there (mu its Floquet
+        multiplier) is about this."""
+        r = self.at(value)
+        q = (r[layout.A1] - 3.0 * r[layout.A2] * r[layout.V] ** 2) / r[layout.M]
+        return abs(q) * 2.0 * math.pi * math.sqrt(r[layout.M] / r[layout.K])
 
     def fit_variable(self, value):
         """The variable in which A^2 is fitted: v^2 along v (q is linear in it)."""
@@ -257,6 +304,28 @@ def _fit_root(w, a2, w_lo, w_hi):
         return math.nan
 
 
+def _hopf_offset(pt: _Point, r: float, side: int, offset: float) -> float:
+    """``offset``, widened where the samples would come too close to the Hopf
+    point for the attractor search to resolve them.
+
+    The kernel integrates a slip cycle at rtol = tol (1 - mu) / 2 and gives up
+    (status ``unresolved``) below RTOL_FLOOR; ``1 - mu`` grows about linearly with
+    the distance from the Hopf point (:meth:`_Point.contraction`), so the nearest
+    sample is moved out until tol (1 - mu) / 2 >= RESOLVABLE (at most MAX_OFFSET).
+    At low damping (alpha1/sqrt(k m) << 0.1) this is what sets the offset.
+    """
+    if pt.tol is None:
+        return offset
+    need = 2.0 * RESOLVABLE / pt.tol
+    s = offset
+    for _ in range(4):          # 1 - mu is nearly linear in s: one step is enough
+        c = pt.contraction(r * (1.0 + side * s))
+        if c >= need or s >= MAX_OFFSET:
+            break
+        s = min(MAX_OFFSET, s * 1.05 * need / c if c > 0.0 else 2.0 * s)
+    return s
+
+
 def _hopf(pt: _Point, guess: float, side: int, offset: float, reach=None,
           max_rounds: int = 4):
     """Solver: the Hopf point near ``guess``, cycles on ``side`` (-1 below, +1 above).
@@ -270,7 +339,9 @@ def _hopf(pt: _Point, guess: float, side: int, offset: float, reach=None,
     r = guess
     result = {"value": math.nan, "error": math.nan, "status": FAILED,
               "reach": None}
+    asked = offset
     for _round in range(max_rounds):
+        offset = _hopf_offset(pt, r, side, asked)
         us = r * (1.0 + side * offset * np.arange(1, N_SAMPLES + 1))
         check = r * (1.0 - side * offset)
         if reach is None:
@@ -307,7 +378,8 @@ def _hopf(pt: _Point, guess: float, side: int, offset: float, reach=None,
         err = abs(root - (math.sqrt(far) if pt.along == "v" else far)) \
             if np.isfinite(far) else math.inf
         got = np.array([s[layout.OB_X_MAX] - pt.x_eq(u) for s, u in zip(samples, us)])
-        result.update(value=root, error=err, status=LOCATED, reach=got)
+        result.update(value=root, error=err, status=LOCATED, reach=got,
+                      shape=_shape(w[:4], amp[:4] ** 2, near))
         if abs(root - r) <= 0.3 * offset * abs(r):
             return result
         # the fit lies well off the centre: sample again around it
@@ -315,6 +387,86 @@ def _hopf(pt: _Point, guess: float, side: int, offset: float, reach=None,
         r = root
     result["status"] = INCONSISTENT
     return result
+
+
+def _shape(w, a2, w0):
+    """(b2, b3) of ``A^2 = c1 x (1 + b2 x + b3 x^2)``, x = (w0 - w)/w0, by least
+    squares through the samples with the root ``w0`` fixed."""
+    x = (w0 - np.asarray(w)) / w0
+    c = np.linalg.lstsq(np.c_[x, x ** 2, x ** 3], a2, rcond=None)[0]
+    return c[1] / c[0], c[2] / c[0]
+
+
+def _shaped_root(wa, a2a, wb, a2b, shape, hi):
+    """Root w0 of ``A^2 = c1 x (1 + b2 x + b3 x^2)`` (x = (w0 - w)/w0, shape
+    (b2, b3) given) through two samples below it, searched in (wa, hi]; NaN if
+    none."""
+    b2, b3 = shape
+
+    def f(x):
+        return x * (1.0 + b2 * x + b3 * x * x)
+
+    def F(w0):
+        return a2a * f((w0 - wb) / w0) - a2b * f((w0 - wa) / w0)
+    lo = wa * (1.0 + 1e-9 * (1.0 if hi > wa else -1.0))
+    try:
+        return bracketed_root(F, lo, hi, 1e-15 * abs(hi))
+    except ValueError:
+        return math.nan
+
+
+def _seeded_hopf(pt: _Point, guess: float, offset: float, reach, shape, xtol):
+    """Solver: the Hopf point near a predicted ``guess`` (cycles below, along v),
+    the shape of A^2 (:func:`_shape`) taken from the previous steps.
+
+    Two cycles first: the root through them is accepted where it agrees with the
+    prediction to ``xtol / 4`` (two independent estimates: the previous steps and
+    these samples). Else a third cycle, and the root through samples 1 and 2 is
+    accepted where it agrees with the root through 1 and 3 (their difference,
+    doubled, being the error estimate: the shape's error moves them apart); else
+    :func:`_hopf`. The error estimate adds the root's move under amplitude errors
+    of 2 tol L (L = r_y/k + |v|/omega), the samples' accuracy.
+    """
+    s = _hopf_offset(pt, guess, -1, offset)
+    us = guess * (1.0 - s * np.arange(1, N_SEEDED + 1))
+    check = guess * (1.0 + s)
+    rows = yield [(u, pt.x_eq(u) + a, 0.0) for u, a in zip(us[:2], reach)] \
+        + [(check, pt.x_eq(check), 0.0)]
+    samples, eq_row = list(rows[:2]), rows[2]
+    if not (all(_ok(r) and _regime(r) == codes.R_SLIP_CYCLE for r in samples) and
+            _ok(eq_row) and _regime(eq_row) == codes.R_EQUILIBRIUM):
+        return (yield from _hopf(pt, guess, -1, offset, reach=reach))
+    w, hi = us ** 2, check ** 2
+
+    def a2(k):
+        return samples[k][layout.OB_AMPLITUDE] ** 2
+    r12 = _shaped_root(w[0], a2(0), w[1], a2(1), shape, hi)
+    if not np.isfinite(r12):
+        return (yield from _hopf(pt, guess, -1, offset, reach=reach))
+    root = math.sqrt(r12)
+    err = abs(root - guess)
+    if err > 0.25 * xtol:
+        (row,) = yield [(us[2], pt.x_eq(us[2]) + reach[2], 0.0)]
+        if not (_ok(row) and _regime(row) == codes.R_SLIP_CYCLE):
+            return (yield from _hopf(pt, guess, -1, offset, reach=reach))
+        samples.append(row)
+        r13 = _shaped_root(w[0], a2(0), w[2], a2(2), shape, hi)
+        err = 2.0 * abs(root - math.sqrt(r13)) if np.isfinite(r13) else math.inf
+        if not err <= 0.5 * xtol:
+            return (yield from _hopf(pt, guess, -1, offset, reach=reach))
+    # plus the amplitudes' error (measured up to ~2 tol L) moving the root
+    row = pt.at(guess)
+    omega = math.sqrt(row[layout.K] / row[layout.M])
+    dA = 2.0 * (pt.tol or 0.0) * (row[layout.RY] / row[layout.K]
+                                  + abs(row[layout.V]) / omega)
+    amp = np.sqrt([a2(0), a2(1)])
+    moved = _shaped_root(w[0], (amp[0] + dA) ** 2, w[1], (amp[1] - dA) ** 2, shape, hi)
+    err += abs(math.sqrt(moved) - root) if np.isfinite(moved) else math.inf
+    got = np.array([r[layout.OB_X_MAX] - pt.x_eq(u) for r, u in zip(samples, us)])
+    n = got.size
+    full = np.r_[got, got[-1] * np.sqrt(np.arange(n + 1, N_SAMPLES + 1) / n)]
+    return {"value": root, "error": err, "status": LOCATED, "reach": full,
+            "shape": shape}
 
 
 # ----------------------------------------------------------------- stick onset
@@ -334,8 +486,22 @@ def _slip_root(pts, a):
     roots = []
     for n in range(2, len(near) + 1):
         ref, scale = us[0], us[n - 1] - us[0]
-        found = np.roots(np.polyfit((us[:n] - ref) / scale, gs[:n], n - 1))
-        real = ref + scale * found[np.abs(found.imag) < 1e-12].real
+        t = (us[:n] - ref) / scale
+        coef = np.linalg.solve(np.vander(t, n), gs[:n])    # interpolation
+        if n == 2:
+            found = np.array([-coef[1] / coef[0]])
+        elif n == 3:
+            a, b, c = coef
+            disc = b * b - 4.0 * a * c
+            if disc < 0.0:
+                break
+            # the two real roots, without cancellation
+            qq = -0.5 * (b + math.copysign(math.sqrt(disc), b))
+            found = np.array([qq / a, c / qq]) if qq != 0.0 else np.array([0.0])
+        else:
+            found = np.roots(coef)
+            found = found[np.abs(found.imag) < 1e-12].real
+        real = ref + scale * found[np.isfinite(found)]
         if not real.size:
             break
         roots.append(real[np.argmin(np.abs(real - (roots[-1] if roots else ref)))])
@@ -459,7 +625,8 @@ def _bisect(pt: _Point, a: float, b: float, ra: int, rb: int, xtol: float, start
 def _empty():
     return {"v_hopf": math.nan, "v_hopf_error": math.nan, "hopf_status": ABSENT,
             "v_stick_onset": math.nan, "v_stick_onset_width": math.nan,
-            "stick_status": ABSENT, "transitions": [], "hopf_reach": None}
+            "stick_status": ABSENT, "transitions": [], "hopf_reach": None,
+            "hopf_shape": None}
 
 
 def _hopf_guess(pt, values, rows, j, side, offset):
@@ -482,14 +649,19 @@ def _hopf_guess(pt, values, rows, j, side, offset):
     if not lo < r < hi:
         return mid, None
     # seeds: A^2 linear in the fit variable, through the scan's nearest cycle
+    offset = _hopf_offset(pt, r, side, offset)
     us = r * (1.0 + side * offset * np.arange(1, N_SAMPLES + 1))
     amp = np.sqrt(a2[0] * np.abs(pt.fit_variable(us) - w0) / abs(w[0] - w0))
     return r, amp
 
 
 def _changes(us, rows):
-    """Indices j with a change of proper regimes between scan points j and j+1."""
-    reg = [_regime(r) if _ok(r) else -1 for r in rows]
+    """Indices j with a change of proper regimes between scan points j and j+1.
+
+    A cycle returned ``unresolved`` (next to the Hopf point, its numbers only
+    estimates) keeps its label: the scan needs no more."""
+    reg = [_regime(r) if _ok(r) or int(r[layout.OB_STATUS]) == codes.UNRESOLVED
+           else -1 for r in rows]
     return reg, [j for j in range(len(us) - 1) if reg[j] != reg[j + 1]
                  and reg[j] in PROPER and reg[j + 1] in PROPER]
 
@@ -563,7 +735,8 @@ def _locate_point(pt: _Point, values: np.ndarray, xtol: float, offset: float, st
         best = max(hopfs, key=lambda o: o["value"] if np.isfinite(o["value"])
                    else -math.inf)
         res.update(v_hopf=best["value"], v_hopf_error=best["error"],
-                   hopf_status=best["status"], hopf_reach=best["reach"])
+                   hopf_status=best["status"], hopf_reach=best["reach"],
+                   hopf_shape=best.get("shape"))
     elif res["hopf_status"] != FAILED:
         res["hopf_status"] = ABSENT
     if grazes:
@@ -636,12 +809,12 @@ def _start(grid: Grid):
 def locate_chunk(base: np.ndarray, along: str, values: np.ndarray, xtol: float,
                  offset: float, start, o: np.ndarray, parallel: bool = False):
     """Boundaries of the points ``base`` (kernel rows): the task of one chunk."""
-    pts = [_Point(row, along) for row in base]
+    pts = [_Point(row, along, float(o[layout.O_RTOL])) for row in base]
     solvers = [_locate_point(p, values, xtol, offset, start) for p in pts]
     results, evals = _drive(solvers, base, COLUMNS[along], o, parallel)
     for r, n in zip(results, evals):
         r["evaluations"] = int(n)
-        for key in ("hopf_reach", "graze_amp", "graze_reach"):
+        for key in ("hopf_reach", "hopf_shape", "graze_amp", "graze_reach"):
             r.pop(key, None)
     return results
 
@@ -754,21 +927,25 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
     if len(hist["hopf"]) >= 2:
         guess = _predict(hx[-2:], hist["hopf"][-2:], over_value)
         reach = hist["reach"][-1] * guess / hist["hopf"][-1]
-        subs.append(_hopf(pt, guess, -1, offset, reach=reach))
+        shape = hist["shape"][-1]
+        subs.append(_seeded_hopf(pt, guess, offset, reach, shape, xtol)
+                    if shape is not None else _hopf(pt, guess, -1, offset, reach=reach))
         kinds.append("hopf")
     if len(hist["graze"]) >= 2:
         guess = _predict(hx[-2:], hist["graze"][-2:], over_value)
         # slip cycles beyond the band where the labels already say stick (the
         # graze tolerance, ~1e-6 relative) and beyond the prediction's error
-        delta = max(4.0 * hist["graze_err"], 1e-5 * guess)
+        delta = max(4.0 * hist["graze_err"], SEED_SPACING * guess)
         scale = guess / hist["graze"][-1]
         seeds = hist["graze_reach"][-1]
-        if seeds is not None and delta == hist["graze_delta"] * guess:
+        same = abs(delta - hist["graze_delta"] * guess) <= 1e-9 * delta
+        if seeds is not None and same:
             seeds = seeds * scale            # the same offsets: scaled cycles
         else:
             seeds = None
         subs.append(_seeded_graze(pt, guess, delta, xtol,
-                                  hist["graze_amp"][-1] * scale, seeds))
+                                  hist["graze_amp"][-1] * scale, seeds,
+                                  hist["graze_width"]))
         kinds.append("graze")
     found = yield from (_together(subs) if subs else _nothing())
     res = _empty()
@@ -777,7 +954,8 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
     for kind, out in zip(kinds, found):
         if kind == "hopf" and out["status"] == LOCATED:
             res.update(v_hopf=out["value"], v_hopf_error=out["error"],
-                       hopf_status=LOCATED, hopf_reach=out["reach"])
+                       hopf_status=LOCATED, hopf_reach=out["reach"],
+                       hopf_shape=out.get("shape"))
         elif kind == "graze" and out["status"] == LOCATED:
             res.update(v_stick_onset=out["value"], v_stick_onset_width=out["width"],
                        stick_status=LOCATED, guess_error=out.get("guess_error", 0.0),
@@ -786,7 +964,8 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
     res["fallback"] = bool(missing)
     if missing:
         full = yield from _locate_point(pt, values, xtol, offset, start)
-        for key in (("v_hopf", "v_hopf_error", "hopf_status", "hopf_reach")
+        for key in (("v_hopf", "v_hopf_error", "hopf_status", "hopf_reach",
+                     "hopf_shape")
                     if "hopf" in missing else ()) + \
                    (("v_stick_onset", "v_stick_onset_width", "stick_status")
                     if "graze" in missing else ()):
@@ -801,24 +980,44 @@ def _nothing():
     yield  # pragma: no cover - makes this a generator
 
 
-def _seeded_graze(pt, guess, delta, xtol, amp, reach=None):
+def _seeded_graze(pt, guess, delta, xtol, amp, reach=None, width=math.inf):
     """Solver: the grazing near a predicted ``guess`` (stick below, slip above,
-    along v): four slip cycles at ``guess + i delta`` (i = 1..4) and a
-    stick-slip check at ``guess - delta`` in one round, then :func:`_graze` from
-    there. The cycles start at x_eq + ``reach[i]`` (the previous step's cycles,
-    scaled) or else inside, at x_eq + 0.999 ``amp``."""
-    us = [guess + i * delta for i in (1, 2, 3, 4)]
+    along v): slip cycles at ``guess + delta`` and ``guess + 2 delta`` and a
+    stick-slip check at ``guess - delta`` in one round. The root through the two
+    (linear; the curvature moves it by ~the last step's ``width``) is accepted
+    where it agrees with the prediction to ``xtol / 4``; else a third cycle at
+    ``guess + 3 delta`` and :func:`_graze` from there. The cycles start at x_eq +
+    ``reach[i]`` (the previous step's cycles, scaled) or else inside, at x_eq +
+    0.999 ``amp``."""
+    us = [guess + i * delta for i in range(1, N_GRAZE + 1)]
     check = guess - delta
-    seeds = reach if reach is not None else [0.999 * amp] * 4
-    rows = yield [(u, pt.x_eq(u) + r, 0.0) for u, r in zip(us, seeds)] + \
+    seeds = list(reach) if reach is not None else [0.999 * amp]
+    seeds += [seeds[-1]] * (N_GRAZE - len(seeds))
+    rows = yield [(u, pt.x_eq(u) + r, 0.0) for u, r in zip(us[:2], seeds)] + \
         [(check, 0.0, STUCK)]
     if not all(_ok(r) for r in rows):
         return {"value": math.nan, "width": math.nan, "status": FAILED}
-    slip = [(u, r) for u, r in zip(us, rows) if _regime(r) == codes.R_SLIP_CYCLE
-            and pt.speed(u) - r[layout.OB_XDOT_MAX] > 0.0]
-    if len(slip) < 4 or _regime(rows[4]) not in CYCLES:
+
+    def slip_of(pairs):
+        return [(u, r) for u, r in pairs if _regime(r) == codes.R_SLIP_CYCLE
+                and pt.speed(u) - r[layout.OB_XDOT_MAX] > 0.0]
+    slip = slip_of(zip(us[:2], rows[:2]))
+    if len(slip) < 2 or _regime(rows[2]) not in CYCLES:
         return {"value": math.nan, "width": math.nan, "status": ABSENT}
-    out = yield from _graze(pt, check, us[0], xtol, slip)
+    root, _ = _slip_root([(u, pt.speed(u) - r[layout.OB_XDOT_MAX]) for u, r in slip],
+                         check)
+    if root is not None and abs(root - guess) <= 0.25 * xtol:
+        near = slip[0]
+        out = {"value": root, "width": max(abs(root - guess), width),
+               "status": LOCATED, "amp": near[1][layout.OB_X_MAX] - pt.x_eq(near[0])}
+    else:
+        (row,) = yield [(us[2], pt.x_eq(us[2]) + seeds[2], 0.0)]
+        if not _ok(row):
+            return {"value": math.nan, "width": math.nan, "status": FAILED}
+        slip += slip_of([(us[2], row)])
+        if len(slip) < N_GRAZE:
+            return {"value": math.nan, "width": math.nan, "status": ABSENT}
+        out = yield from _graze(pt, check, us[0], xtol, slip)
     out["guess_error"] = abs(out["value"] - guess) if out["status"] == LOCATED \
         else math.inf
     out["seed_reach"] = np.array([r[layout.OB_X_MAX] - pt.x_eq(u) for u, r in slip])
@@ -828,8 +1027,9 @@ def _seeded_graze(pt, guess, delta, xtol, amp, reach=None):
 
 def _history():
     """What the continuation carries from step to step."""
-    return {"x": [], "hopf": [], "reach": [], "graze": [], "graze_amp": [],
-            "graze_reach": [], "graze_delta": math.nan, "graze_err": 0.0}
+    return {"x": [], "hopf": [], "reach": [], "shape": [], "graze": [], "graze_amp": [],
+            "graze_reach": [], "graze_delta": math.nan, "graze_err": 0.0,
+            "graze_width": math.inf}
 
 
 def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
@@ -839,13 +1039,18 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
     """The Hopf and stick-onset curves along ``over`` by natural continuation.
 
     Each step is seeded by the previous ones: the two boundaries are predicted by
-    linear extrapolation of the last two (in log-log when positive); the Hopf
-    samples start on the previous step's cycles, scaled by the predicted ratio;
-    the grazing is extrapolated from four slip cycles just above its prediction
-    (spacing 1e-5 relative, or four times the last prediction error), started on the
-    previous step's cycles, with one stick-slip check below it. A step whose seeds
+    linear extrapolation of the last two (in log-log when positive), for
+    ``LOOKAHEAD`` steps at once (one batch of attractors); the Hopf point is
+    extrapolated from three cycles with the shape of A^2 fitted on an earlier
+    step (:func:`_seeded_hopf`, five cycles where that check fails), started on
+    the previous step's cycles, scaled by the predicted ratio;
+    the grazing is extrapolated from two slip cycles just above its prediction
+    (spacing 2e-6 relative, or four times the last prediction error), started on the
+    previous step's cycles, with one stick-slip check below it. Where the root
+    through the two samples does not agree with the prediction to xtol/4, a
+    third cycle is asked (and so for the Hopf point, :func:`_seeded_hopf`). A step whose seeds
     do not bracket falls back to the full scan of :func:`locate_boundaries` (so do
-    the first two, and the ``continued`` flag says which). About 11 attractors a
+    the first two, and the ``continued`` flag says which). About 6 attractors a
     step against 32 for the scan alone. Only ``v`` is supported as ``along`` here.
 
     Parameters
@@ -881,30 +1086,42 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
     base = other.rows(0, other.size)
     hist = _history()
     results = []
-    for i, row in enumerate(base):
-        pt = _Point(row, along)
-        solver = _continued_point(pt, values, xtol, offset, start, hist, xs[i])
-        (res,), (n,) = _drive([solver], row[None, :], COLUMNS[along], o, True)
-        res["evaluations"] = int(n)
-        res["continued"] = int(not res.pop("fallback"))
-        ok_h = res["hopf_status"] == LOCATED
-        ok_g = res["stick_status"] == LOCATED
-        if not (ok_h and ok_g):      # restart the histories where a curve is lost
-            hist = _history()
-        else:
-            hist["x"].append(xs[i])
-            hist["hopf"].append(res["v_hopf"])
-            hist["reach"].append(res["hopf_reach"])
-            hist["graze"].append(res["v_stick_onset"])
-            hist["graze_amp"].append(res["graze_amp"])
-            hist["graze_reach"].append(res.get("graze_reach"))
-            hist["graze_delta"] = res.get("graze_delta", math.nan)
-            hist["graze_err"] = max(res.pop("guess_error", 0.0), xtol) \
-                if res["continued"] else abs(values[1] - values[0]) / 8
-        for key in ("hopf_reach", "guess_error", "graze_amp", "graze_reach",
-                    "graze_delta"):
-            res.pop(key, None)
-        results.append(res)
+    i = 0
+    while i < len(base):
+        # the next steps, all predicted from the same history, in one batch: the
+        # kernel gets ~10 LOOKAHEAD attractors a round instead of ~10
+        n = LOOKAHEAD if len(hist["x"]) >= 2 else 1
+        rows = base[i:i + n]
+        solvers = [_continued_point(_Point(row, along, tol), values, xtol, offset,
+                                    start, hist, xs[i + j])
+                   for j, row in enumerate(rows)]
+        found, evals = _drive(solvers, rows, COLUMNS[along], o, True)
+        errs = []
+        for j, (res, ne) in enumerate(zip(found, evals)):
+            res["evaluations"] = int(ne)
+            res["continued"] = int(not res.pop("fallback"))
+            ok_h = res["hopf_status"] == LOCATED
+            ok_g = res["stick_status"] == LOCATED
+            if not (ok_h and ok_g):      # restart the histories where a curve is lost
+                hist = _history()
+            else:
+                hist["x"].append(xs[i + j])
+                hist["hopf"].append(res["v_hopf"])
+                hist["reach"].append(res["hopf_reach"])
+                hist["shape"].append(res.get("hopf_shape"))
+                hist["graze"].append(res["v_stick_onset"])
+                hist["graze_amp"].append(res["graze_amp"])
+                hist["graze_reach"].append(res.get("graze_reach"))
+                hist["graze_delta"] = res.get("graze_delta", math.nan)
+                hist["graze_width"] = res["v_stick_onset_width"]
+                errs.append(max(res.pop("guess_error", 0.0), xtol)
+                            if res["continued"] else abs(values[1] - values[0]) / 8)
+                hist["graze_err"] = max(errs)
+            for key in ("hopf_reach", "hopf_shape", "guess_error", "graze_amp",
+                        "graze_reach", "graze_delta"):
+                res.pop(key, None)
+            results.append(res)
+        i += len(rows)
     call = (f"sweepcore.continue_boundary({grid!r}, over={over!r}, along={along!r}, "
             f"bracket={(float(values[0]), float(values[-1]))!r}, xtol={xtol!r}, "
             f"scan={scan!r}, offset={offset!r}, tol={tol!r}, method={method!r})")
@@ -960,7 +1177,9 @@ def _dataset(other: Grid, along: str, results, o, method, call,
         "v_hopf_error": (field("v_hopf_error"), {
             "units": units, "long_name": "estimated error of the Hopf point",
             "comment": "difference between the roots of the cubics through samples "
-                       "1-4 and 2-5"}),
+                       "1-4 and 2-5; continued steps: between the root and the "
+                       "prediction (or a third sample's root), plus the move of "
+                       "the root under amplitude errors of 2 tol L"}),
         "hopf_status": (field("hopf_status", np.int8),
                         {**status, "long_name": "outcome of the Hopf point search"}),
         "v_stick_onset": (field("v_stick_onset"), {

@@ -179,6 +179,34 @@ def test_stick_onset_agrees_with_scipy_grazing_cycle(located):
     assert abs(got - ref) <= 1e-9, (got, ref)
 
 
+def test_both_boundaries_are_located_at_low_damping():
+    """alpha1/sqrt(k m) = 0.0126: the slip cycles contract by ~1 % a period, a
+    motion started inside a cycle just below the grazing grows only slowly onto
+    the stick-slip cycle. The stick onset must still be located, between the
+    labels of independent attractors started stuck on the belt just either side,
+    and the Hopf point at v*."""
+    c = dict(m=5.0, k=1250.0, r_y=10.0, alpha1=1.0, alpha2=0.03)
+    ds = bd.locate_boundaries(sc.Grid(**c, v=[0.5, 5.0]), scan=24, tol=TOL)
+    assert int(ds.hopf_status) == bd.LOCATED
+    assert abs(float(ds.v_hopf - ds.v_star)) <= HOPF_TOL
+    assert int(ds.stick_status) == bd.LOCATED
+    vs = float(ds.v_stick_onset)
+    below = sc.attractor(sc.Params(**c, v=vs * (1 - 1e-5)), tol=TOL)
+    above = sc.attractor(sc.Params(**c, v=vs * (1 + 1e-5)), tol=TOL)
+    assert below.regime == "stick_slip"
+    assert above.regime == "slip_cycle" and above.xdot_max < vs * (1 + 1e-5)
+
+
+@pytest.mark.parametrize("damping", [0.002, 0.001])
+def test_hopf_point_is_vstar_at_very_low_damping(damping):
+    """Cycles within 0.5 % of v* contract by ~1e-4 a period: the kernel cannot
+    resolve them at tol 1e-10 (status unresolved), so the samples must move out."""
+    c = dict(m=5.0, k=1.0 / (5.0 * damping ** 2), r_y=10.0, alpha1=1.0, alpha2=0.03)
+    ds = bd.locate_boundaries(sc.Grid(**c, v=[0.5, 5.0]), scan=24, tol=TOL)
+    assert int(ds.hopf_status) == bd.LOCATED
+    assert abs(float(ds.v_hopf - ds.v_star)) <= HOPF_TOL
+
+
 def test_boundaries_along_alpha2_at_fixed_speed():
     """Along alpha2 at v = 5: q = 0 at alpha2 = alpha1/(3 v^2) = 1/75 (eq. 46), and
     the stick onset where v = (v_stick/v*) v*(alpha2), the ratio measured along v."""
@@ -208,6 +236,27 @@ def test_continuation_follows_both_curves_with_few_attractors(located):
         np.testing.assert_allclose(float(ds.v_stick_onset.sel(alpha2=a)),
                                    float(located.v_stick_onset.sel(alpha2=a)),
                                    rtol=0, atol=2e-9)
+
+
+def test_continuation_where_predictions_are_imperfect():
+    """Over alpha1 the stick onset is not a fixed multiple of v* (the damping
+    alpha1/sqrt(k m) changes), so the predictions miss by more than xtol/4 and
+    the steps take their third cycles or fall back: the stick onset must still
+    agree with the scan-based search at every point, and the Hopf point with v*
+    within its error estimate (at alpha1 = 2, damping 0.13, the samples' cubic
+    extrapolation is off by ~3e-9 cm/s, and says so)."""
+    a1 = np.geomspace(0.5, 2.0, 8)
+    kw = dict(m=5.0, k=50.0, r_y=10.0, alpha2=0.01)
+    ds = bd.continue_boundary(sc.Grid(**kw, alpha1=a1, v=[1.0, 14.0]),
+                              over="alpha1", tol=TOL)
+    ref = bd.locate_boundaries(sc.Grid(**kw, alpha1=a1, v=[1.0, 14.0]), tol=TOL)
+    assert (ds.hopf_status == bd.LOCATED).all()
+    assert (ds.stick_status == bd.LOCATED).all()
+    assert (np.abs(ds.v_hopf - ds.v_star)
+            <= np.maximum(ds.v_hopf_error, HOPF_TOL)).all()
+    assert float(np.abs(ds.v_hopf - ds.v_star)[:4].max()) <= HOPF_TOL
+    np.testing.assert_allclose(ds.v_stick_onset, ref.v_stick_onset, rtol=0,
+                               atol=2e-9)
 
 
 @pytest.mark.parametrize("executor", [
