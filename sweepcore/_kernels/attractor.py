@@ -224,6 +224,12 @@ def attractor_point(p, o_in, out):
     e_hist = np.zeros(3)      # phase events inside each of the last section intervals
     n_ev_sec = 0
     t_last_sec = 0.0
+    # a start at rest (xdot = 0) beyond x_eq is itself a section point: the first
+    # return is then a whole one (a continuation started on a known cycle)
+    if v != 0.0 and st[S_MODE] != codes.STICK and st[S_ZD] == -v and \
+            (st[S_X] - x_equilibrium(p)) * v > 0.0:
+        n_sec = 1
+        a_hist[3] = st[S_X]
     status = codes.OK
     # Clocks: st[S_T] is local and set back to 0 after every stick (absolute times
     # after a stick of 2e5 s or 1e15 s would eat the digits of a 2 s period);
@@ -500,6 +506,7 @@ def attractor_rows_parallel(P, o, out):
     so the results do not depend on this order.
     """
     n = P.shape[0]
-    for b in prange(_LANES):
-        for i in range(b, n, _LANES):
+    lanes = min(_LANES, n)      # (a small batch: one row a lane, split evenly)
+    for b in prange(lanes):
+        for i in range(b, n, lanes):
             attractor_point(P[i], o, out[i])
