@@ -77,37 +77,9 @@ def reference_slip_cycle(m, k, r_y, v, alpha1, alpha2, a_guess, rtol=1e-13):
     """
     assert v > 0
 
-    def rhs(_t, y):
-        return [y[1] + v, (-k * y[0] - (-r_y - alpha1 * y[1] + alpha2 * y[1] ** 3)) / m]
-
-    def x_max(_t, y):            # xdot = 0, falling: a maximum of x
-        return y[1] + v
-    x_max.direction = -1
-
-    def x_min(_t, y):
-        return y[1] + v
-    x_min.direction = 1
-
-    def vel(_t, y):              # xdot extremum: zdd = 0
-        return rhs(_t, y)[1]
-
-    w = np.sqrt(k / m)
-    horizon = 4.0 * np.pi / w
-
     def ret(a, full=False):
-        sol = solve_ivp(rhs, (0.0, horizon), [a, -v], method="DOP853", rtol=rtol,
-                        atol=rtol * 1e-3, events=[x_max, x_min, vel],
-                        dense_output=full)
-        # the start itself may register as a root of x_max: skip it
-        ts = sol.t_events[0]
-        ys = sol.y_events[0]
-        i = np.nonzero(ts > 0.25 * horizon / 2.0)[0][0]
-        if not full:
-            return ys[i][0]
-        xdm = max(float(y[1] + v) for t, y in zip(sol.t_events[2], sol.y_events[2])
-                  if t < ts[i])
-        return dict(x_max=a, x_min=float(sol.y_events[1][0][0]), period=float(ts[i]),
-                    xdot_max=xdm, a1=float(ys[i][0]))
+        r = reference_return(m, k, r_y, v, alpha1, alpha2, a, rtol)
+        return r if full else r["a1"]
 
     # the first return settles direction; then secant on F(a) = P(a) - a
     a0 = float(a_guess)
@@ -128,3 +100,40 @@ def reference_slip_cycle(m, k, r_y, v, alpha1, alpha2, a_guess, rtol=1e-13):
     if not out["xdot_max"] < v:
         raise ValueError("the orbit reaches belt speed: not a slip cycle")
     return out
+
+
+def reference_return(m, k, r_y, v, alpha1, alpha2, a, rtol=1e-13):
+    """One return of a stop-free slide (v > 0) from x = a, xdot = 0 to the next
+    maximum of x, with scipy only: dict(a1 = the next maximum, x_max = a, x_min,
+    period, xdot_max, xdot_min, cycle_size = sqrt(int xdot^2 dt / (pi omega)))."""
+    assert v > 0
+    w = np.sqrt(k / m)
+
+    def rhs(_t, y):
+        zd = y[1]
+        return [zd + v, (-k * y[0] - (-r_y - alpha1 * zd + alpha2 * zd ** 3)) / m,
+                (zd + v) ** 2]
+
+    def x_max(_t, y):            # xdot = 0, falling: a maximum of x
+        return y[1] + v
+    x_max.direction = -1
+
+    def x_min(_t, y):
+        return y[1] + v
+    x_min.direction = 1
+
+    def vel(_t, y):              # xdot extremum: zdd = 0
+        return rhs(_t, y)[1]
+
+    horizon = 4.0 * np.pi / w
+    sol = solve_ivp(rhs, (0.0, horizon), [a, -v, 0.0], method="DOP853", rtol=rtol,
+                    atol=rtol * 1e-3, events=[x_max, x_min, vel], dense_output=True)
+    # the start itself may register as a root of x_max: skip it
+    ts = sol.t_events[0]
+    i = np.nonzero(ts > 0.25 * horizon / 2.0)[0][0]
+    T = float(ts[i])
+    xd = [float(y[1] + v) for t, y in zip(sol.t_events[2], sol.y_events[2]) if t < T]
+    return dict(a1=float(sol.y_events[0][i][0]), x_max=a,
+                x_min=float(sol.y_events[1][0][0]), period=T,
+                xdot_max=max(xd), xdot_min=min(xd),
+                cycle_size=float(np.sqrt(sol.y_events[0][i][2] / (np.pi * w))))

@@ -42,10 +42,10 @@ from .jit import kernel
 from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
-from .normal_form import nf_cycle, nf_decays_to_rest, nf_seed
+from .normal_form import nf_decays_to_rest, nf_multiplier, nf_seed
 from .return_map import log_saltation, return_slope
 from .resolution import check_cycle
-from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
+from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX, A_XDMIN, A_XMAX,
                      A_XMIN, A1, A2, K, M, NA, NOBS, NS, O_DT, O_GPS_A, O_LV, O_LX, O_MAX_STEPS,
                      O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
                      OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS,
@@ -71,7 +71,7 @@ def _clear(acc):
 
 @kernel(inline="always")
 def _merge(dst, src):
-    for i in (A_IX, A_IXD2, 2, A_TSTICK, A_NSTICK, A_DT):
+    for i in (A_IX, A_IXD2, A_WF, A_TSTICK, A_NSTICK, A_DT):
         dst[i] += src[i]
     dst[A_XMAX] = max(dst[A_XMAX], src[A_XMAX])
     dst[A_XMIN] = min(dst[A_XMIN], src[A_XMIN])
@@ -248,6 +248,14 @@ def attractor_point(p, o_in, out):
     rtol_int = tol            # integration tolerance now in force (lowered by Newton)
     rtol_hist = np.zeros(2)
     seeded = False            # the motion was moved to the normal form's cycle once
+    on_nf = False             # ... and the last section was that jump
+    nf_floor = False          # ... whose return float64 cannot time to tol
+    jumped = False            # the last section was a Newton jump ...
+    err_jump = 0.0            # ... from this estimated distance to the fixed point,
+    e_jump = 0.0              # ... along this itinerary (events per return),
+    a_from = 0.0              # ... from this section point
+    e_rest = -1.0             # itinerary on which Newton is suspended
+    newton_rest = 0           # returns to follow without Newton steps
     for _it in range(int(o[O_MAX_STEPS]) + 10):
         mode0 = st[S_MODE]
         if st[S_MODE] == codes.STICK:
@@ -300,6 +308,7 @@ def attractor_point(p, o_in, out):
             _clear(acc_sec)
             n_sec = 0
             salt = 0.0
+            n_ev_sec = 0
             continue
         # sections: maxima of x (minima for v < 0, so that v -> -v is an exact mirror)
         section = (ev == codes.EV_XMAX and v > 0.0) or (ev == codes.EV_XMIN and v < 0.0) \
@@ -358,18 +367,41 @@ def attractor_point(p, o_in, out):
             if v == 0.0 and n_sec >= 3:
                 # v = 0: sections are stops on the switching line (no smooth map);
                 # a steady geometric sequence of returns is the answer
+                # The integrator's error per return is ~rtol (lx + |x|), so the scale
+                # here includes the cycle, and the returns are computed at
+                # rtol <= tol (1 - rho) / 2 (the same noise amplification as below).
                 d1 = a_hist[3] - a_hist[2]
                 d0 = a_hist[2] - a_hist[1]
                 rho = d1 / d0 if d0 != 0.0 else 0.0
                 rem = abs(d1) * abs(rho) / (1.0 - abs(rho)) if abs(rho) < 1.0 else np.inf
-                if abs(d1) <= tol * lx and rem <= tol * lx:
+                scale = lx + abs(a_hist[3])
+                need0 = 0.5 * tol * (1.0 - abs(rho))
+                if abs(d1) <= tol * scale and rem <= tol * scale and \
+                        rtol_hist[1] <= max(need0, RTOL_FLOOR) * 1.000001:
                     _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
                     check_cycle(out, p)
                     out[OB_NSTEPS] = st[S_N]
                     return
+                if abs(rho) < 1.0 and need0 < rtol_int:
+                    rtol_int = max(need0, RTOL_FLOOR)
+                    o[O_RTOL] = rtol_int
             continue
         a0 = a_hist[2]
         a1 = a_hist[3]
+        after_jump = jumped
+        jumped = False
+        if after_jump and e_hist[2] != e_jump:
+            # the Newton step left the itinerary whose slope it used (e.g. towards
+            # a cycle that exists only on the extrapolated map, past the onset of
+            # stops): go back to where it started and follow the motion until its
+            # itinerary changes by itself
+            _jump(st, a_hist, t_hist, acc_sec, a_from, v, t)
+            n_sec = 1
+            newton_rest = 1 << 30
+            e_rest = e_jump
+            continue
+        if newton_rest > 0 and e_hist[2] == e_hist[1] and e_hist[2] != e_rest:
+            newton_rest = 0
         dP = return_slope(p, a0, a1, acc_last, salt_hist[1])
         xe = x_equilibrium(p)
         F = a1 - a0
@@ -380,7 +412,7 @@ def attractor_point(p, o_in, out):
             out[OB_STATUS] = codes.OK
             out[OB_NSTEPS] = st[S_N]
             return
-        if not seeded and e_hist[2] == 0 and p[A2] > 0.0 and p[A1] > 0.0 and gap > 0.0:
+        if not seeded and e_hist[2] == 0 and p[A2] > 0.0 and p[A1] > 0.0:
             # a small stop-free motion that the Hopf normal form describes (its
             # decrement agrees): start Newton on the normal form's cycle (accurate
             # to 1 %) if the motion is heading there, instead of following the slow
@@ -391,6 +423,8 @@ def attractor_point(p, o_in, out):
                 _jump(st, a_hist, t_hist, acc_sec, a_nf, v, t)
                 n_sec = 1
                 reset_seen = False       # a jump ends any period being measured
+                on_nf = False
+                jumped = False
                 continue
         # The return map computed at rtol is wrong by ~ rtol lx / |a - x_eq| in its
         # slope (the integrator's own growth or decay); a slope within that noise
@@ -408,19 +442,37 @@ def attractor_point(p, o_in, out):
             # the cycle contracts too slowly for float64 integration to resolve it
             # at this tolerance: next to the Hopf point, where the normal form is
             # accurate (if it is not accurate enough either: "unresolved")
-            if nf_cycle(p, a1, 0.5 * tol * lx, out):
-                out[OB_T_SETTLE] = t_last_sec
+            if on_nf and rtol_hist[1] <= tol:
+                # the return measured from the normal form's cycle (accurate to the
+                # tolerance): its observables are the cycle's, to the normal form's
+                # error plus one period's integration error
+                _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
+                out[OB_FLOQUET] = nf_multiplier(p, acc_last[A_DT])
                 check_cycle(out, p)
+                if nf_floor and out[OB_STATUS] == codes.OK:
+                    out[OB_STATUS] = codes.UNRESOLVED     # its timing is not resolved
                 out[OB_NSTEPS] = st[S_N]
                 return
             a_nf = nf_seed(p, a0, a1, acc_last[A_DT], 0.5 * tol * lx)
             if not math.isnan(a_nf):
                 # the normal form describes this return and is accurate at the
-                # cycle: go to its cycle and confirm it there on the next return
+                # cycle: go to its cycle and measure one return from there
                 _jump(st, a_hist, t_hist, acc_sec, a_nf, v, t)
                 n_sec = 1
                 reset_seen = False       # a jump ends any period being measured
+                on_nf = True
+                jumped = False
+                # the return is measured with velocity errors below tol times the
+                # cycle's own velocity (omega A), not the belt's: its maxima of x,
+                # where xdot crosses 0 with slope omega^2 A, are then timed to
+                # ~tol of the period
+                small = omega * abs(a_nf - xe) / abs(v)
+                if small < 1.0:
+                    rtol_int = max(min(rtol_int, tol * small), RTOL_FLOOR)
+                    o[O_RTOL] = rtol_int
+                nf_floor = tol * small < RTOL_FLOOR
                 continue
+        on_nf = False
         if not resolved:
             if rtol_int > RTOL_FLOOR:
                 rtol_int = max(0.01 * rtol_int, RTOL_FLOOR)
@@ -439,7 +491,10 @@ def attractor_point(p, o_in, out):
         # Newton iterates at the tolerance in force until its noise (~4 rtol lx / gap)
         # is reached; only then is the tolerance lowered for the last returns.
         fine = rtol_hist[1] <= max(need, RTOL_FLOOR) * 1.000001
-        if err0 <= max(0.5 * tol * lx, 4.0 * RTOL_FLOOR * lx / gap) and fine:
+        accept = 0.5 * tol * lx
+        if floor:
+            accept = max(accept, 4.0 * RTOL_FLOOR * lx / gap)
+        if err0 <= accept and fine:
             _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
             out[OB_FLOQUET] = dP
             check_cycle(out, p)
@@ -452,7 +507,16 @@ def attractor_point(p, o_in, out):
             # at once rather than pay the two returns that a late switch needs)
             rtol_int = max(need, RTOL_FLOOR)
             o[O_RTOL] = rtol_int
-        if e_hist[2] == e_hist[1]:
+        if newton_rest > 0:
+            newton_rest -= 1
+        elif after_jump and err0 >= 0.5 * err_jump and rtol_hist[1] == rtol_hist[0] \
+                and err0 > 4.0 * rtol_hist[1] * lx / gap:
+            # the last jump did not halve the distance to the fixed point, and not
+            # for noise (same tolerance, distance above the noise): a step across a
+            # change of itinerary, where the slope of one return does not hold.
+            # Follow the motion for a few returns instead.
+            newton_rest = 3
+        elif e_hist[2] == e_hist[1]:
             # Newton step from a0 (the map is smooth along one itinerary); a jump
             # never more than halves or doubles the distance to x_eq
             a_new = a0 + F / gap
@@ -465,6 +529,11 @@ def attractor_point(p, o_in, out):
                 _jump(st, a_hist, t_hist, acc_sec, a_new, v, t)
                 n_sec = 1
                 reset_seen = False       # a jump ends any period being measured
+                jumped = True
+                err_jump = err0
+                e_jump = e_hist[2]
+                a_from = a1
+                continue
     # budget spent or numerical failure
     if exhausted and status == codes.OK:
         status = codes.STEP_BUDGET        # the loop itself ran out

@@ -9,9 +9,13 @@ gives ``dA/dt = q A / 2 - beta A^3`` with ``beta = 3 c3 omega^2 / 8``: for q > 0
 stable cycle of amplitude ``A^2 = q / (2 beta)`` (the Hopf bifurcation is
 supercritical since beta > 0); for q <= 0 every small motion decays to x_eq. The
 quadratic term alone is reversible (a centre), so it does not enter beta; it shifts
-the cycle (mean ``c2 A^2 / 2``, second harmonic ``c2 A^2 / 6``) and its period
-(``Y = exp(-c2 y)`` turns it into ``Ydd = -omega^2 Y ln Y``, whose Lindstedt series
-gives ``T = 2 pi / omega (1 + (c2 A)^2 / 6)``). v < 0 is the mirror image.
+the cycle: mean ``c2 A^2 / 2``, second harmonic ``c2 A^2 / 6``, so the maximum of x is
+at ``x_eq + A + (2/3) c2 A^2``. v < 0 is the mirror image.
+
+The engine uses the normal form for two things only: to decide that a small motion
+with q <= 0 decays (``nf_decays_to_rest``), and to place the motion on the cycle
+(``nf_seed``, the maximum of x above); the cycle's observables are then measured on
+one integrated return from there.
 
 Second order: the amplitude of first-order averaging is low by the relative amount
 ``(7/18) G q/omega`` with ``G = c2^2 / (c3 omega)`` (the ratio of the squared quadratic
@@ -24,11 +28,7 @@ import math
 
 from .jit import kernel
 
-from .layout import (A1, A2, K, M, NOBS, OB_AMPLITUDE, OB_CYCLE_SIZE, OB_FLOQUET,
-                     OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS, OB_STICK_FRACTION,
-                     OB_STICKS_PER_PERIOD, OB_VAMPLITUDE, OB_X_MAX, OB_X_MIN,
-                     OB_XDOT_MAX, RY, V)
-from . import codes
+from .layout import A1, A2, K, M, RY, V
 
 NF_KAPPA = 10.0
 
@@ -66,39 +66,11 @@ def nf_error(A, omega, q, c2, beta):
 
 
 @kernel
-def nf_cycle(p, a1, tol_abs, out):
-    """Fill ``out`` with the normal-form cycle when it is accurate to ``tol_abs`` [cm]
-    and the motion (section value ``a1``) is on it; returns True when filled."""
-    if p[V] == 0.0 or p[A2] <= 0.0:
-        return False
-    omega, q, c2, beta, sg, xe = _coefficients(p)
-    if not q > 0.0:
-        return False
-    A = nf_amplitude(omega, q, c2, beta)
-    if A * omega >= 0.5 * abs(p[V]):
-        return False                       # near the belt speed: not a small cycle
-    if nf_error(A, omega, q, c2, beta) > tol_abs:
-        return False
-    shift = sg * 2.0 / 3.0 * c2 * A * A     # x_max - x_eq = A + shift
-    if abs(sg * (a1 - xe) - (A + 2.0 / 3.0 * c2 * A * A)) > 0.05 * A:
-        return False                       # the motion is not on the small cycle yet
-    for i in range(NOBS):
-        if i != OB_STATUS and i != OB_NSTEPS:   # the caller fills these
-            out[i] = math.nan
-    out[OB_AMPLITUDE] = A
-    out[OB_MEAN] = xe + sg * 0.5 * c2 * A * A
-    out[OB_VAMPLITUDE] = A * omega
-    out[OB_CYCLE_SIZE] = A
-    T = 2.0 * math.pi / omega * (1.0 + (c2 * A) ** 2 / 6.0)
-    out[OB_PERIOD] = T
-    out[OB_STICK_FRACTION] = 0.0
-    out[OB_STICKS_PER_PERIOD] = 0.0
-    out[OB_X_MAX] = xe + A + shift
-    out[OB_X_MIN] = xe - A + shift
-    out[OB_XDOT_MAX] = A * omega
-    out[OB_FLOQUET] = math.exp(-q * T)     # d/dA of the averaged flow at A: -q
-    out[OB_REGIME] = codes.R_SLIP_CYCLE
-    return True
+def nf_multiplier(p, T):
+    """Floquet multiplier of the normal form's cycle over a period T [s]: the averaged
+    flow's slope at the cycle is d(dA/dt)/dA = q/2 - 3 beta A^2 = -q."""
+    _omega, q, _c2, _beta, _sg, _xe = _coefficients(p)
+    return math.exp(-q * T)
 
 
 @kernel
@@ -141,16 +113,20 @@ def nf_decays_to_rest(p, a0, a1, T):
 
 @kernel
 def nf_seed(p, a0, a1, T, tol_abs):
-    """Section value [cm] of the normal-form cycle when q > 0, the normal form
-    describes the return a0 -> a1 over T, and its cycle is accurate to tol_abs;
-    else NaN."""
+    """Section value [cm] of the normal-form cycle when q > 0, its cycle is accurate
+    to tol_abs, and the motion (the return a0 -> a1 over T) is on it to 5 % or
+    heading there as the normal form predicts; else NaN."""
     if p[V] == 0.0 or p[A2] <= 0.0:
         return math.nan
     omega, q, c2, beta, sg, xe = _coefficients(p)
     if not q > 0.0:
         return math.nan
     A = nf_amplitude(omega, q, c2, beta)
-    if nf_error(A, omega, q, c2, beta) > tol_abs or \
-            not _agrees(p, a0, a1, T):
+    if nf_error(A, omega, q, c2, beta) > tol_abs:
         return math.nan
-    return xe + sg * (A + 2.0 / 3.0 * c2 * A * A)
+    y_nf = A + 2.0 / 3.0 * c2 * A * A
+    # the motion is on the cycle already (to 5 %), or heading there as the normal
+    # form says it should
+    if abs(sg * (a1 - xe) - y_nf) > 0.05 * A and not _agrees(p, a0, a1, T):
+        return math.nan
+    return xe + sg * y_nf
