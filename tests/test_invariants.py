@@ -285,7 +285,7 @@ def check_constant_friction(s, max_periods):
     if not a.converged:
         assert (a.regime, a.status) == ("unconverged", "unconverged"), a
         # only far starts may run out of budget, and starts on the centre itself
-        # (an orbit below the search's resolution 1e3 tol L: the slider rests there
+        # (an orbit within 1e3 tol L of the centre: the slider all but rests there
         # and no Poincare section ever comes)
         _w, L = scales(p.m, p.k, p.r_y, p.v)
         assert R0 <= 1e3 * CF_TOL * L or (p.r_y > 0.0 and R0 > abs(p.v) / w), a
