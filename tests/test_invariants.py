@@ -292,10 +292,13 @@ def check_constant_friction(s, max_periods):
         return
     _w, L = scales(p.m, p.k, p.r_y, p.v)
     size = L + R0
+    # rounding of x at the centre, u = eps |centre|, costs the period up to 0.25 u/R
+    # and the amplitude 1.5 u (measured: sweepcore/_kernels/resolution.py)
+    u = np.finfo(float).eps * (abs(centre) + expect)
     assert a.regime in ("neutral", "slip_cycle", "stick_slip"), a
-    assert a.amplitude == pytest.approx(expect, rel=0, abs=10 * CF_TOL * size)
-    assert a.mean == pytest.approx(centre, rel=0, abs=10 * CF_TOL * size)
-    assert a.period == pytest.approx(2 * math.pi / w, rel=10 * CF_TOL)
+    assert a.amplitude == pytest.approx(expect, rel=0, abs=10 * CF_TOL * size + 2 * u)
+    assert a.mean == pytest.approx(centre, rel=0, abs=10 * CF_TOL * size + 2 * u)
+    assert a.period == pytest.approx(2 * math.pi / w, rel=10 * CF_TOL + 0.5 * u / expect)
 
 
 # known failures (reported): an orbit just outside |v|/omega with a tiny r_y loses
@@ -380,6 +383,12 @@ def check_finite_or_flagged(h):
         assert a.x_min - 1e-12 * span <= a.mean <= a.x_max + 1e-12 * span, a
         if a.regime in CYCLES:
             assert math.isfinite(a.period) and a.period > 0.0, a
+    elif a.status == "unresolved":
+        # a contracting slip cycle whose fixed point float64 cannot pin to tol (its
+        # regime is known, its numbers are estimates), or a motion that stands still
+        # to float64 resolution without a known sign of contraction (unconverged)
+        assert a.regime in ("slip_cycle", "unconverged"), a
+        assert math.isfinite(a.amplitude), a
     else:
         assert a.regime in NOT_ANSWERS, a
     assert 0 <= a.n_steps <= h["max_steps"] + BUDGET_SLACK, a

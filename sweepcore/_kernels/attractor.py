@@ -478,12 +478,14 @@ def attractor_point(p, o_in, out):
                 rtol_int = max(0.01 * rtol_int, RTOL_FLOOR)
                 o[O_RTOL] = rtol_int
             elif e_hist[2] == 0 and abs(F) <= 4.0 * RTOL_FLOOR * lx:
-                # neutral to float64 resolution, and the returns stand still
-                _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
+                # neutral to float64 resolution, and the returns stand still: not
+                # even the sign of the contraction is known, so not the regime
+                _write_cycle(out, acc_last, t_last_sec, omega, codes.R_UNCONVERGED)
                 out[OB_FLOQUET] = dP
                 check_cycle(out, p)
                 if out[OB_STATUS] == codes.OK:
                     out[OB_STATUS] = codes.UNRESOLVED
+                    out[OB_REGIME] = codes.R_UNCONVERGED
                 out[OB_NSTEPS] = st[S_N]
                 return
             continue            # no Newton step on an unresolved slope
