@@ -225,6 +225,30 @@ def _hopf(H, Pe, rel):
                    f"(target <= 10 s, aim <= 1 s). The default tol = 1e-8 "
                    f"({s(hd['median_s'])}) has max error "
                    f"{g(acc['map'].get('1e-08', {}).get('amplitude_abs', {}).get('max'))} cm.\n")
+    hard = H.get("accuracy_hardest")
+    if hard:
+        out.append(f"\n**The hardest points.** A random subsample is mostly easy points. "
+                   f"In every alpha2 column, the {hard['per_column']} slip cycles nearest "
+                   f"below v* ({hard['n_points']} points, where the cycle's contraction "
+                   f"per period is weakest) against independent references: scipy DOP853 "
+                   f"shooting at rtol 1e-13 (secant on the return map; "
+                   f"tests/reference.py), or the Hopf normal form with its measured "
+                   f"second-order term where the shooting's own noise exceeds 1e-9 L "
+                   f"(sources: " + ", ".join(f"{v} {k}" for k, v in
+                                             sorted(hard["reference_sources"].items()))
+                   + f"; {hard['reference_unresolved']} without a resolved reference, "
+                   f"left out):\n")
+        hrows = []
+        for tol, h in hard["by_tol"].items():
+            bands = "; ".join(f"{k}: {g(v['max_amp_err'])} ({v['n']})"
+                              for k, v in h["bands"].items())
+            hrows.append([f"tol={tol}", ", ".join(f"{v} {k}" for k, v in
+                                                  sorted(h["status_counts"].items())),
+                          h["n_compared"], g(h["max_amp_err"]), g(h["max_amp_err_over_L"]),
+                          bands, h["above_v_star_not_equilibrium"]])
+        out.append(table(["setting", "statuses", "compared", "max abs amp err [cm]",
+                          "max err / L", "by v / v* (max err, points)",
+                          "points above v* not at rest"], hrows))
     reg = hd["regimes"]
     out.append(f"\nRegimes at tol = 1e-8: " + ", ".join(f"{k} {v} ({100 * v / n:.1f} %)"
                                                       for k, v in reg.items()) + ".\n")
