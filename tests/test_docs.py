@@ -115,7 +115,7 @@ def test_readme_speed_block_is_generated_from_the_saved_results():
 # the line breaks of wrapped prose: the team's shared folder and its performance
 # note, session notes, issue texts.
 FOREIGN = tuple(re.compile(p) for p in (
-    r"\bshared/", r"performance\.md", r"closing\s+notes?\b", r"\bthe\s+issue\b",
+    r"\bshared[/\\]", r"performance\.md", r"closing\s+notes?\b", r"\bthe\s+issue\b",
     r"\bissue's"))
 TEXT = {".py", ".md", ".toml", ".txt", ".json", ".cfg", ".ini", ".yml", ".yaml"}
 SKIP = {".git", "out", ".venv", "__pycache__", ".pytest_cache", ".hypothesis",
