@@ -108,6 +108,18 @@ def _write_cycle(out, acc, t0, omega, regime):
 
 
 @kernel
+def _answer_cycle(out, acc, t0, omega, regime, floquet, unresolved, p, n_steps):
+    """Write a measured cycle with its Floquet multiplier and status: ok, or
+    below_resolution (``check_cycle``), or unresolved when ``unresolved``."""
+    _write_cycle(out, acc, t0, omega, regime)
+    out[OB_FLOQUET] = floquet
+    check_cycle(out, p)
+    if unresolved and out[OB_STATUS] == codes.OK:
+        out[OB_STATUS] = codes.UNRESOLVED
+    out[OB_NSTEPS] = n_steps
+
+
+@kernel
 def _write_rest(out, x, t, regime, stuck):
     out[OB_AMPLITUDE] = 0.0
     out[OB_MEAN] = x
@@ -297,10 +309,8 @@ def attractor_point(p, o_in, out):
         if is_reset:
             if reset_seen:
                 regime = codes.R_STICK_SLIP if acc_cyc[A_NSTICK] > 0 else codes.R_SLIP_CYCLE
-                _write_cycle(out, acc_cyc, t_cyc, omega, regime)
-                out[OB_FLOQUET] = 0.0     # every period restarts from the same point
-                check_cycle(out, p)
-                out[OB_NSTEPS] = st[S_N]
+                # Floquet multiplier 0: every period restarts from the same point
+                _answer_cycle(out, acc_cyc, t_cyc, omega, regime, 0.0, False, p, st[S_N])
                 return
             reset_seen = True
             t_cyc = t_off + t
@@ -357,9 +367,8 @@ def attractor_point(p, o_in, out):
             T0 = t_hist[2] - t_hist[1]
             if abs(d1) <= tol * lx and abs(T1 - T0) <= 10.0 * tol * T1 \
                     and not (p[RY] > 0.0 and e_hist[2] > 0):
-                _write_cycle(out, acc_last, t_last_sec, omega, codes.R_NEUTRAL)
-                check_cycle(out, p)
-                out[OB_NSTEPS] = st[S_N]
+                _answer_cycle(out, acc_last, t_last_sec, omega, codes.R_NEUTRAL, np.nan,
+                              False, p, st[S_N])
                 return
             continue
         # --- slip motion: the return map a -> P(a) of the x maxima, solved by Newton
@@ -378,9 +387,8 @@ def attractor_point(p, o_in, out):
                 need0 = 0.5 * tol * (1.0 - abs(rho))
                 if abs(d1) <= tol * scale and rem <= tol * scale and \
                         rtol_hist[1] <= max(need0, RTOL_FLOOR) * 1.000001:
-                    _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
-                    check_cycle(out, p)
-                    out[OB_NSTEPS] = st[S_N]
+                    _answer_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE,
+                                  np.nan, False, p, st[S_N])
                     return
                 if abs(rho) < 1.0 and need0 < rtol_int:
                     rtol_int = max(need0, RTOL_FLOOR)
@@ -424,7 +432,6 @@ def attractor_point(p, o_in, out):
                 n_sec = 1
                 reset_seen = False       # a jump ends any period being measured
                 on_nf = False
-                jumped = False
                 continue
         # The return map computed at rtol is wrong by ~ rtol lx / |a - x_eq| in its
         # slope (the integrator's own growth or decay); a slope within that noise
@@ -446,12 +453,9 @@ def attractor_point(p, o_in, out):
                 # the return measured from the normal form's cycle (accurate to the
                 # tolerance): its observables are the cycle's, to the normal form's
                 # error plus one period's integration error
-                _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
-                out[OB_FLOQUET] = nf_multiplier(p, acc_last[A_DT])
-                check_cycle(out, p)
-                if nf_floor and out[OB_STATUS] == codes.OK:
-                    out[OB_STATUS] = codes.UNRESOLVED     # its timing is not resolved
-                out[OB_NSTEPS] = st[S_N]
+                # (unresolved where its maxima could not be timed to the tolerance)
+                _answer_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE,
+                              nf_multiplier(p, acc_last[A_DT]), nf_floor, p, st[S_N])
                 return
             a_nf = nf_seed(p, a0, a1, acc_last[A_DT], 0.5 * tol * lx)
             if not math.isnan(a_nf):
@@ -461,7 +465,6 @@ def attractor_point(p, o_in, out):
                 n_sec = 1
                 reset_seen = False       # a jump ends any period being measured
                 on_nf = True
-                jumped = False
                 # the return is measured with velocity errors below tol times the
                 # cycle's own velocity (omega A), not the belt's: its maxima of x,
                 # where xdot crosses 0 with slope omega^2 A, are then timed to
@@ -480,13 +483,8 @@ def attractor_point(p, o_in, out):
             elif e_hist[2] == 0 and abs(F) <= 4.0 * RTOL_FLOOR * lx:
                 # neutral to float64 resolution, and the returns stand still: not
                 # even the sign of the contraction is known, so not the regime
-                _write_cycle(out, acc_last, t_last_sec, omega, codes.R_UNCONVERGED)
-                out[OB_FLOQUET] = dP
-                check_cycle(out, p)
-                if out[OB_STATUS] == codes.OK:
-                    out[OB_STATUS] = codes.UNRESOLVED
-                    out[OB_REGIME] = codes.R_UNCONVERGED
-                out[OB_NSTEPS] = st[S_N]
+                _answer_cycle(out, acc_last, t_last_sec, omega, codes.R_UNCONVERGED, dP,
+                              True, p, st[S_N])
                 return
             continue            # no Newton step on an unresolved slope
         err0 = abs(F) / gap     # distance of a0 from the fixed point (Newton)
@@ -497,12 +495,8 @@ def attractor_point(p, o_in, out):
         if floor:
             accept = max(accept, 4.0 * RTOL_FLOOR * lx / gap)
         if err0 <= accept and fine:
-            _write_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE)
-            out[OB_FLOQUET] = dP
-            check_cycle(out, p)
-            if floor and out[OB_STATUS] == codes.OK:
-                out[OB_STATUS] = codes.UNRESOLVED
-            out[OB_NSTEPS] = st[S_N]
+            _answer_cycle(out, acc_last, t_last_sec, omega, codes.R_SLIP_CYCLE, dP, floor,
+                          p, st[S_N])
             return
         if not fine and (err0 <= 4.0 * rtol_hist[1] * lx / gap or need >= 0.1 * tol):
             # (a tolerance within 10x of the user's costs < 1.6x the steps: take it
