@@ -603,7 +603,6 @@ def _boundary_lines(ds) -> list[str]:
     if not ok.any():
         return ["  measured Hopf boundary: no switch from a cycle to equilibrium"]
     vs = ds["v_star"]
-    other = [d for d in vs.dims if d != "v"]
     vs = vs.isel(v=0) if "v" in vs.dims else vs
     diff = (measured - vs).values
     sel = ok & np.isfinite(diff)

@@ -42,6 +42,7 @@ from .jit import kernel
 from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
+from .friction import x_equilibrium
 from .normal_form import nf_decays_to_rest, nf_multiplier, nf_seed
 from .return_map import log_saltation, return_slope
 from .resolution import check_cycle
@@ -162,17 +163,6 @@ def method_status(p, o):
             o[O_DT] * math.sqrt(p[K] / p[M]) > 1.0:
         return codes.STEP_TOO_LARGE
     return codes.OK
-
-
-@kernel
-def x_equilibrium(p):
-    """Steady-sliding position (eq. 43, mirrored for v < 0; 0 for v = 0) [cm]."""
-    v = p[V]
-    if v == 0.0:
-        return 0.0
-    va = abs(v)
-    sg = 1.0 if v > 0.0 else -1.0
-    return sg * (p[RY] - p[A1] * va + p[A2] * va ** 3) / p[K]
 
 
 @kernel

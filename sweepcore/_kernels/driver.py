@@ -32,7 +32,7 @@ from .jit import kernel
 
 from . import codes
 from .friction import zdd, zddd
-from .layout import (A_DT, A_IX, A_IXD2, A_NSTEPS, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
+from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS, O_METHOD,
                      O_RTOL, RY, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
 from .stepper import proposal, step

@@ -12,7 +12,7 @@ without bound, x does not):
 """
 from .jit import kernel
 
-from .layout import A1, A2, K, M, RY
+from .layout import A1, A2, K, M, RY, V
 
 
 @kernel(inline="always")
@@ -39,3 +39,14 @@ def zddd(x, zd, s, p, v):
     """Time derivative of zdd along the sliding flow [cm/s^3]."""
     a = zdd(x, zd, s, p)
     return (-p[K] * (zd + v) + (p[A1] - 3.0 * p[A2] * zd * zd) * a) / p[M]
+
+
+@kernel
+def x_equilibrium(p):
+    """Steady-sliding position (eq. 43, mirrored for v < 0; 0 for v = 0) [cm]."""
+    v = p[V]
+    if v == 0.0:
+        return 0.0
+    va = abs(v)
+    sg = 1.0 if v > 0.0 else -1.0
+    return sg * (p[RY] - p[A1] * va + p[A2] * va ** 3) / p[K]

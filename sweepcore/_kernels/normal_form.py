@@ -28,7 +28,8 @@ import math
 
 from .jit import kernel
 
-from .layout import A1, A2, K, M, RY, V
+from .friction import x_equilibrium
+from .layout import A1, A2, K, M, V
 
 NF_KAPPA = 10.0
 
@@ -44,8 +45,7 @@ def _coefficients(p):
     c2 = 3.0 * p[A2] * va / m
     beta = 3.0 * p[A2] / m * omega * omega / 8.0
     sg = 1.0 if v > 0.0 else -1.0
-    xe = sg * (p[RY] - p[A1] * va + p[A2] * va ** 3) / p[K]
-    return omega, q, c2, beta, sg, xe
+    return omega, q, c2, beta, sg, x_equilibrium(p)
 
 
 @kernel(inline="always")
