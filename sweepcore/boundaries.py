@@ -60,7 +60,7 @@ from ._kernels import codes, layout
 from ._kernels.attractor import (_LANES, RTOL_FLOOR, attractor_rows,
                                  attractor_rows_parallel)
 from .grid import AXES, COLUMNS, Grid
-from .grid import v_star as _v_star
+from .law import v_star as _v_star
 from .options import make_options
 from .params import LONG_NAMES, UNITS
 

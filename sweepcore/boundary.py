@@ -13,7 +13,7 @@ import xarray as xr
 
 from . import variables
 from ._kernels import codes
-from .grid import v_star
+from .law import v_star
 
 CYCLES = (codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
 BOUNDARY_VARIABLES = ("v_hopf_measured", "v_hopf_resolution", "v_stick_onset",

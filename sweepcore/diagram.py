@@ -19,7 +19,7 @@ from ._kernels import codes, layout
 from ._kernels.attractor import attractor_rows
 from .boundaries import locate_boundaries
 from .grid import AXES, COLUMNS, Grid
-from .grid import v_star as _v_star
+from .law import v_star as _v_star
 from .options import make_options
 from .params import LONG_NAMES, UNITS
 

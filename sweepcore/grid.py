@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
+from . import law
 from ._kernels import layout
 from .params import LONG_NAMES, UNITS, check_derived, check_real, did_you_mean
 
@@ -318,49 +319,5 @@ class Grid:
 Grid.__init__ = did_you_mean(Grid.__init__)
 
 
-# ------------------------------------------------------ derived quantities
-# Vectorised twins of the Params properties (same formulas, same operation order, so
-# the values agree bit for bit); arguments broadcast like numpy arrays.
-def omega(m, k):
-    """Natural frequency sqrt(k/m) [1/s]."""
-    return np.sqrt(np.asarray(k, np.float64) / m)
-
-
-def hopf_q(m, v, alpha1, alpha2):
-    """Hopf quantity q = (alpha1 - 3 alpha2 v^2)/m [1/s], eq. (46)."""
-    return (np.asarray(alpha1, np.float64) - 3.0 * alpha2 * np.asarray(v) ** 2) / m
-
-
-def v_star(alpha1, alpha2):
-    """Hopf belt speed sqrt(alpha1/(3 alpha2)) [cm/s], below eq. (51).
-
-    inf when alpha2 = 0 < alpha1, NaN when alpha2 = 0 >= alpha1 or alpha1 < 0
-    (no crossing of q = 0), as :attr:`sweepcore.Params.v_star`.
-    """
-    a1, a2 = np.broadcast_arrays(np.asarray(alpha1, np.float64),
-                                 np.asarray(alpha2, np.float64))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        root = np.sqrt(a1 / (3.0 * a2))
-    none = np.where(a1 > 0.0, np.inf, np.nan)
-    return np.where(a2 == 0.0, none, np.where(a1 < 0.0, np.nan, root))
-
-
-def x_eq(k, r_y, v, alpha1, alpha2):
-    """Steady-sliding position sgn(v)(r_y - alpha1|v| + alpha2|v|^3)/k [cm], eq. (43).
-
-    0 for v = 0 (the middle of the band of rest positions), as
-    :attr:`sweepcore.Params.x_eq`.
-    """
-    v = np.asarray(v, np.float64)
-    va = np.abs(v)
-    x = np.sign(v) * (r_y - alpha1 * va + alpha2 * va ** 3) / k
-    return np.where(v == 0.0, 0.0, x)
-
-
-# name -> (function, the axes it takes, in order)
-ANALYTIC = {
-    "q": (hopf_q, ("m", "v", "alpha1", "alpha2")),
-    "v_star": (v_star, ("alpha1", "alpha2")),
-    "x_eq": (x_eq, ("k", "r_y", "v", "alpha1", "alpha2")),
-    "omega": (omega, ("m", "k")),
-}
+# derived quantities over a grid's axes: name -> (function, the axes it takes)
+ANALYTIC = law.DERIVED

@@ -20,7 +20,8 @@ sweep_mod = importlib.import_module("sweepcore.sweep")  # the package attribute 
 from sweepcore._kernels import codes, layout
 from sweepcore._kernels.attractor import attractor_rows
 from sweepcore.boundary import hopf_boundary
-from sweepcore.grid import Grid, hopf_q, omega, v_star, x_eq
+from sweepcore.grid import Grid
+from sweepcore.law import hopf_q, omega, v_star, x_eq
 from sweepcore.io import WorkingStore, open_result
 from sweepcore.options import make_options
 from sweepcore.sweep import sweep
