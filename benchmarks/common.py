@@ -28,7 +28,7 @@ OMEGA = math.sqrt(PAPER["k"] / PAPER["m"])
 # The Hopf map of studies/hopf_map.toml: v in linspace(0.5, 10, 256), alpha2 in geomspace(1e-3, 0.1, 256)
 MAP_V = (0.5, 10.0)
 MAP_A2 = (1e-3, 0.1)
-NCOLS_P = 8      # m, k, r_y, v, alpha1, alpha2, x0, xdot0  (sweepcore/_kernels/layout.py)
+NCOLS_P = 11     # m, k, r_y, v, alpha1, alpha2, c, r_k, v_s, x0, xdot0 (sweepcore/_kernels/layout.py)
 
 
 # ------------------------------------------------------------------ the grids
@@ -57,8 +57,11 @@ def rows(v, alpha2, alpha1=PAPER["alpha1"], x0=0.0, xdot0=None, product=True):
     P[:, 3] = V
     P[:, 4] = alpha1
     P[:, 5] = A
-    P[:, 6] = x0
-    P[:, 7] = V if xdot0 is None else xdot0
+    P[:, 6] = 0.0                 # c: no damping
+    P[:, 7] = PAPER["r_y"]        # r_k = r_y: the paper's law
+    P[:, 8] = np.nan              # v_s: not used
+    P[:, 9] = x0
+    P[:, 10] = V if xdot0 is None else xdot0
     return np.ascontiguousarray(P)
 
 

@@ -99,9 +99,9 @@ def count_flops(fn, skip_if=("want_q",)):
 
 
 def stepper_flops():
-    from sweepcore._kernels import dopri5, friction, rk4
+    from sweepcore._kernels import dopri5, law, rk4
     from . import peers
-    return {"zdd (RHS, friction law eq. 40 + eq. 41)": count_flops(friction.zdd),
+    return {"zdd (RHS, friction law eq. 40 + eq. 41)": count_flops(law.zdd),
             "sweepcore dopri5_step": count_flops(dopri5.dopri5_step),
             "sweepcore rk4_step": count_flops(rk4.rk4_step),
             "numba RK4 peer step": count_flops(peers._rk4)}

@@ -96,7 +96,8 @@ def scipy_protocol(p, method="RK45", rtol=1e-8, atol=1e-8, t_end=T_END, max_step
 
     Returns dict(amplitude, mean, events, n_rhs): samples of x on t = 150 + 0.01 j.
     """
-    m, k, r_y, v, a1, a2, x0, xd0 = map(float, p)
+    m, k, r_y, v, a1, a2 = map(float, p[:6])     # the paper's law (row layout: common.rows)
+    x0, xd0 = float(p[9]), float(p[10])
     assert v > 0.0
     ts = sample_times()
     ts = ts[ts <= t_end]
@@ -161,7 +162,8 @@ def scipy_attractor(p, rtol=1e-12, atol=1e-13, max_periods=3000.0, conv=1e-10):
     Returns dict(amplitude, mean, period, regime) with regime in
     {"stick_slip", "slip_cycle", "equilibrium", "unconverged"}.
     """
-    m, k, r_y, v, a1, a2, x0, xd0 = map(float, p)
+    m, k, r_y, v, a1, a2 = map(float, p[:6])     # the paper's law (row layout: common.rows)
+    x0, xd0 = float(p[9]), float(p[10])
     assert v > 0.0
     om = math.sqrt(k / m)
     T0 = 2.0 * math.pi / om
@@ -282,7 +284,7 @@ def _rk4(x, zd, h, s, v, k, m, r_y, a1, a2):
 
 @njit(cache=True)
 def _protocol_point(p, dt, t_end, t_s0, dt_s, n_s, out):
-    m, k, r_y, v, a1, a2, x0, xd0 = p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7]
+    m, k, r_y, v, a1, a2, x0, xd0 = p[0], p[1], p[2], p[3], p[4], p[5], p[9], p[10]
     xs = r_y / k
     t = 0.0
     x = x0

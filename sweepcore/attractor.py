@@ -7,7 +7,7 @@ import numpy as np
 
 from ._kernels import codes, layout
 from ._kernels.attractor import attractor_point
-from .options import make_options
+from .options import check_method, make_options
 from .params import Params
 from .simulate import start_row
 from .variables import OBSERVABLES
@@ -76,9 +76,7 @@ def attractor(params: Params, x0: float = 0.0, xdot0: float | None = None,
     ``"unresolved"`` (its numbers are estimates).
     """
     row = start_row(params, x0, xdot0)
-    if method == "exact" and params.alpha2 != 0.0:
-        raise ValueError("method='exact' needs alpha2 == 0; got "
-                         f"alpha2={params.alpha2}")
+    check_method(method, params)
     out = np.empty(layout.NOBS)
     attractor_point(row, make_options(method, tol=tol, **options), out)
     status = int(out[layout.OB_STATUS])

@@ -60,7 +60,7 @@ from ._kernels import codes, layout
 from ._kernels.attractor import (_LANES, RTOL_FLOOR, attractor_rows,
                                  attractor_rows_parallel)
 from .grid import AXES, COLUMNS, Grid
-from .law import v_star as _v_star
+from . import law
 from .options import make_options
 from .params import LONG_NAMES, UNITS
 
@@ -1146,7 +1146,7 @@ def _analytic(ds: xr.Dataset) -> xr.Dataset:
     """``v_star`` and the averaging estimate of the stick onset beside the located
     boundaries (along v)."""
     vs_units, vs_long, vs_comment = variables.ANALYTIC["v_star"]
-    vs = xr.apply_ufunc(_v_star, ds["alpha1"], ds["alpha2"])
+    vs = law.derived("v_star", ds)
     ds["v_star"] = xr.Variable(vs.dims, np.asarray(vs.values, np.float64),
                                {"units": vs_units, "long_name": vs_long,
                                 "comment": vs_comment})

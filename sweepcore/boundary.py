@@ -13,7 +13,7 @@ import xarray as xr
 
 from . import variables
 from ._kernels import codes
-from .law import v_star
+from . import law
 
 CYCLES = (codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
 BOUNDARY_VARIABLES = ("v_hopf_measured", "v_hopf_resolution", "v_stick_onset",
@@ -115,6 +115,6 @@ def hopf_boundary(ds: xr.Dataset, axis: str = "v") -> xr.Dataset:
             long_name="resolution of the measured end of stick-slip"),
     })
     vs_units, vs_long_name, vs_comment = variables.ANALYTIC["v_star"]
-    out["v_star"] = _labelled(xr.apply_ufunc(v_star, ds["alpha1"], ds["alpha2"]),
+    out["v_star"] = _labelled(law.derived("v_star", ds),
                               units=vs_units, long_name=vs_long_name, comment=vs_comment)
     return out

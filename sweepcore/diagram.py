@@ -19,7 +19,7 @@ from ._kernels import codes, layout
 from ._kernels.attractor import attractor_rows
 from .boundaries import locate_boundaries
 from .grid import AXES, COLUMNS, Grid
-from .law import v_star as _v_star
+from . import law
 from .options import make_options
 from .params import LONG_NAMES, UNITS
 
@@ -119,8 +119,7 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
                                    "from the previous attractor)"})
     ds = xr.Dataset(data, coords)
     vs_units, vs_long, vs_comment = variables.ANALYTIC["v_star"]
-    ds["v_star"] = xr.Variable((), float(_v_star(ds["alpha1"].values,
-                                                 ds["alpha2"].values)),
+    ds["v_star"] = xr.Variable((), float(law.derived("v_star", ds)),
                                {"units": vs_units, "long_name": vs_long,
                                 "comment": vs_comment})
     if boundaries:

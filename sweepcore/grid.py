@@ -7,6 +7,7 @@ one range of flat indices at a time, from the 1-D axes.
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import math
 import numbers
@@ -17,15 +18,14 @@ import xarray as xr
 
 from . import law
 from ._kernels import layout
-from .params import LONG_NAMES, UNITS, check_derived, check_real, did_you_mean
+from .params import LONG_NAMES, RULES, UNITS, check_derived, check_real, did_you_mean
 
-# axes in dimension order, with their kernel column and their check_real rule
-AXES = ("m", "k", "r_y", "v", "alpha1", "alpha2", "x0", "xdot0")
-COLUMNS = {"m": layout.M, "k": layout.K, "r_y": layout.RY, "v": layout.V,
-           "alpha1": layout.A1, "alpha2": layout.A2, "x0": layout.X0,
-           "xdot0": layout.XD0}
-RULES = {"m": {"positive": True}, "k": {"positive": True}, "r_y": {"nonnegative": True},
-         "v": {}, "alpha1": {}, "alpha2": {"nonnegative": True}, "x0": {}, "xdot0": {}}
+# axes in dimension order, with their kernel column (check_real rules: params.RULES)
+AXES = law.PARAMETERS + ("x0", "xdot0")
+COLUMNS = {**law.COLUMNS, "x0": layout.X0, "xdot0": layout.XD0}
+# axes that may be None: xdot0 (start stuck: xdot0 = v), r_k (= r_y: no Stribeck
+# term) and v_s (not used without a Stribeck term: NaN in the kernel rows)
+OPTIONAL = ("xdot0", "r_k", "v_s")
 POINT_DIM = "point"
 
 
@@ -84,8 +84,8 @@ def _check_array(name: str, value: np.ndarray, unique: bool) -> np.ndarray:
 
 
 def _check_axis(name: str, value, unique: bool):
-    """A validated scalar (float), 1-D array (read-only float64) or None (xdot0)."""
-    if value is None and name == "xdot0":
+    """A validated scalar (float), 1-D array (read-only float64) or None (OPTIONAL)."""
+    if value is None and name in OPTIONAL:
         return None
     if isinstance(value, (list, tuple)):
         # np.asarray would silently turn True into 1.0 beside other numbers
@@ -130,6 +130,13 @@ class Grid:
     xdot0 : float, 1-D array or None
         Initial velocity [cm/s]; None starts every point stuck on the belt
         (xdot0 = v), as in the paper's figures.
+    c : float or 1-D array
+        Viscous damping on the slider [kN s/cm], >= 0.
+    r_k : float, 1-D array or None
+        Kinetic friction level of the exponential Stribeck law [kN], >= 0; None
+        (default): r_k = r_y, no Stribeck term (the paper's law).
+    v_s : float, 1-D array or None
+        Stribeck speed [cm/s], > 0; required when r_k is given.
     mode : {"product", "points"}
         "product" (default): the array axes span an outer product, one dimension per
         array axis in the order of the parameters above. "points": the array axes
@@ -154,6 +161,9 @@ class Grid:
     alpha2: object = 0.0
     x0: object = 0.0
     xdot0: object = None
+    c: object = 0.0
+    r_k: object = None
+    v_s: object = None
     mode: str = field(default="product", kw_only=True)
 
     def __post_init__(self):
@@ -168,19 +178,27 @@ class Grid:
                 shown = ", ".join(f"{n}: {n_}" for n, n_ in lengths.items())
                 raise ValueError("the array axes of Grid.points must have equal "
                                  f"lengths, got {shown}")
+        if self.v_s is None and self.r_k is not None and not (
+                isinstance(self.r_k, float) and self.r_k == self.r_y):
+            raise ValueError("v_s (Stribeck speed [cm s-1]) is required when r_k is "
+                             f"given; got r_k={self.r_k!r} and no v_s")
         ranges = {}
-        for name in ("m", "k", "r_y", "v", "alpha1", "alpha2"):
-            val = np.atleast_1d(self.axis(name))
+        for name in law.PARAMETERS:
+            val = self.axis(name)
+            if val is None:
+                continue
+            val = np.atleast_1d(val)
             ranges[name] = (float(val.min()), float(val.max()))
         check_derived("Grid", ranges)
 
     @classmethod
-    def points(cls, m, k, r_y, v, alpha1=0.0, alpha2=0.0, x0=0.0, xdot0=None) -> Grid:
+    def points(cls, m, k, r_y, v, alpha1=0.0, alpha2=0.0, x0=0.0, xdot0=None, c=0.0,
+               r_k=None, v_s=None) -> Grid:
         """Scattered parameter sets: equal-length 1-D arrays, read index by index.
 
         Scalars are shared by every point. The result has one dimension, ``point``.
         """
-        return cls(m, k, r_y, v, alpha1, alpha2, x0, xdot0, mode="points")
+        return cls(m, k, r_y, v, alpha1, alpha2, x0, xdot0, c, r_k, v_s, mode="points")
 
     # ------------------------------------------------------------------ shape
     def axis(self, name: str):
@@ -196,7 +214,7 @@ class Grid:
 
     @property
     def fixed(self) -> tuple[str, ...]:
-        """Names of the scalar axes (xdot0 = None excluded)."""
+        """Names of the scalar axes (None axes excluded)."""
         return tuple(n for n in AXES if isinstance(self.axis(n), float))
 
     @property
@@ -241,7 +259,8 @@ class Grid:
         -------
         numpy.ndarray
             float64, C-contiguous, shape ``(stop - start, layout.NP)``, columns
-            ``layout.M ... layout.XD0``; ``xdot0=None`` gives xdot0 = v.
+            ``layout.M ... layout.XD0``; ``xdot0=None`` gives xdot0 = v,
+            ``r_k=None`` r_k = r_y, ``v_s=None`` NaN (not used).
         """
         if not 0 <= start <= stop <= self.size:
             raise IndexError(f"flat index range [{start}, {stop}) outside the grid "
@@ -257,8 +276,9 @@ class Grid:
         for name in AXES:
             val = self.axis(name)
             col = COLUMNS[name]
-            if val is None:   # xdot0 = None: start stuck on the belt
-                P[:, col] = P[:, layout.V]
+            if val is None:     # start stuck on the belt; no Stribeck term
+                P[:, col] = {"xdot0": P[:, layout.V], "r_k": P[:, layout.RY],
+                             "v_s": np.nan}[name]
             elif isinstance(val, np.ndarray):
                 P[:, col] = val[index[name]]
             else:
@@ -292,11 +312,15 @@ class Grid:
                 {"units": "1", "long_name": "parameter set index"})
         for name in AXES:
             val = self.axis(name)
+            attrs = {"units": UNITS[name], "long_name": LONG_NAMES[name]}
+            if val is None and name == "r_k":     # the law's parameter, = r_y
+                val = self.axis("r_y")
+                attrs["comment"] = "r_k = r_y: no Stribeck term (eq. 40)"
             if val is None:
                 continue
-            attrs = {"units": UNITS[name], "long_name": LONG_NAMES[name]}
             if isinstance(val, np.ndarray):
-                dim = POINT_DIM if self.mode == "points" else name
+                dim = POINT_DIM if self.mode == "points" else (
+                    "r_y" if self.r_k is None and name == "r_k" else name)
                 out[name] = xr.Variable(dim, np.array(val), attrs)
             else:
                 out[name] = xr.Variable((), val, attrs)
@@ -319,5 +343,8 @@ class Grid:
 Grid.__init__ = did_you_mean(Grid.__init__)
 
 
-# derived quantities over a grid's axes: name -> (function, the axes it takes)
-ANALYTIC = law.DERIVED
+# derived quantities stored in a sweep's Dataset: name -> (function, the axes it
+# depends on), from the friction law (one definition, sweepcore.law). The function
+# takes the tuple of the axes given (None axes are absent) and their arrays.
+ANALYTIC = {name: (functools.partial(law.evaluate_given, name), law.DERIVED[name][1])
+            for name in ("q", "v_star", "v_star_2", "first_lyapunov", "x_eq", "omega")}

@@ -1,113 +1,173 @@
 """The friction law's derived quantities, for the Python side (one home).
 
 Every Python room (Params, Grid, sweep, simulate, boundaries, plot, benchmarks)
-reads q, x_eq, the Hopf speed and the friction force from here, never from a copy
-of the formula. A *source* is anything that holds the parameters by name: a
+reads q, x_eq, the Hopf speeds and the friction force from here, and this module
+reads them from the kernels' law (``sweepcore/_kernels/law.py``): one definition,
+evaluated by the same compiled code in the kernels and in Python.
+
+A *source* is anything that holds the parameters by name: a
 :class:`sweepcore.Params`, a mapping (dict of numbers or arrays), an
 ``xarray.Dataset`` (its coordinates broadcast by dimension name) or a kernel row
-(``from_row``).
+(``from_row``). Missing optional parameters take their defaults (no damping, no
+Stribeck term).
 
-Law, eq. (40) of Liu's paper: ``r_a = r_y sgn(zdot) - alpha1 zdot + alpha2 zdot^3``.
+The law (friction force on the slider while sliding with relative speed s):
+``F(s) = sgn(s) (r_k + (r_y - r_k) exp(-|s|/v_s)) - alpha1 s + alpha2 s^3``, and
+viscous damping ``c`` on the slider: ``m x'' + c x' + k x + r_a = 0``. ``r_k = r_y``
+is eq. (40) of Liu's paper.
 """
 from __future__ import annotations
 
 import numpy as np
 
+from ._kernels import law as _law
 from ._kernels import layout
 
-# parameters of the slider and its law, in the order of the kernel row
-PARAMETERS = ("m", "k", "r_y", "v", "alpha1", "alpha2")
-DEFAULTS = {"alpha1": 0.0, "alpha2": 0.0}
-_COLUMNS = {"m": layout.M, "k": layout.K, "r_y": layout.RY, "v": layout.V,
-            "alpha1": layout.A1, "alpha2": layout.A2}
+# parameters of the slider and its law, in the order of the API
+PARAMETERS = ("m", "k", "r_y", "v", "alpha1", "alpha2", "c", "r_k", "v_s")
+COLUMNS = {"m": layout.M, "k": layout.K, "r_y": layout.RY, "v": layout.V,
+           "alpha1": layout.A1, "alpha2": layout.A2, "c": layout.C, "r_k": layout.RK,
+           "v_s": layout.VS}
+# optional parameters: None means "the default": r_k = r_y (no Stribeck term), and
+# then v_s does not enter (NaN in kernel rows: any use would show as NaN)
+DEFAULTS = {"alpha1": 0.0, "alpha2": 0.0, "c": 0.0, "r_k": None, "v_s": None}
+
+# name -> (kernel column, the parameters it depends on). A sweep stores each over the
+# dimensions of those parameters only (q does not vary along k).
+_Q = ("m", "v", "alpha1", "alpha2", "c", "r_y", "r_k", "v_s")
+_HOPF = ("alpha1", "alpha2", "c", "r_y", "r_k", "v_s")
+DERIVED = {
+    "omega": (_law.D_OMEGA, ("m", "k")),
+    "q": (_law.D_Q, _Q),
+    "x_eq": (_law.D_XEQ, ("k", "v", "alpha1", "alpha2", "r_y", "r_k", "v_s")),
+    "v_star": (_law.D_VSTAR, _HOPF),
+    "v_star_2": (_law.D_VSTAR2, _HOPF),
+    "first_lyapunov": (_law.D_LYAP, ("m", "k") + _HOPF),
+    "x_s": (_law.D_XS, ("k", "v", "r_y", "c")),
+}
+CRITICALITY = {0: "none", 1: "supercritical", 2: "subcritical", 3: "degenerate"}
 
 
 def value(source, name: str):
-    """Parameter ``name`` of ``source`` (mapping, Dataset or attributes), else its
-    default."""
+    """Parameter ``name`` of ``source`` (mapping, Dataset or attributes); a missing
+    optional parameter gives its default (None for r_k and v_s)."""
     try:
-        return source[name]
+        got = source[name]
     except (KeyError, TypeError, IndexError):
-        pass
-    got = getattr(source, name, None)
+        got = getattr(source, name, None)
     if got is not None:
         return got
     if name in DEFAULTS:
         return DEFAULTS[name]
-    raise KeyError(f"the friction law needs parameter {name!r}, which {type(source).__name__} "
-                   "does not hold")
+    raise KeyError(f"the friction law needs parameter {name!r}, which "
+                   f"{type(source).__name__} does not hold")
 
 
 def from_row(row) -> dict:
     """A source made of a kernel parameter row (layout ``sweepcore._kernels.layout``)."""
-    return {name: float(row[col]) for name, col in _COLUMNS.items()}
+    return {name: float(row[col]) for name, col in COLUMNS.items()}
 
 
-# --------------------------------------------------- vectorised formulas
-def omega(m, k):
-    """Natural frequency sqrt(k/m) [1/s]."""
-    return np.sqrt(np.asarray(k, np.float64) / m)
+def evaluate(name: str, *arrays) -> np.ndarray:
+    """Quantity ``name`` from the arrays of its parameters ``DERIVED[name][1]``, in
+    that order (numpy broadcasting; None for r_k: r_y, for v_s: not given)."""
+    which, names = DERIVED[name]
+    args = dict(zip(names, arrays))
+    if "r_k" in args and args["r_k"] is None:
+        args["r_k"] = args["r_y"]
+    if "v_s" in args and args["v_s"] is None:
+        args["v_s"] = np.nan
+    arrs = {n: np.asarray(a, np.float64) for n, a in args.items()}
+    shape = np.broadcast_shapes(*(a.shape for a in arrs.values()))
+    P = np.zeros((int(np.prod(shape)), layout.NP))
+    for n, a in arrs.items():
+        P[:, COLUMNS[n]] = np.broadcast_to(a, shape).ravel()
+    out = np.empty(P.shape[0])
+    if P.shape[0]:
+        _law.derived_rows(P, which, out)
+    return out.reshape(shape)
 
 
-def hopf_q(m, v, alpha1, alpha2):
-    """Hopf quantity q = (alpha1 - 3 alpha2 v^2)/m [1/s], eq. (46)."""
-    return (np.asarray(alpha1, np.float64) - 3.0 * alpha2 * np.asarray(v) ** 2) / m
-
-
-def v_star(alpha1, alpha2):
-    """Hopf belt speed sqrt(alpha1/(3 alpha2)) [cm/s], below eq. (51).
-
-    inf when alpha2 = 0 < alpha1, NaN when alpha2 = 0 >= alpha1 or alpha1 < 0
-    (no crossing of q = 0), as :attr:`sweepcore.Params.v_star`.
-    """
-    a1, a2 = np.broadcast_arrays(np.asarray(alpha1, np.float64),
-                                 np.asarray(alpha2, np.float64))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        root = np.sqrt(a1 / (3.0 * a2))
-    none = np.where(a1 > 0.0, np.inf, np.nan)
-    return np.where(a2 == 0.0, none, np.where(a1 < 0.0, np.nan, root))
-
-
-def x_eq(k, r_y, v, alpha1, alpha2):
-    """Steady-sliding position sgn(v)(r_y - alpha1|v| + alpha2|v|^3)/k [cm], eq. (43).
-
-    0 for v = 0 (the middle of the band of rest positions), as
-    :attr:`sweepcore.Params.x_eq`.
-    """
-    v = np.asarray(v, np.float64)
-    va = np.abs(v)
-    x = np.sign(v) * (r_y - alpha1 * va + alpha2 * va ** 3) / k
-    return np.where(v == 0.0, 0.0, x)
-
-
-# name -> (function, the parameters it takes, in order)
-DERIVED = {
-    "q": (hopf_q, ("m", "v", "alpha1", "alpha2")),
-    "v_star": (v_star, ("alpha1", "alpha2")),
-    "x_eq": (x_eq, ("k", "r_y", "v", "alpha1", "alpha2")),
-    "omega": (omega, ("m", "k")),
-}
+def evaluate_given(name: str, given: tuple, *arrays) -> np.ndarray:
+    """``evaluate`` with the arrays of the parameters ``given`` only (the others of
+    ``DERIVED[name][1]`` take their defaults)."""
+    args = dict(zip(given, arrays))
+    return evaluate(name, *(args.get(n) for n in DERIVED[name][1]))
 
 
 def derived(name: str, source):
-    """Derived quantity ``name`` (a key of ``DERIVED``) of ``source``."""
-    fn, args = DERIVED[name]
-    return fn(*(value(source, a) for a in args))
+    """Derived quantity ``name`` (a key of ``DERIVED``) of ``source``: a float for
+    numbers, a numpy array for arrays (broadcast), a DataArray over the dimensions of
+    the parameters it depends on for an ``xarray.Dataset`` or DataArrays."""
+    names = DERIVED[name][1]
+    no_stribeck = "r_k" in names and value(source, "r_k") is None
+    vals = [_r_y_or_zero(source) if n == "r_y" and no_stribeck else value(source, n)
+            for n in names]
+    if any(hasattr(x, "dims") for x in vals):
+        import xarray as xr
+        given = [i for i, x in enumerate(vals) if x is not None]
+
+        def fn(*arrs):
+            full = [None] * len(names)
+            for i, a in zip(given, arrs):
+                full[i] = a
+            return evaluate(name, *full)
+        return xr.apply_ufunc(fn, *(vals[i] for i in given), dask="parallelized",
+                              output_dtypes=[np.float64])
+    out = evaluate(name, *vals)
+    return float(out) if out.ndim == 0 else out
+
+
+def _r_y_or_zero(source):
+    """r_y, which a quantity without a Stribeck term does not need (0 if absent)."""
+    try:
+        return value(source, "r_y")
+    except KeyError:
+        return 0.0
+
+
+def criticality_code(l1):
+    """Flag codes of ``CRITICALITY`` from first Lyapunov coefficients ``l1``."""
+    l1 = np.asarray(l1, np.float64)
+    return np.where(np.isnan(l1), 0, np.where(l1 < 0, 1, np.where(l1 > 0, 2, 3))
+                    ).astype(np.int8)
 
 
 def friction(zdot, source, phase=None):
-    """Friction force r_a on the slider while sliding [kN], eq. (40).
-
-    ``phase`` is the sign of zdot (+1, -1); by default ``sign(zdot)``.
-    """
+    """Friction force r_a on the slider while sliding [kN] (the kernels' ``friction``,
+    vectorised). ``phase`` is the sign of zdot (+1, -1); by default ``sign(zdot)``."""
     zdot = np.asarray(zdot, np.float64)
-    s = np.sign(zdot) if phase is None else phase
-    return (value(source, "r_y") * s - value(source, "alpha1") * zdot
-            + value(source, "alpha2") * zdot ** 3)
+    s = np.sign(zdot) if phase is None else np.asarray(phase, np.float64)
+    r_y = np.asarray(value(source, "r_y"), np.float64)
+    r_k = value(source, "r_k")
+    d = 0.0 if r_k is None else r_y - np.asarray(r_k, np.float64)
+    lev = r_y
+    if np.any(d != 0.0):
+        with np.errstate(invalid="ignore"):
+            stribeck = d * np.expm1(-np.abs(zdot) / np.asarray(value(source, "v_s"),
+                                                                np.float64))
+        lev = np.where(d == 0.0, r_y, r_y + stribeck)
+    return (lev * s - value(source, "alpha1") * zdot
+            + value(source, "alpha2") * zdot * zdot * zdot)
+
+
+def stick_force(x, source):
+    """Friction force on the slider while stuck [kN]: ``-(k x + c v)`` (it holds the
+    slider at belt speed; sticking lasts while its size is at most r_y)."""
+    return -(value(source, "k") * np.asarray(x, np.float64)
+             + value(source, "c") * value(source, "v"))
 
 
 def stick_onset_estimate(source):
-    """First-order averaging estimate 2 v*/sqrt(5) of the belt speed [cm/s] below
-    which a slip cycle reaches belt speed (sticks): the averaged cycle's velocity
-    amplitude 2 sqrt(v*^2 - v^2) reaches v."""
-    return 2.0 / np.sqrt(5.0) * derived("v_star", source)
+    """First-order averaging estimate ``2 v*/sqrt(5)`` of the belt speed [cm/s] below
+    which a slip cycle of the polynomial law reaches belt speed (sticks): the
+    averaged cycle's velocity amplitude ``2 sqrt(v*^2 - v^2)`` reaches v. NaN for a
+    law with a Stribeck term (no such closed form)."""
+    est = 2.0 / np.sqrt(5.0) * derived("v_star", source)
+    r_k = value(source, "r_k")
+    if r_k is None:
+        return est
+    polynomial = r_k == value(source, "r_y")
+    if hasattr(est, "where"):
+        return est.where(polynomial)
+    return np.where(polynomial, est, np.nan)

@@ -5,15 +5,27 @@ import math
 
 import numpy as np
 
-from ._kernels import codes, layout
+from ._kernels import codes, layout, stepper
 
-METHODS = ("auto", "exact", "gps", "rk4", "dopri5")
-AUTO = -1.0   # resolved per point in the kernel: exact if alpha2 == 0 else dopri5
+# every method of the kernels' table (stepper.METHODS), and "auto"
+METHODS = ("auto",) + tuple(row[0] for row in stepper.METHODS)
+CLOSED_FORM = tuple(row[0] for row in stepper.METHODS if row[5])
+AUTO = -1.0   # resolved per point in the kernel: a closed form where the law allows
+              # one (no cubic and no Stribeck term), else dopri5
 MAX_STEPS_CAP = 2**53   # largest integer a float64 option row holds exactly
 # Largest touch tolerance: the accuracy of an answer (1e-6 relative). A touch reset to
 # the breakaway point drops the excursion of zdot past 0; above this it can drop a
 # real stick or a growing cycle.
 GRAZE_MAX = 1e-6
+
+
+def check_method(method: str, params) -> None:
+    """Refuse a closed-form method for a law that has none, naming the parameters."""
+    if method in CLOSED_FORM and not (params.alpha2 == 0.0 and params.r_k == params.r_y):
+        raise ValueError(
+            f"method={method!r} needs a piecewise-linear law (the sliding phase has a "
+            "closed form only without cubic and Stribeck terms: alpha2 = 0 and r_k = "
+            f"r_y); got alpha2={params.alpha2!r}, r_k={params.r_k!r}, r_y={params.r_y!r}")
 
 
 def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = None,
@@ -24,7 +36,8 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
     Parameters
     ----------
     method : {"auto", "exact", "gps", "rk4", "dopri5"}
-        Stepper. "auto" is exact when alpha2 = 0, else dopri5 at ``tol``.
+        Stepper (the kernels' method table). "auto" is exact where the law is
+        piecewise linear (alpha2 = 0, no Stribeck term), else dopri5 at ``tol``.
     tol : float
         Relative tolerance of dopri5, and of convergence detection of attractors.
     dt : float, optional

@@ -15,18 +15,29 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import law
+from ._kernels import layout
+
 UNITS = {
     "m": "kN s2 cm-1", "k": "kN cm-1", "r_y": "kN", "v": "cm s-1",
-    "alpha1": "kN s cm-1", "alpha2": "kN s3 cm-3", "x0": "cm", "xdot0": "cm s-1",
+    "alpha1": "kN s cm-1", "alpha2": "kN s3 cm-3", "c": "kN s cm-1", "r_k": "kN",
+    "v_s": "cm s-1", "x0": "cm", "xdot0": "cm s-1",
 }
 # units of the run settings, for the messages of check_real
 SETTING_UNITS = {"t_end": "s", "output_dt": "s", "dt": "s"}
 LONG_NAMES = {
-    "m": "slider mass", "k": "spring stiffness", "r_y": "friction bound",
+    "m": "slider mass", "k": "spring stiffness",
+    "r_y": "static friction bound (the largest force sticking holds)",
     "v": "belt speed", "alpha1": "linear friction-speed coefficient",
-    "alpha2": "cubic friction-speed coefficient", "x0": "initial position",
-    "xdot0": "initial velocity",
+    "alpha2": "cubic friction-speed coefficient", "c": "viscous damping coefficient",
+    "r_k": "kinetic friction level (Stribeck law; r_k = r_y: none)",
+    "v_s": "Stribeck speed", "x0": "initial position", "xdot0": "initial velocity",
 }
+# validation rules of every parameter (check_real keywords)
+RULES = {"m": {"positive": True}, "k": {"positive": True}, "r_y": {"nonnegative": True},
+         "v": {}, "alpha1": {}, "alpha2": {"nonnegative": True},
+         "c": {"nonnegative": True}, "r_k": {"nonnegative": True},
+         "v_s": {"positive": True}, "x0": {}, "xdot0": {}}
 
 
 def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
@@ -54,13 +65,14 @@ def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
 
 DERIVED = {
     "omega": "natural frequency sqrt(k/m) [1/s]",
-    "q": "Hopf quantity (alpha1 - 3 alpha2 v^2)/m [1/s] of eq. (46)",
-    "x_eq": "equilibrium (r_y - alpha1 |v| + alpha2 |v|^3)/k [cm] of eq. (43)",
+    "q": "Hopf quantity -(c + F'(-v))/m [1/s] (eq. 46)",
+    "x_eq": "equilibrium -F(-v)/k [cm] (eq. 43)",
     "length": "length scale r_y/k + |v|/omega [cm]",
 }
 
 
-def derived_bounds(m, k, r_y, v, alpha1, alpha2) -> dict[str, float]:
+def derived_bounds(m, k, r_y, v, alpha1, alpha2, c=(0.0,), r_k=(0.0,),
+                   v_s=(1.0,)) -> dict[str, float]:
     """Largest magnitudes of the derived quantities over the given ranges.
 
     Each argument is a (low, high) pair of the parameter's range (or its value
@@ -69,16 +81,18 @@ def derived_bounds(m, k, r_y, v, alpha1, alpha2) -> dict[str, float]:
     well (its low value, which must be > 0). Overflow gives inf or NaN.
     """
     with np.errstate(all="ignore"):
-        lo = {n: np.float64(min(x)) for n, x in dict(m=m, k=k).items()}
+        lo = {n: np.float64(min(x)) for n, x in dict(m=m, k=k, v_s=v_s).items()}
         hi = {n: np.float64(max(np.abs(x))) for n, x in dict(
-            m=m, k=k, r_y=r_y, v=v, alpha1=alpha1, alpha2=alpha2).items()}
+            m=m, k=k, r_y=r_y, v=v, alpha1=alpha1, alpha2=alpha2, c=c, r_k=r_k).items()}
         w_hi = np.sqrt(hi["k"] / lo["m"])
         w_lo = np.sqrt(lo["k"] / hi["m"])
         va = hi["v"]
+        drop = hi["r_y"] + hi["r_k"]          # bounds |r_y - r_k|
         return {
             "omega": float(w_hi if w_lo > 0.0 else np.nan),
-            "q": float((hi["alpha1"] + 3.0 * hi["alpha2"] * va ** 2) / lo["m"]),
-            "x_eq": float((hi["r_y"] + hi["alpha1"] * va + hi["alpha2"] * va ** 3)
+            "q": float((hi["alpha1"] + 3.0 * hi["alpha2"] * va ** 2 + hi["c"]
+                        + drop / lo["v_s"]) / lo["m"]),
+            "x_eq": float((drop + hi["alpha1"] * va + hi["alpha2"] * va ** 3)
                           / lo["k"]),
             "length": float(hi["r_y"] / lo["k"] + va / w_lo),
         }
@@ -104,7 +118,12 @@ def check_derived(where: str, ranges: dict) -> None:
 
 @dataclass(frozen=True)
 class Params:
-    """One slider on the belt (Liu, Fig. 1), friction law eq. (40).
+    """One slider on the belt (Liu, Fig. 1) and its friction law.
+
+    ``m x'' + c x' + k x + r_a = 0``; while sliding with relative speed
+    ``s = x' - v``, ``r_a = F(s) = sgn(s) (r_k + (r_y - r_k) exp(-|s|/v_s))
+    - alpha1 s + alpha2 s^3``; while stuck ``|k x + c v| <= r_y``. The defaults
+    (``c = 0``, ``r_k = r_y``) give the paper's law, eq. (40).
 
     Parameters
     ----------
@@ -113,7 +132,7 @@ class Params:
     k : float
         Stiffness [kN/cm], > 0.
     r_y : float
-        Friction bound [kN], >= 0.
+        Static friction bound [kN], >= 0: the largest force sticking holds (= F(0+)).
     v : float
         Belt speed [cm/s], any finite value: ``v < 0`` is the mirror image of
         ``-v``, ``v = 0`` a static belt.
@@ -121,12 +140,20 @@ class Params:
         Linear coefficient of eq. (40) [kN s/cm], any finite value.
     alpha2 : float
         Cubic coefficient of eq. (40) [kN s^3/cm^3], >= 0.
+    c : float
+        Viscous damping on the slider [kN s/cm], >= 0.
+    r_k : float, optional
+        Kinetic friction level [kN], >= 0: the Coulomb part of F at high speed
+        (exponential Stribeck law). Default ``r_y``: no Stribeck term.
+    v_s : float, optional
+        Stribeck speed [cm/s], > 0; required when ``r_k != r_y``.
 
     Raises
     ------
     TypeError, ValueError
-        A parameter that is not a finite real number in its range, or magnitudes
-        whose derived quantities (omega, q, x_eq, the length scale) overflow.
+        A parameter that is not a finite real number in its range, a missing v_s,
+        or magnitudes whose derived quantities (omega, q, x_eq, the length scale)
+        overflow.
     """
 
     m: float
@@ -135,14 +162,35 @@ class Params:
     v: float
     alpha1: float = 0.0
     alpha2: float = 0.0
+    c: float = 0.0
+    r_k: float | None = None
+    v_s: float | None = None
 
     def __post_init__(self):
-        for name, kw in (("m", dict(positive=True)), ("k", dict(positive=True)),
-                         ("r_y", dict(nonnegative=True)), ("v", {}), ("alpha1", {}),
-                         ("alpha2", dict(nonnegative=True))):
-            object.__setattr__(self, name, check_real(name, getattr(self, name), **kw))
-        check_derived("Params", {n: (getattr(self, n),) * 2 for n in
-                                 ("m", "k", "r_y", "v", "alpha1", "alpha2")})
+        for name in ("m", "k", "r_y", "v", "alpha1", "alpha2", "c"):
+            object.__setattr__(self, name, check_real(name, getattr(self, name),
+                                                      **RULES[name]))
+        for name in ("r_k", "v_s"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, check_real(name, getattr(self, name),
+                                                          **RULES[name]))
+        if self.r_k is None:
+            object.__setattr__(self, "r_k", self.r_y)
+        if self.v_s is None and self.r_k != self.r_y:
+            raise ValueError(f"v_s (Stribeck speed [cm s-1]) is required when r_k "
+                             f"differs from r_y; got r_k={self.r_k!r}, r_y={self.r_y!r}")
+        check_derived("Params", {n: (v, v) for n, v in self.values().items()
+                                 if v is not None})
+
+    def values(self) -> dict:
+        """The parameters by name (v_s None when not given)."""
+        return {n: getattr(self, n) for n in law.PARAMETERS}
+
+    def __getitem__(self, name: str):
+        """``params["m"]``: a Params is a source of the friction law (``sweepcore.law``)."""
+        if name not in law.PARAMETERS:
+            raise KeyError(name)
+        return getattr(self, name)
 
     @property
     def omega(self) -> float:
@@ -151,41 +199,53 @@ class Params:
 
     @property
     def q(self) -> float:
-        """Hopf quantity q = (alpha1 - 3 alpha2 v^2)/m [1/s], eq. (46).
+        """Hopf quantity ``q = -(c + F'(-v))/m`` [1/s]; eq. (46),
+        ``(alpha1 - 3 alpha2 v^2)/m``, for the paper's law.
 
         The equilibrium's eigenvalues solve lambda^2 - q lambda + omega^2 = 0
         (eq. 45): stable for q < 0, unstable for q > 0.
         """
-        return (self.alpha1 - 3.0 * self.alpha2 * self.v ** 2) / self.m
+        return law.derived("q", self)
 
     @property
     def v_star(self) -> float:
-        """Hopf belt speed sqrt(alpha1 / (3 alpha2)) [cm/s], below eq. (51).
+        """Lowest analytic Hopf speed [cm/s]: where ``c + F'(-v)`` vanishes;
+        ``sqrt(alpha1 / (3 alpha2))`` below eq. (51) for the paper's law.
 
-        ``inf`` when alpha2 = 0 and alpha1 > 0 (q > 0 at every speed), ``nan``
-        when alpha1 <= 0 and alpha2 = 0 or alpha1 < 0 (q <= 0 at every speed:
-        there is no crossing), and 0 when alpha1 = 0 < alpha2.
+        ``inf`` when steady sliding is unstable at every speed (alpha2 = 0 <
+        alpha1 for the paper's law), ``nan`` when it is stable at every speed, 0
+        when alpha1 = 0 < alpha2. A second root, where the law has one, is
+        ``hopf_speeds[1]``.
         """
-        if self.alpha2 == 0.0:
-            return math.inf if self.alpha1 > 0.0 else math.nan
-        if self.alpha1 < 0.0:
-            return math.nan
-        return math.sqrt(self.alpha1 / (3.0 * self.alpha2))
+        return law.derived("v_star", self)
+
+    @property
+    def hopf_speeds(self) -> tuple:
+        """Every analytic Hopf speed [cm/s] (0, 1 or 2 of them), increasing."""
+        roots = (law.derived("v_star", self), law.derived("v_star_2", self))
+        return tuple(r for r in roots if math.isfinite(r))
+
+    @property
+    def first_lyapunov(self) -> float:
+        """First Lyapunov coefficient at v* [1/(s cm^2)]: averaging gives
+        ``dA/dt = q A/2 + l1 A^3``; < 0 supercritical, > 0 subcritical."""
+        return law.derived("first_lyapunov", self)
+
+    @property
+    def criticality(self) -> str:
+        """"supercritical", "subcritical", "degenerate", or "none" (no Hopf speed)."""
+        return law.CRITICALITY[int(law.criticality_code(self.first_lyapunov))]
 
     @property
     def x_eq(self) -> float:
-        """Steady-sliding equilibrium (r_y - alpha1 v + alpha2 v^3)/k [cm], eq. (43).
+        """Steady-sliding equilibrium ``-F(-v)/k`` [cm]; eq. (43),
+        ``(r_y - alpha1 v + alpha2 v^3)/k``, for the paper's law.
 
         Written for v > 0 (the slider slower than the belt). For v < 0 the mirror
         image -x_eq(-v) is returned; for v = 0 there is a band of rest positions
-        |x| <= r_y/k and the value returned is 0.
+        and the value returned is 0.
         """
-        v = self.v
-        if v == 0.0:
-            return 0.0
-        sgn = 1.0 if v > 0 else -1.0
-        va = abs(v)
-        return sgn * (self.r_y - self.alpha1 * va + self.alpha2 * va ** 3) / self.k
+        return law.derived("x_eq", self)
 
     @property
     def eigenvalues(self) -> tuple[complex, complex]:
@@ -195,9 +255,14 @@ class Params:
         return (0.5 * (q + d), 0.5 * (q - d))
 
     def row(self, x0: float, xdot0: float) -> np.ndarray:
-        """The kernel's flat parameter row (layout.py)."""
-        return np.array([self.m, self.k, self.r_y, self.v, self.alpha1, self.alpha2,
-                         x0, xdot0], dtype=np.float64)
+        """The kernel's flat parameter row (layout.py); v_s NaN when not given."""
+        r = np.zeros(layout.NP)
+        for name, col in law.COLUMNS.items():
+            val = getattr(self, name)
+            r[col] = np.nan if val is None else val
+        r[layout.X0] = x0
+        r[layout.XD0] = xdot0
+        return r
 
 
 def did_you_mean(fn):

@@ -10,7 +10,8 @@ import xarray as xr
 from ._kernels import codes, layout
 from ._kernels.attractor import resolve_options
 from ._kernels.trajectory import fresh_acc, run_trajectory
-from .options import make_options
+from .options import check_method, make_options
+from . import law
 from .params import LONG_NAMES, UNITS, Params, check_real, did_you_mean
 from .sweep import REFERENCE
 
@@ -42,7 +43,8 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
         Start [cm], [cm/s]. ``xdot0=None`` starts stuck on the belt (xdot0 = v), as
         in the paper's figures.
     method : {"auto", "exact", "gps", "rk4", "dopri5"}
-        "exact" (closed-form arcs) needs alpha2 = 0; "auto" picks it then, else dopri5.
+        "exact" (closed-form arcs) needs a piecewise-linear law (alpha2 = 0, no
+        Stribeck term); "auto" picks it then, else dopri5.
     output_dt : float, optional
         Sampling interval [s]; default 2 pi / omega / 100 (at most 10^6 samples).
     tol, dt, max_steps, gps_a, graze :
@@ -73,10 +75,7 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
     if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) \
             or max_events < 1:
         raise ValueError(f"max_events must be an integer >= 1, got {max_events!r}")
-    if method == "exact" and params.alpha2 != 0.0:
-        raise ValueError("method='exact' needs alpha2 == 0 (the sliding phase has a "
-                         f"closed form only for the piecewise-linear law); got "
-                         f"alpha2={params.alpha2}")
+    check_method(method, params)
     o = resolve_options(row, make_options(method, tol=tol, dt=dt, max_steps=max_steps,
                                           gps_a=gps_a, graze=graze))
     t = np.arange(n) * output_dt
@@ -99,6 +98,7 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
     ds = _dataset(params, row, o, t, xs, zds, mode, [e[:n_ev] for e in ev],
                   int(status), int(n_steps))
     ds["friction_work"] = ((), float(acc[layout.A_WF]), FRICTION_WORK)
+    ds["damping_work"] = ((), params.c * float(acc[layout.A_IXD2]), DAMPING_WORK)
     ds["time_stuck"] = ((), float(acc[layout.A_TSTICK]), TIME_STUCK)
     return ds
 
@@ -109,9 +109,11 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
 TIME = {"units": "seconds since 1970-01-01 00:00:00", "standard_name": "time",
         "long_name": "time", "calendar": "standard",
         "comment": "seconds from the start of the run; the epoch is a placeholder"}
+DAMPING_WORK = {"units": "kN cm", "long_name": "work of the viscous damper on the slider",
+                "comment": "integral of c xdot^2 dt over the run"}
 FRICTION_WORK = {"units": "kN cm", "long_name": "work of the friction force on the slider",
                  "comment": "integral of r_a xdot dt over the run; the slider's energy "
-                            "k x^2/2 + m xdot^2/2 changes by -friction_work"}
+                            "k x^2/2 + m xdot^2/2 changes by -(friction_work + damping_work)"}
 TIME_STUCK = {"units": "s", "long_name": "time stuck on the belt during the run"}
 
 
@@ -121,8 +123,7 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
     v = params.v
     xd = zd + v
     stick = mode == codes.STICK
-    ra = np.where(stick, -params.k * x,
-                  params.r_y * mode - params.alpha1 * zd + params.alpha2 * zd ** 3)
+    ra = np.where(stick, law.stick_force(x, params), law.friction(zd, params, phase=mode))
     ev_t, ev_kind, ev_x, ev_zd = ev
     kinds = sorted(k for k in codes.EVENT_NAMES if k <= codes.EV_ABNORMAL_STOP)
     ds = xr.Dataset(
@@ -136,9 +137,10 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
                                   "comment": "zdot = xdot - v, eq. (2)"}),
             "r_a": ("time", ra, {"units": "kN", "long_name": "friction force on the slider",
                                  "comment": "eq. (40) while sliding, -k x while stuck"}),
-            "r": ("time", params.k * (x - v * t) + ra + params.k * v * t,
+            "r": ("time", params.k * (x - v * t) + ra + params.k * v * t + params.c * xd,
                   {"units": "kN", "long_name": "restoring force",
-                   "comment": "r = k x + r_a = -m xddot (eqs. 3, 11)"}),
+                   "comment": "r = k x + c xdot + r_a = -m xddot (eqs. 3, 11; c: the "
+                              "damper)"}),
             "phase": ("time", mode.astype(np.int8),
                       {"units": "1", "long_name": "phase",
                        "flag_values": np.array([-1, 0, 1], np.int8),
@@ -155,7 +157,8 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
         coords={"time": ("time", t, TIME),
                 # the slider and its start: scalar coordinates with units, as in a sweep
                 **{name: ((), value, {"units": UNITS[name], "long_name": LONG_NAMES[name]})
-                   for name, value in zip(UNITS, row)}},
+                   for name, value in zip(UNITS, row)
+                   if not (name == "v_s" and params.v_s is None)}},
         attrs={
             "Conventions": "CF-1.11",
             "title": "sweepcore single-slider simulation",

@@ -35,7 +35,8 @@ from pathlib import Path
 import numpy as np
 
 from .options import METHODS
-from .params import LONG_NAMES, UNITS, check_real
+from . import law
+from .params import LONG_NAMES, RULES, UNITS, check_real
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -43,10 +44,7 @@ else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 # axis name -> check_real keywords (the Params / initial-state rules)
-AXIS_RULES = {
-    "m": {"positive": True}, "k": {"positive": True}, "r_y": {"nonnegative": True},
-    "v": {}, "alpha1": {}, "alpha2": {"nonnegative": True}, "x0": {}, "xdot0": {},
-}
+AXIS_RULES = RULES
 REQUIRED_AXES = ("m", "k", "r_y", "v")
 SPACINGS = ("linear", "geometric")
 RANGE_KEYS = ("start", "stop", "num", "spacing")
@@ -401,7 +399,7 @@ def _plot(ck: _Checker, doc: dict, axes: dict) -> dict:
 
 BOUNDARY_KEYS = ("along", "bracket", "xtol", "scan", "offset", "tol", "continuation",
                  "diagram", "over", "path", "png")
-BOUNDARY_ALONG = ("m", "k", "r_y", "v", "alpha1", "alpha2")
+BOUNDARY_ALONG = law.PARAMETERS
 
 
 def _boundary(ck: _Checker, doc: dict, axes: dict) -> dict:

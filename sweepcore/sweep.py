@@ -626,8 +626,10 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
                   for a, c in inputs.items()}
 
     for name, (func, args) in _grid.ANALYTIC.items():
-        da = xr.apply_ufunc(func, *(inputs[a] for a in args), keep_attrs=False,
-                            dask="parallelized", output_dtypes=[np.float64])
+        given = tuple(a for a in args if a in inputs)
+        da = xr.apply_ufunc(functools.partial(func, given), *(inputs[a] for a in given),
+                            keep_attrs=False, dask="parallelized",
+                            output_dtypes=[np.float64])
         da = da.transpose(*(d for d in dims if d in da.dims))
         ds[name] = xr.Variable(da.dims, da.data, _attrs(*variables.ANALYTIC[name]))
 

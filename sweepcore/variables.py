@@ -53,8 +53,19 @@ STATUS = {
 
 # analytic quantities stored beside the measured ones
 ANALYTIC = {
-    "q": ("s-1", "Hopf quantity q = (alpha1 - 3 alpha2 v^2)/m", "eq. (46)"),
-    "v_star": ("cm s-1", "Hopf belt speed sqrt(alpha1/(3 alpha2))", "below eq. (51)"),
-    "x_eq": ("cm", "steady-sliding equilibrium position", "eq. (43)"),
+    "q": ("s-1", "Hopf quantity q = -(c + F'(-v))/m",
+          "the equilibrium's eigenvalues solve lambda^2 - q lambda + omega^2 = 0; "
+          "eq. (46), (alpha1 - 3 alpha2 v^2)/m, for the paper's law"),
+    "v_star": ("cm s-1", "analytic Hopf belt speed (the lowest)",
+               "where the linearised damping c + F'(-v) vanishes; sqrt(alpha1/(3 "
+               "alpha2)) below eq. (51) for the paper's law; inf: steady sliding "
+               "unstable at every speed, NaN: stable at every speed"),
+    "v_star_2": ("cm s-1", "second analytic Hopf belt speed",
+                 "NaN unless c + F'(-v) has two roots (possible only for r_k > r_y)"),
+    "first_lyapunov": ("s-1 cm-2", "first Lyapunov coefficient at v_star",
+                       "averaging: dA/dt = q A/2 + l1 A^3; negative: supercritical "
+                       "Hopf point, positive: subcritical; NaN without a Hopf speed"),
+    "x_eq": ("cm", "steady-sliding equilibrium position",
+             "k x_eq = -F(-v); eq. (43) for the paper's law"),
     "omega": ("s-1", "natural frequency sqrt(k/m)", ""),
 }

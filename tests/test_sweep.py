@@ -21,13 +21,14 @@ from sweepcore._kernels import codes, layout
 from sweepcore._kernels.attractor import attractor_rows
 from sweepcore.boundary import hopf_boundary
 from sweepcore.grid import Grid
-from sweepcore.law import hopf_q, omega, v_star, x_eq
+from sweepcore import law
 from sweepcore.io import WorkingStore, open_result
 from sweepcore.options import make_options
 from sweepcore.sweep import sweep
 from sweepcore.variables import OBSERVABLES
 
-AXES = ("m", "k", "r_y", "v", "alpha1", "alpha2", "x0", "xdot0")
+# independent of sweepcore.grid: the kernel row's column order (layout.py)
+AXES = ("m", "k", "r_y", "v", "alpha1", "alpha2", "c", "r_k", "v_s", "x0", "xdot0")
 BASE = dict(m=5.0, k=50.0, r_y=10.0, v=1.0)
 # closed-form (alpha2 = 0) and integrated (alpha2 > 0) points, two starts
 MIXED = dict(m=[4.0, 5.0], k=50.0, r_y=10.0, v=[0.5, 3.0, 6.0], alpha1=1.0,
@@ -36,13 +37,18 @@ MIXED = dict(m=[4.0, 5.0], k=50.0, r_y=10.0, v=[0.5, 3.0, 6.0], alpha1=1.0,
 
 def product_rows(**axes):
     """Kernel rows of the outer product in C order, built without sweepcore.grid."""
-    full = {**dict(alpha1=0.0, alpha2=0.0, x0=0.0, xdot0=None), **axes}
+    full = {**dict(alpha1=0.0, alpha2=0.0, x0=0.0, xdot0=None, c=0.0, r_k=None,
+                   v_s=None), **axes}
     lists = [np.atleast_1d(np.asarray(full[n], dtype=object)) for n in AXES]
     rows = []
     for combo in itertools.product(*lists):
         row = dict(zip(AXES, combo))
         if row["xdot0"] is None:
             row["xdot0"] = row["v"]
+        if row["r_k"] is None:
+            row["r_k"] = row["r_y"]
+        if row["v_s"] is None:
+            row["v_s"] = np.nan
         rows.append([float(row[n]) for n in AXES])
     return np.array(rows)
 
@@ -233,7 +239,7 @@ def test_points_sweep_equals_serial_kernel(warm_sweep):
     pts = dict(m=[5.0, 4.0, 5.0], k=50.0, r_y=10.0, v=[3.0, 6.0, 3.0], alpha1=1.0,
                alpha2=[0.02, 0.0, 0.02])
     ds = sweep(Grid.points(**pts), progress=False)
-    rows = np.array([[m, 50.0, 10.0, v, 1.0, a2, 0.0, v]
+    rows = np.array([sc.Params(m=m, k=50.0, r_y=10.0, v=v, alpha1=1.0, alpha2=a2).row(0.0, v)
                      for m, v, a2 in zip(pts["m"], pts["v"], pts["alpha2"])])
     ref = per_point(rows, make_options())
     np.testing.assert_array_equal(ds.amplitude.values, ref[:, layout.OB_AMPLITUDE])
@@ -241,16 +247,20 @@ def test_points_sweep_equals_serial_kernel(warm_sweep):
     assert ds.v.dims == ("point",) and ds.k.dims == ()
 
 
-def test_analytic_functions_equal_params_bit_for_bit():
+def test_analytic_arrays_equal_params_bit_for_bit():
+    """The vectorised path (a grid's analytic variables) and the scalar path (Params)
+    read the same kernel definition: equal bit for bit."""
     vals = dict(m=[2.0, 5.0], k=[50.0], r_y=[0.0, 10.0], v=[-2.0, 0.0, 3.0, 7.5],
-                alpha1=[-1.0, 0.0, 1.0], alpha2=[0.0, 0.02])
-    for combo in itertools.product(*vals.values()):
-        d = dict(zip(vals, combo))
-        p = sc.Params(**d)
-        assert omega(d["m"], d["k"]) == p.omega
-        assert hopf_q(d["m"], d["v"], d["alpha1"], d["alpha2"]) == p.q
-        np.testing.assert_equal(v_star(d["alpha1"], d["alpha2"]), p.v_star)
-        assert x_eq(d["k"], d["r_y"], d["v"], d["alpha1"], d["alpha2"]) == p.x_eq
+                alpha1=[-1.0, 0.0, 1.0], alpha2=[0.0, 0.02], c=[0.0, 0.3])
+    combos = [dict(zip(vals, combo)) for combo in itertools.product(*vals.values())]
+    for name in ("omega", "q", "v_star", "x_eq", "first_lyapunov"):
+        args = law.DERIVED[name][1]
+        arrays = [np.array([d.get(a) if a in d else law.DEFAULTS.get(a) or 0.0
+                            for d in combos]) if a not in ("r_k", "v_s") else None
+                  for a in args]
+        got = law.evaluate(name, *arrays)
+        want = [getattr(sc.Params(**d), name) for d in combos]
+        np.testing.assert_array_equal(got, want, err_msg=name)
 
 
 def test_analytic_variables_span_only_their_dimensions(paper_map):

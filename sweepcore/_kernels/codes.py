@@ -4,15 +4,9 @@ Kernels return these integers; ``sweepcore`` turns them into names (and CF
 ``flag_values`` / ``flag_meanings``) with the dictionaries at the bottom.
 """
 
-# --- methods (pluggable steppers of the one hybrid driver) -----------------
-EXACT = 0      # closed-form arcs, alpha2 == 0 only
-GPS = 1        # Liu's group-preserving scheme, eqs. (49)-(50), fixed step
-RK4 = 2        # classical Runge-Kutta, fixed step
-DOPRI5 = 3     # Dormand-Prince 5(4), adaptive
-
-METHOD_NAMES = {EXACT: "exact", GPS: "gps", RK4: "rk4", DOPRI5: "dopri5"}
-METHOD_CODES = {v: k for k, v in METHOD_NAMES.items()}
-METHOD_ORDER = {EXACT: 0, GPS: 1, RK4: 4, DOPRI5: 5}   # 0: no truncation error
+# --- methods: the table lives with the dispatch (stepper.py) -----------------
+from .stepper import (DOPRI5, EXACT, GPS, METHOD_CODES, METHOD_NAMES,  # noqa: E402,F401
+                      METHOD_ORDER, RK4)
 
 # --- phases (modes of the hybrid automaton) --------------------------------
 STICK = 0      # zdot == 0, x moves with the belt
@@ -60,6 +54,7 @@ UNRESOLVED = 9        # a cycle next to the Hopf point that neither the shooting
                       # to the tolerance
 BELOW_RESOLUTION = 10  # the attractor's size is below float64 resolution at the
                        # point's length scale: its observables carry no digits
+BAD_ROW = 11          # a parameter or option row of the wrong length (layout.NP, NO)
 
 STATUS_NAMES = {
     OK: "ok",
@@ -73,6 +68,7 @@ STATUS_NAMES = {
     STEP_TOO_LARGE: "fixed_step_too_large",
     UNRESOLVED: "unresolved",
     BELOW_RESOLUTION: "below_resolution",
+    BAD_ROW: "bad_kernel_row",
 }
 
 # --- regimes of an attractor -------------------------------------------------

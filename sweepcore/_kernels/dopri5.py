@@ -9,8 +9,8 @@ units cancel.
 import numpy as np
 from .jit import kernel
 
-from .friction import friction, zdd_im
-from .layout import K, M, O_LV, O_LX, O_RTOL, RY, V
+from .law import friction, law_integrand, zdd_im
+from .layout import K, M, O_LV, O_LX, O_RTOL, RK, RY, V
 
 ORDER = 5
 EPS = np.finfo(np.float64).eps
@@ -109,6 +109,7 @@ def dopri5_step(x, zd, h, s, p, o, want_q):
     qx = 0.0
     qv = 0.0
     qw = 0.0
+    ql = 0.0
     if want_q:
         qx = h * (B1 * x + B3 * x3 + B4 * x4 + B5 * x5 + B6 * x6)
         qv = h * (B1 * k1x * k1x + B3 * k3x * k3x + B4 * k4x * k4x
@@ -116,4 +117,8 @@ def dopri5_step(x, zd, h, s, p, o, want_q):
         qw = h * (B1 * friction(zd, s, p) * k1x + B3 * friction(z3, s, p) * k3x
                   + B4 * friction(z4, s, p) * k4x + B5 * friction(z5, s, p) * k5x
                   + B6 * friction(z6, s, p) * k6x)
-    return x1, zd1, qx, qv, qw, err, True
+        if p[RY] != p[RK]:
+            ql = h * (B1 * law_integrand(zd, p) + B3 * law_integrand(z3, p)
+                      + B4 * law_integrand(z4, p) + B5 * law_integrand(z5, p)
+                      + B6 * law_integrand(z6, p))
+    return x1, zd1, qx, qv, qw, ql, err, True

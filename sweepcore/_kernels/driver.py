@@ -6,15 +6,17 @@ advance the smooth sliding field. ``advance`` moves a state array ``st`` (layout
 
 Rules (eq. numbers of Liu's paper):
 
-* stick: ``xdot = v``; slip when ``|k x|`` reaches ``r_y`` at the closed-form time of
-  eq. (27), never by time stepping. The slip state is set to ``(sgn(v) r_y/k, v)``
-  exactly, so every slip after a stick starts from the same point.
+* stick: ``xdot = v``; slip when the holding force ``|k x + c v|`` reaches ``r_y`` at
+  the closed-form time of eq. (27), never by time stepping. The slip state is set to
+  the breakaway point ``(x_s, v)`` (``law.breakaway``) exactly, so every slip after a
+  stick starts from the same point.
 * slide: ``zdot`` returns to 0 (located inside a step, then re-stepped to the event so
-  the state is the integrator's own). With ``x_s = r_y/k`` and ``v > 0``:
-  ``x >= x_s`` -> slide on with ``zdot < 0`` (the slide-slide condition (22));
-  ``x < -x_s`` -> slide on with ``zdot > 0``; otherwise stick. Sliding on in the
-  same direction is an abnormal stop (31), reversing a normal stop (30). ``v < 0`` is
-  the mirror image; for ``v = 0`` the slider sticks when ``|x| <= x_s``.
+  the state is the integrator's own). With the stick band ``[x_lo, x_hi]`` of
+  ``|k x + c v| <= r_y`` (``law.stick_band``) and ``v > 0``: ``x >= x_hi`` -> slide on
+  with ``zdot < 0`` (the slide-slide condition (22)); ``x < x_lo`` -> slide on with
+  ``zdot > 0``; otherwise stick. Sliding on in the same direction is an abnormal stop
+  (31), reversing a normal stop (30). ``v < 0`` is the mirror image; for ``v = 0``
+  the slider sticks inside the band.
 * tangential touches (grazes): ``zdot`` touching 0 with ``zdd = 0`` (the constant-
   friction cycle's abnormal stop) is found at its turning point, not by a sign test,
   and a touch within the graze tolerance of the breakaway point ``x_s`` is snapped to
@@ -31,11 +33,11 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .friction import zdd, zddd
-from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
-                     A_XDMIN, A_XMAX, A_XMIN, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS, O_METHOD,
-                     O_RTOL, RY, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
-from .stepper import proposal, step
+from .law import breakaway, stick_band, zdd, zddd
+from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
+                     A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
+                     O_METHOD, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
+from .stepper import ADAPTIVE, EXPONENT, TOUCH_FACTOR, proposal, step
 
 EPS = np.finfo(np.float64).eps
 _F_ZD = 0    # functions whose roots are polished on re-steps
@@ -65,7 +67,7 @@ def _polish(which, x, zd, s, p, o, lo, hi, sign_lo, guess, st):
     x1 = x
     z1 = zd
     for _ in range(60):
-        x1, z1, _a, _b, _c, _e, _ok = step(x, zd, h, s, p, o, False)
+        x1, z1, _a, _b, _c, _l, _e, _ok = step(x, zd, h, s, p, o, False)
         st[S_N] += 1.0
         f, df = _fun(which, x1, z1, s, p)
         if f == 0.0:
@@ -81,7 +83,7 @@ def _polish(which, x, zd, s, p, o, lo, hi, sign_lo, guess, st):
             hn = 0.5 * (lo + hi)
         if abs(hn - h) <= 2.0 * EPS * hi:
             h = hn
-            x1, z1, _a, _b, _c, _e, _ok = step(x, zd, h, s, p, o, False)
+            x1, z1, _a, _b, _c, _l, _e, _ok = step(x, zd, h, s, p, o, False)
             st[S_N] += 1.0
             break
         h = hn
@@ -142,7 +144,8 @@ def touch_tol(p, o):
     It is the error of zdot at a touch: for dopri5 at most ~9 rtol lv after a whole
     period (measured on constant-friction circles, whose touch is exact, over
     m, k in [1e-3, 1e3], r_y in [1e-3, 1e2], |v| in [1e-9, 1e2], rtol 1e-6 .. 1e-12),
-    so 20 rtol lv; the user's ``graze`` lv for the exact and fixed-step methods. The
+    so 20 rtol lv (the method table's touch factor); the user's ``graze`` lv for the
+    exact and fixed-step methods. The
     floor is the rounding of x near the breakaway point seen as a velocity,
     ``omega eps |x|`` over ~1e3 steps. It scales with the motion (``lv = |v|``, see
     ``dopri5.scales``): a real crossing whose excursion grows by more than this per
@@ -152,9 +155,7 @@ def touch_tol(p, o):
     """
     v = p[V]
     omega = math.sqrt(p[K] / p[M])
-    g = o[O_GRAZE]
-    if int(o[O_METHOD]) == codes.DOPRI5:
-        g = max(g, 20.0 * o[O_RTOL])
+    g = max(o[O_GRAZE], TOUCH_FACTOR[int(o[O_METHOD])] * o[O_RTOL])
     gtol = g * o[O_LV] + 1e3 * EPS * omega * o[O_LX]
     if v != 0.0:
         gtol = min(gtol, 1e-2 * abs(v))
@@ -171,31 +172,31 @@ def classify_zero(x, s, p, gtol):
     ``gtol / (omega |v|)``, a few rtol of a natural period (the state after it is the
     same: the slip restarts from ``x_s``). That is a motion scale: ``r_y/k`` does not
     enter (tiny v: a stick 1e-11 of ``x_s`` long is a stick). The floor is the
-    rounding of ``x_s``.
+    rounding of the band's edges.
     """
     v = p[V]
-    xs = p[RY] / p[K]
-    tolx = gtol / math.sqrt(p[K] / p[M]) + 4.0 * EPS * xs
+    x_lo, x_hi = stick_band(p)
+    tolx = gtol / math.sqrt(p[K] / p[M]) + 4.0 * EPS * max(abs(x_lo), abs(x_hi))
     new = codes.STICK
     xn = x
     if v > 0.0:
-        if x >= xs - tolx:
+        if x >= x_hi - tolx:
             new = codes.SLIDE_NEG
-            if x <= xs + tolx:
-                xn = xs
-        elif x < -xs - tolx:
+            if x <= x_hi + tolx:
+                xn = x_hi
+        elif x < x_lo - tolx:
             new = codes.SLIDE_POS
     elif v < 0.0:
-        if x <= -xs + tolx:
+        if x <= x_lo + tolx:
             new = codes.SLIDE_POS
-            if x >= -xs - tolx:
-                xn = -xs
-        elif x > xs + tolx:
+            if x >= x_lo - tolx:
+                xn = x_lo
+        elif x > x_hi + tolx:
             new = codes.SLIDE_NEG
     else:
-        if x > xs + tolx:
+        if x > x_hi + tolx:
             new = codes.SLIDE_NEG
-        elif x < -xs - tolx:
+        elif x < x_lo - tolx:
             new = codes.SLIDE_POS
     if new == codes.STICK:
         return new, codes.EV_STICK, xn
@@ -249,13 +250,13 @@ def init_state(st, x0, xd0, p, o):
 def stick_until_slip(st, p, acc, t_stop):
     """Stick phase in closed form (x moves with the belt) until slip or t_stop."""
     v = p[V]
-    xs = p[RY] / p[K]
+    xs = breakaway(p)
     t = st[S_T]
     x = st[S_X]
     if v > 0.0:
         dt_slip = max(xs - x, 0.0) / v
     elif v < 0.0:
-        dt_slip = min(-xs - x, 0.0) / v
+        dt_slip = min(xs - x, 0.0) / v
     else:
         dt_slip = np.inf
     slips = dt_slip <= t_stop - t
@@ -265,12 +266,12 @@ def stick_until_slip(st, p, acc, t_stop):
     ix = dt * (x + 0.5 * v * dt)
     acc[A_IX] += ix
     acc[A_IXD2] += v * v * dt
-    acc[A_WF] += -p[K] * v * ix       # r_a = -k x while stuck
+    acc[A_WF] += -p[K] * v * ix - p[C] * v * v * dt   # r_a = -(k x + c v) while stuck
     acc[A_TSTICK] += dt
     acc[A_DT] += dt
     st[S_T] = t1
     if slips:
-        st[S_X] = xs if v > 0.0 else -xs
+        st[S_X] = xs
         st[S_ZD] = 0.0
         st[S_MODE] = codes.SLIDE_NEG if v > 0.0 else codes.SLIDE_POS
         st[S_ARMED] = 0.0
@@ -339,20 +340,21 @@ def _zd_event(g0, g1, d0, d1, armed, near):
 
 
 @kernel(inline="always")
-def _book(acc, qx, qv, qw, h):
+def _book(acc, qx, qv, qw, ql, h):
     """Add a step's quadratures and its duration to the accumulators."""
     acc[A_IX] += qx
     acc[A_IXD2] += qv
     acc[A_WF] += qw
+    acc[A_ILAW] += ql
     acc[A_DT] += h
 
 
 @kernel
 def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
     """Book the partial step to a zdot = 0 event at h and apply the stop rules."""
-    _x, _z, qx, qv, qw, _e, _ok = step(x0, zd0, h, s, p, o, True)
+    _x, _z, qx, qv, qw, ql, _e, _ok = step(x0, zd0, h, s, p, o, True)
     st[S_N] += 1.0
-    _book(acc, qx, qv, qw, h)
+    _book(acc, qx, qv, qw, ql, h)
     st[S_T] += h
     new, ev, xn = classify_zero(xe, s, p, touch_tol(p, o))
     st[S_X] = xn
@@ -371,7 +373,8 @@ def slide_until_event(st, p, o, acc, t_stop):
     v = p[V]
     s = st[S_MODE]
     meth = int(o[O_METHOD])
-    adaptive = meth == codes.DOPRI5
+    adaptive = ADAPTIVE[meth]
+    expo = EXPONENT[meth]
     max_steps = o[O_MAX_STEPS]
     lx = o[O_LX]
     lv = o[O_LV]
@@ -402,13 +405,13 @@ def slide_until_event(st, p, o, acc, t_stop):
                 return codes.EV_STOP_TIME, codes.STEP_UNDERFLOW
             st[S_T] = t_stop
             return codes.EV_STOP_TIME, codes.OK
-        x1, z1, qx, qv, qw, err, ok = step(x, zd, h, s, p, o, True)
+        x1, z1, qx, qv, qw, ql, err, ok = step(x, zd, h, s, p, o, True)
         st[S_N] += 1.0
         if not ok:                      # GPS denominator guard: halve the step
             hh = h
             while not ok and hh > h_min_gps:
                 hh *= 0.5
-                x1, z1, qx, qv, qw, err, ok = step(x, zd, hh, s, p, o, True)
+                x1, z1, qx, qv, qw, ql, err, ok = step(x, zd, hh, s, p, o, True)
                 st[S_N] += 1.0
             if not ok:
                 return codes.EV_STOP_TIME, codes.GPS_DENOMINATOR
@@ -416,10 +419,10 @@ def slide_until_event(st, p, o, acc, t_stop):
             last = False
         if adaptive:
             if not (err <= 1.0):
-                fac = 0.2 if not (err < 1e300) else max(0.2, 0.9 * err ** -0.2)
+                fac = 0.2 if not (err < 1e300) else max(0.2, 0.9 * err ** expo)
                 st[S_H] = h * fac
                 continue
-            st[S_H] = h * min(5.0, max(0.2, 0.9 * (err + 1e-300) ** -0.2))
+            st[S_H] = h * min(5.0, max(0.2, 0.9 * (err + 1e-300) ** expo))
         if not (abs(x1) < 1e12 * lx and abs(z1) < 1e12 * omega * lx):
             return codes.EV_STOP_TIME, codes.DIVERGED
         a0 = zdd(x, zd, s, p)
@@ -448,7 +451,7 @@ def slide_until_event(st, p, o, acc, t_stop):
         elif kind == 1:
             gb = g1
             if tb < 1.0:
-                _xb, zb, _a, _b, _c, _e, _ok = step(x, zd, tb * h, s, p, o, False)
+                _xb, zb, _a, _b, _c, _l, _e, _ok = step(x, zd, tb * h, s, p, o, False)
                 st[S_N] += 1.0
                 gb = s * zb
             if gb <= 0.0:
@@ -490,9 +493,9 @@ def slide_until_event(st, p, o, acc, t_stop):
         if h_ev >= 0.0 and (h_xe < 0.0 or h_ev <= h_xe):
             return _finish_zero(st, p, o, acc, x, zd, s, h_ev, xe), codes.OK
         if h_xe >= 0.0:
-            _x, _z, qx, qv, qw, _e, _ok = step(x, zd, h_xe, s, p, o, True)
+            _x, _z, qx, qv, qw, ql, _e, _ok = step(x, zd, h_xe, s, p, o, True)
             st[S_N] += 1.0
-            _book(acc, qx, qv, qw, h_xe)
+            _book(acc, qx, qv, qw, ql, h_xe)
             st[S_T] = t + h_xe
             st[S_X] = xx
             st[S_ZD] = -v               # xdot = 0 exactly at the section
@@ -502,7 +505,7 @@ def slide_until_event(st, p, o, acc, t_stop):
             if xd0 > 0.0:
                 return codes.EV_XMAX, codes.OK
             return codes.EV_XMIN, codes.OK
-        _book(acc, qx, qv, qw, h)
+        _book(acc, qx, qv, qw, ql, h)
         _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1)
         st[S_T] = t + h if not last else t_stop
         st[S_X] = x1

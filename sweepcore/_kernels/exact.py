@@ -1,18 +1,20 @@
-"""Closed-form sliding arcs for the piecewise-linear law (alpha2 == 0), method "exact".
+"""Closed-form sliding arcs of the piecewise-linear laws, method "exact".
 
-With ``alpha2 = 0`` and the friction sign ``s`` frozen, eq. (41) is linear:
+Without cubic and Stribeck terms (``law.piecewise_linear``) and with the friction sign
+``s`` frozen, the sliding equation is linear:
 
-    m xdd - alpha1 xd + k x = -r_y s - alpha1 v,
+    m xdd - (alpha1 - c) xd + k x = -r_y s - alpha1 v,
 
-so ``y = x - c`` with the sliding centre ``c = (-r_y s - alpha1 v) / k`` obeys
-``y'' - 2 sigma y' + omega^2 y = 0``, ``sigma = alpha1 / (2 m)``. With
-``beta^2 = omega^2 - sigma^2`` and ``C, S = cos(beta t), sin(beta t)/beta``
-(``cosh``/``sinh`` when ``beta^2 < 0``, ``1, t`` when ``beta^2 = 0``):
+so ``y = x - cen`` with the sliding centre ``cen = (-r_y s - alpha1 v) / k`` obeys
+``y'' - 2 sigma y' + omega^2 y = 0``, ``sigma = (alpha1 - c) / (2 m)``
+(``law.arc_constants``). With ``beta^2 = omega^2 - sigma^2`` and
+``C, S = cos(beta t), sin(beta t)/beta`` (``cosh``/``sinh`` when ``beta^2 < 0``,
+``1, t`` when ``beta^2 = 0``):
 
     y(t)  = e^{sigma t} [ y0 C + (y0' - sigma y0) S ]
     y'(t) = e^{sigma t} [ y0' C + (sigma (y0' - sigma y0) - beta^2 y0) S ]
 
-For ``alpha1 = 0`` this is eq. (24) (a circle about ``(r_y/k, 0)`` in the
+For ``alpha1 = c = 0`` this is eq. (24) (a circle about ``(r_y/k, 0)`` in the
 ``(x, xdot/omega)`` plane, eq. (38)). There is no truncation error: a "step" is the
 closed form evaluated at ``t + h``. The step proposal ends each step at the next
 extremum of ``zdot`` (a zero of ``y''``, also closed form), so ``zdot`` is monotone
@@ -25,8 +27,8 @@ import math
 import numpy as np
 from .jit import kernel
 
-from .friction import friction
-from .layout import A1, K, M, RY, V
+from .law import arc_constants, friction
+from .layout import K, M, V
 
 GL_X, GL_W = np.polynomial.legendre.leggauss(8)
 ORDER = 0  # no truncation error
@@ -37,15 +39,6 @@ ORDER = 0  # no truncation error
 # more than 1e-9 of a half-period, so the margin is 1e-3; an extremum that really
 # lies inside a step is still found by the driver's cubic scan.
 _SAME_POINT = 1e-3
-
-
-@kernel(inline="always")
-def arc_constants(s, p):
-    """Sliding centre c [cm], growth rate sigma [1/s] and beta^2 [1/s^2]."""
-    c = (-p[RY] * s - p[A1] * p[V]) / p[K]
-    sig = p[A1] / (2.0 * p[M])
-    b2 = p[K] / p[M] - sig * sig
-    return c, sig, b2
 
 
 @kernel(inline="always")
@@ -69,11 +62,11 @@ def arc_eval(y0, yd0, sig, b2, t):
 
 
 @kernel
-def exact_step(x, zd, h, s, p, want_q):
+def exact_step(x, zd, h, s, p, o, want_q):
     """Closed-form state after h [s]; see ``stepper.py`` for the contract."""
     v = p[V]
-    c, sig, b2 = arc_constants(s, p)
-    y0 = x - c
+    cen, sig, b2 = arc_constants(s, p)
+    y0 = x - cen
     yd0 = zd + v
     y1, yd1 = arc_eval(y0, yd0, sig, b2, h)
     qx = 0.0
@@ -84,19 +77,19 @@ def exact_step(x, zd, h, s, p, want_q):
         for i in range(GL_X.shape[0]):
             yi, ydi = arc_eval(y0, yd0, sig, b2, half * (1.0 + GL_X[i]))
             w = half * GL_W[i]
-            qx += w * (c + yi)
+            qx += w * (cen + yi)
             qv += w * ydi * ydi
             qw += w * friction(ydi - v, s, p) * ydi
-    return c + y1, yd1 - v, qx, qv, qw, 0.0, True
+    return cen + y1, yd1 - v, qx, qv, qw, 0.0, 0.0, True
 
 
 @kernel
 def exact_proposal(x, zd, s, p):
     """Time [s] to the next extremum of zdot on the current arc (capped)."""
     v = p[V]
-    c, sig, b2 = arc_constants(s, p)
+    cen, sig, b2 = arc_constants(s, p)
     omega2 = p[K] / p[M]
-    y0 = x - c
+    y0 = x - cen
     yd0 = zd + v
     w0 = 2.0 * sig * yd0 - omega2 * y0        # y''(0)
     w1 = 2.0 * sig * w0 - omega2 * yd0        # y'''(0)

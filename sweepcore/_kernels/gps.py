@@ -18,8 +18,8 @@ refused (``ok = False``) and the driver halves it.
 """
 from .jit import kernel
 
-from .friction import friction, zdd
-from .layout import O_GPS_A, V
+from .law import friction, law_integrand, zdd
+from .layout import O_GPS_A, RK, RY, V
 
 ORDER = 1
 
@@ -39,17 +39,20 @@ def gps_step(x, zd, h, s, p, o, want_q):
     fu = f1 * u1 + f2 * u2
     den = uu - tau * tau * ff
     if not (den > 0.5 * uu):
-        return x, zd, 0.0, 0.0, 0.0, 0.0, False
+        return x, zd, 0.0, 0.0, 0.0, 0.0, 0.0, False
     eta = (2.0 * tau * uu + 2.0 * tau * tau * fu) / den
     x1 = x + eta * f1
     zd1 = zd + eta * f2
     qx = 0.0
     qv = 0.0
     qw = 0.0
+    ql = 0.0
     if want_q:  # trapezoid rule: second order, above the scheme's own order
         xd0 = f1
         xd1 = zd1 + v
         qx = 0.5 * h * (x + x1)
         qv = 0.5 * h * (xd0 * xd0 + xd1 * xd1)
         qw = 0.5 * h * (friction(zd, s, p) * xd0 + friction(zd1, s, p) * xd1)
-    return x1, zd1, qx, qv, qw, 0.0, True
+        if p[RY] != p[RK]:
+            ql = 0.5 * h * (law_integrand(zd, p) + law_integrand(zd1, p))
+    return x1, zd1, qx, qv, qw, ql, 0.0, True

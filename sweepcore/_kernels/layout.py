@@ -5,9 +5,19 @@ row ``o`` (length ``NO``) describes the numerical method; the observables row
 (length ``NOBS``) is what the attractor kernel writes. Names are defined once, here.
 """
 
-# parameter row p
-M, K, RY, V, A1, A2, X0, XD0 = range(8)
-NP = 8
+# parameter row p: the slider, its friction law (law.py) and its start
+M = 0        # mass [kN s^2/cm]
+K = 1        # stiffness [kN/cm]
+RY = 2       # static friction bound r_y [kN] (the largest force sticking holds)
+V = 3        # belt speed [cm/s]
+A1 = 4       # linear friction-speed coefficient alpha1 [kN s/cm]
+A2 = 5       # cubic friction-speed coefficient alpha2 [kN s^3/cm^3]
+C = 6        # viscous damping on the slider [kN s/cm]
+RK = 7       # kinetic friction level r_k [kN] (r_k = r_y: no Stribeck term)
+VS = 8       # Stribeck speed v_s [cm/s]
+X0 = 9       # start position [cm]
+XD0 = 10     # start velocity [cm/s]
+NP = 11
 
 # option row o
 O_METHOD = 0     # method code (codes.EXACT, GPS, RK4, DOPRI5)
@@ -34,11 +44,60 @@ A_XMAX = 4
 A_XMIN = 5
 A_XDMAX = 6
 A_XDMIN = 7
-A_NSTEPS = 8    # integrator steps taken (all kinds)
-A_NSTICK = 9    # finite sticks begun
-A_DT = 10       # duration of the interval [s], summed from step lengths so that it
+A_NSTICK = 8    # finite sticks begun
+A_DT = 9        # duration of the interval [s], summed from step lengths so that it
                 # keeps its digits when absolute times are large (after long sticks)
+A_ILAW = 10     # int of the law's non-polynomial slope term (law.law_integrand) dt [s]
 NA = 11
+# how accumulators of consecutive intervals combine (attractor search): sums, maxima,
+# minima. Every slot is in exactly one of these (a test checks it).
+SUMMED = (A_IX, A_IXD2, A_WF, A_TSTICK, A_NSTICK, A_DT, A_ILAW)
+MAXED = (A_XMAX, A_XDMAX)
+MINNED = (A_XMIN, A_XDMIN)
+
+# the attractor search's accumulators: one (NACC, NA) array, a row per interval
+ACC_STEP = 0    # what the driver adds during one advance (cleared after each)
+ACC_CYC = 1     # since the last reset (a stick-slip period being measured)
+ACC_SEC = 2     # since the last section (x maximum)
+ACC_LAST = 3    # the last whole return (section to section)
+NACC = 4
+
+# attractor-search state w: one array, named slots (attractor.py, sections.py).
+# Flags are 0/1, counts are exact integers in float64.
+W_TOL = 0          # the user's tolerance (relative to the length scale)
+W_LX = 1           # length scale r_y/k + |v|/omega [cm]
+W_OMEGA = 2        # natural frequency [1/s]
+W_T_NAT = 3        # natural period 2 pi/omega [s]
+W_T_BUDGET = 4     # sliding-time budget [s]
+W_XS = 5           # breakaway point [cm]
+W_NF_OK = 6        # the normal form may be used (law.normal_form_valid, not gps)
+W_ODE = 7          # the method follows the ODE (not gps): certificate, Liouville slope
+W_CONSERVATIVE = 8  # constant friction without damping: a neutral family
+W_T_OFF = 9        # absolute time of the local clock's origin [s] (reset after sticks)
+W_T_SLIDE = 10     # sliding time so far [s] (only sliding counts against the budget)
+W_MODE0 = 11       # phase before the last advance
+W_RESET_SEEN = 12  # the motion has passed the breakaway point
+W_T_CYC = 13       # absolute time of that reset [s]
+W_N_SEC = 14       # sections since the last reset or jump
+W_N_EV = 15        # phase events since the last section
+W_SALT = 16        # log of the saltation factors since the last section
+W_T_LAST = 17      # absolute time at which the last whole return began [s]
+W_RTOL = 18        # integration tolerance in force (lowered for the last returns)
+W_SEEDED = 19      # the motion was moved to the normal form's cycle once
+W_ON_NF = 20       # ... and the last section was that jump
+W_NF_FLOOR = 21    # ... whose return float64 cannot time to tol
+W_JUMPED = 22      # the last section was a Newton jump ...
+W_ERR_JUMP = 23    # ... from this estimated distance to the fixed point [cm]
+W_E_JUMP = 24      # ... along this itinerary (phase events per return)
+W_A_FROM = 25      # ... from this section point [cm]
+W_E_REST = 26      # itinerary on which Newton is suspended
+W_NEWTON_REST = 27  # returns to follow without Newton steps
+W_A = 28           # section values, 4 slots, newest last [cm]
+W_TH = 32          # their local times, 4 slots [s]
+W_E = 36           # phase events in each of the last 3 returns
+W_SALTH = 39       # log saltation of the last 2 returns
+W_RTOLH = 41       # tolerance of the last 2 returns
+NW = 43
 
 # observables row written by the attractor kernel
 OB_AMPLITUDE = 0

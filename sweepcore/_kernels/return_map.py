@@ -8,31 +8,20 @@ flow through the section is conserved, so
     P'(a) = J * zdd(a) / zdd(P(a)),        zdd at xdot = 0, i.e. zdot = -v,
 
 which at a fixed point (a cycle) is its nontrivial Floquet multiplier. In the
-coordinates ``(x, zdot)`` of eq. (41), ``div f = d zdd / d zdot = (alpha1 - 3 alpha2
-zdot^2)/m``; the time integral of ``zdot^2`` follows from the driver's quadrature of
-``xdot^2`` (``zdot = xdot - v``). A slide-slide reversal (normal stop, eq. 30) crosses
-the discontinuity of the friction law transversally and multiplies ``J`` by its
-saltation factor ``zdd+ / zdd-`` (the ratio of the normal components of the field
-after and before the crossing).
+coordinates ``(x, zdot)``, ``div f = d zdd / d zdot = -(c + F'(zdot))/m``; its time
+integral is the law's (``law.log_jacobian``, from the driver's quadratures). A
+slide-slide reversal (normal stop, eq. 30) crosses the discontinuity of the friction
+law transversally and multiplies ``J`` by its saltation factor ``zdd+ / zdd-``
+(``law.log_saltation``: the ratio of the normal components of the field after and
+before the crossing).
 """
 import math
 
 from .jit import kernel
 
 from . import codes
-from .friction import zdd
-from .layout import A1, A2, A_DT, A_IXD2, K, M, RY, V
-
-
-@kernel
-def log_saltation(p, x, s_before, s_after):
-    """log |zdd+ / zdd-| of a crossing of zdot = 0 at x (friction r_y s at zdot = 0)."""
-    kx = p[K] * x
-    den = kx + p[RY] * s_before
-    num = kx + p[RY] * s_after
-    if den == 0.0 or num == 0.0:
-        return 0.0
-    return math.log(abs(num / den))
+from .law import log_jacobian, zdd
+from .layout import A_DT, A_ILAW, A_IXD2, V
 
 
 @kernel
@@ -42,7 +31,7 @@ def return_slope(p, a0, a1, acc, log_salt):
     T = acc[A_DT]
     # int zdot^2 dt = int xdot^2 dt - 2 v (x(T) - x(0)) + v^2 T
     izd2 = acc[A_IXD2] - 2.0 * v * (a1 - a0) + v * v * T
-    log_j = (p[A1] * T - 3.0 * p[A2] * izd2) / p[M] + log_salt
+    log_j = log_jacobian(p, T, izd2, acc[A_ILAW]) + log_salt
     s = codes.SLIDE_NEG if v > 0.0 else codes.SLIDE_POS
     f0 = zdd(a0, -v, s, p)
     f1 = zdd(a1, -v, s, p)

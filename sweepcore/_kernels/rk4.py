@@ -1,14 +1,14 @@
 """Classical fourth-order Runge-Kutta, fixed step (method "rk4")."""
 from .jit import kernel
 
-from .friction import friction, zdd_im
-from .layout import M, V
+from .law import friction, law_integrand, zdd_im
+from .layout import M, RK, RY, V
 
 ORDER = 4
 
 
 @kernel
-def rk4_step(x, zd, h, s, p, want_q):
+def rk4_step(x, zd, h, s, p, o, want_q):
     """One RK4 step of the sliding field; see ``stepper.py`` for the contract."""
     v = p[V]
     im = 1.0 / p[M]
@@ -31,10 +31,14 @@ def rk4_step(x, zd, h, s, p, want_q):
     qx = 0.0
     qv = 0.0
     qw = 0.0
+    ql = 0.0
     if want_q:
         # the same weights applied to the quadrature components (I' = g(stage))
         qx = h / 6.0 * (x + 2.0 * x2 + 2.0 * x3 + x4)
         qv = h / 6.0 * (k1x * k1x + 2.0 * k2x * k2x + 2.0 * k3x * k3x + k4x * k4x)
         qw = h / 6.0 * (friction(zd, s, p) * k1x + 2.0 * friction(z2, s, p) * k2x
                         + 2.0 * friction(z3, s, p) * k3x + friction(z4, s, p) * k4x)
-    return x1, zd1, qx, qv, qw, 0.0, True
+        if p[RY] != p[RK]:
+            ql = h / 6.0 * (law_integrand(zd, p) + 2.0 * law_integrand(z2, p)
+                            + 2.0 * law_integrand(z3, p) + law_integrand(z4, p))
+    return x1, zd1, qx, qv, qw, ql, 0.0, True

@@ -1,52 +1,75 @@
-"""The stepper contract, and the dispatch on the method code.
+"""The stepper contract, the method table, and the dispatch on the method code.
 
 A stepper advances only the smooth sliding equation (friction sign ``s`` frozen),
 from the state ``(x, zdot)`` over a step ``h`` [s]:
 
-    step(x, zd, h, s, p, o, want_q) -> (x1, zd1, q_x, q_xd2, q_w, err, ok)
+    step(x, zd, h, s, p, o, want_q) -> (x1, zd1, q_x, q_xd2, q_w, q_l, err, ok)
 
 1. It never sees sticking, events or bookkeeping: the hybrid driver
    (``driver.py``) owns those and is the only caller.
-2. ``q_x, q_xd2, q_w`` are the step's quadratures of ``x``, ``xdot^2`` and the
-   friction power ``r_a xdot`` (computed only when ``want_q``; else zeros),
-   integrated at the stepper's own order.
+2. ``q_x, q_xd2, q_w, q_l`` are the step's quadratures of ``x``, ``xdot^2``, the
+   friction power ``r_a xdot`` and the law's slope term ``law.law_integrand``
+   (computed only when ``want_q``, ``q_l`` only for a law with a Stribeck term;
+   else zeros), integrated at the stepper's own order.
 3. ``err`` is the error estimate scaled by the tolerance (``<= 1`` accept); fixed-step
    methods return 0.  ``ok`` is False when the step cannot be taken at this ``h``
    (the GPS denominator guard); the driver then halves ``h``.
 4. Dense output is the stepper itself: the state at ``t + theta h`` is
    ``step(..., theta * h, ...)`` from the step's start, so an event located there is
    the integrator's own state, not an interpolant's.
-5. ``proposal(x, zd, s, p, o, h_prev)`` returns the next step size to try.
+5. ``proposal`` gives the next step size to try, by the method's kind (table below).
+
+Adding a stepper: its module, one row of ``METHODS`` and one line of each dispatch.
 """
 from .jit import kernel
 
-from . import codes
 from .dopri5 import dopri5_step
 from .exact import exact_proposal, exact_step
 from .gps import gps_step
 from .rk4 import rk4_step
 from .layout import O_DT, O_METHOD
 
+# name, order, adaptive, controller exponent, touch-tolerance factor (of rtol),
+# closed form (needs a piecewise-linear law). The code of a method is its row.
+#   order 0: no truncation error. controller: h_new = h * 0.9 err^exponent.
+#   touch factor: an adaptive method's zdot error at a touch is ~9 rtol |v| after a
+#   whole period (measured on constant-friction circles, driver.touch_tol), so 20.
+METHODS = (
+    ("exact", 0, False, 0.0, 0.0, True),     # closed-form arcs (law.arc_constants)
+    ("gps", 1, False, 0.0, 0.0, False),      # Liu's group-preserving scheme (49)-(50)
+    ("rk4", 4, False, 0.0, 0.0, False),      # classical Runge-Kutta
+    ("dopri5", 5, True, -0.2, 20.0, False),  # Dormand-Prince 5(4)
+)
+EXACT, GPS, RK4, DOPRI5 = range(len(METHODS))
+METHOD_NAMES = {i: row[0] for i, row in enumerate(METHODS)}
+METHOD_CODES = {name: i for i, name in METHOD_NAMES.items()}
+METHOD_ORDER = {i: row[1] for i, row in enumerate(METHODS)}
+ADAPTIVE = tuple(row[2] for row in METHODS)
+EXPONENT = tuple(row[3] for row in METHODS)
+TOUCH_FACTOR = tuple(row[4] for row in METHODS)
+CLOSED_FORM = tuple(row[5] for row in METHODS)
+
 
 @kernel
 def step(x, zd, h, s, p, o, want_q):
     """Dispatch one step to the method in ``o[O_METHOD]`` (see module docstring)."""
     meth = int(o[O_METHOD])
-    if meth == codes.EXACT:
-        return exact_step(x, zd, h, s, p, want_q)
-    if meth == codes.RK4:
-        return rk4_step(x, zd, h, s, p, want_q)
-    if meth == codes.GPS:
+    if meth == EXACT:
+        return exact_step(x, zd, h, s, p, o, want_q)
+    if meth == RK4:
+        return rk4_step(x, zd, h, s, p, o, want_q)
+    if meth == GPS:
         return gps_step(x, zd, h, s, p, o, want_q)
     return dopri5_step(x, zd, h, s, p, o, want_q)
 
 
 @kernel
 def proposal(x, zd, s, p, o, h_prev):
-    """Next step size [s]: fixed for gps/rk4, controller's for dopri5, arc for exact."""
+    """Next step size [s]: the arc's for closed forms, the controller's for adaptive
+    methods, the fixed ``dt`` otherwise."""
     meth = int(o[O_METHOD])
-    if meth == codes.EXACT:
+    if meth == EXACT:
         return exact_proposal(x, zd, s, p)
-    if meth == codes.DOPRI5:
+    if ADAPTIVE[meth]:
         return h_prev
     return o[O_DT]

@@ -5,7 +5,8 @@ from .jit import kernel
 from . import codes
 from .attractor import method_status
 from .driver import advance, init_state
-from .layout import NA, NS, S_MODE, S_N, S_T, S_X, S_ZD, A_XMAX, A_XMIN, A_XDMAX, A_XDMIN
+from .layout import (A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, NA, NS, S_MODE, S_N, S_T, S_X, S_ZD,
+                     X0, XD0)
 
 
 @kernel
@@ -30,7 +31,7 @@ def run_trajectory(p, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind, ev_x
     retry with larger buffers. Returns (n_events, status, n_steps).
     """
     st = np.zeros(NS)
-    init_state(st, p[6], p[7], p, o)
+    init_state(st, p[X0], p[XD0], p, o)
     n_ev = 0
     cap = ev_t.shape[0]
     status = method_status(p, o)
