@@ -302,7 +302,8 @@ def reference_stick_slip_cycle(m, k, r_y, v, alpha1, alpha2, c=0.0, r_k=None, v_
     breakaway point itself (module docstring) and closes the cycle with no stick.
 
     Returns dict(amplitude = (x_max - x_min)/2, x_max, x_min, mean (time average of x
-    over the period), period, stick_time, slip_time, xdot_max, xdot_min, events).
+    over the period), period, stick_time, slip_time, xdot_max, xdot_min, events: the
+    (t, kind, x) of the period, the last a 'slip' (breakaway) or a 'graze').
     Raises ValueError if the motion does not come back to the breakaway point within
     ``max_periods`` natural periods 2 pi/omega (no stick-slip cycle: it goes to
     steady sliding or to a slip cycle)."""
