@@ -12,7 +12,7 @@ The search runs the hybrid driver and stops as soon as the answer is known:
   point the normal form decides where it is valid (``normal_form.py``).
 * **equilibrium** (steady sliding at x_eq): the energy certificate of
   ``law.certified_rest`` (for methods that follow the ODE), the normal form's decay
-  (q <= 0), or for gps the fixed point of its own section map at x_eq.
+  (q <= 0), or for gps a return of its own map that ends at x_eq to the tolerance.
 * budget: ``max_periods`` natural periods of sliding and ``max_steps`` stepper calls;
   when spent the point is returned as unconverged with the last return's estimates.
 
@@ -38,17 +38,20 @@ from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A
                      OB_FLOQUET, OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS,
                      OB_STICK_FRACTION, OB_STICKS_PER_PERIOD, OB_T_SETTLE, OB_VAMPLITUDE,
                      OB_X_MAX, OB_X_MIN, OB_XDOT_MAX, RK, RY, S_MODE, S_N, S_T, S_X, S_ZD,
-                     SUMMED, V, W_A, W_CONSERVATIVE, W_E, W_E_REST, W_ERR_JUMP, W_LX, W_MODE0, W_N_EV, W_N_SEC,
+                     SUMMED, V, W_A, W_CONSERVATIVE, W_E, W_E_REST, W_FD_SLOPE, W_ERR_JUMP, W_LX, W_MODE0, W_N_EV, W_N_SEC,
                      W_NEWTON_REST, W_NF_FLOOR, W_NF_OK, W_ODE, W_OMEGA, W_ON_NF, W_RESET_SEEN, W_RTOL,
-                     W_RTOLH, W_SALT, W_T_BUDGET, W_T_CYC, W_T_LAST, W_T_NAT, W_T_OFF,
-                     W_T_SLIDE, W_TH, W_TOL, W_XS, X0, XD0)
+                     W_RTOLH, W_SALT, W_SALTH, W_T_BUDGET, W_T_CYC, W_T_LAST, W_T_NAT, W_T_OFF,
+                     W_T_SLIDE, W_TOL, W_XS, X0, XD0)
 from .normal_form import nf_jump, nf_multiplier, nf_step
 from .resolution import check_cycle
-from .sections import (ACCEPT, ACCEPT_FLOOR, ACCEPT_NF, NEUTRAL, NEWTON_JUMP, NF_JUMP,
-                       RTOL_FLOOR, REST, TERMINAL, apply_decision, clear, gps_at_rest,
-                       neutral_decision, newton_decision, note_event, push_section,
-                       section_slope, static_belt_decision, undo_jump)
+from .sections import (ACCEPT, ACCEPT_FLOOR, ACCEPT_NF, NEUTRAL, NF_JUMP,
+                       RTOL_FLOOR, REST, TERMINAL, apply_decision, clear, neutral_decision,
+                       newton_decision, note_event, own_map_step, push_section,
+                       static_belt_decision, undo_jump)
+from .return_map import return_slope
 from .stepper import CLOSED_FORM
+
+EPS = np.finfo(np.float64).eps
 
 __all__ = ["RTOL_FLOOR", "attractor_point", "attractor_rows", "attractor_rows_parallel",
            "resolve_options", "method_status"]
@@ -180,12 +183,12 @@ def setup(p, o, st, w, acc):
     w[W_T_BUDGET] = o[O_MAX_TIME] * w[W_T_NAT]
     w[W_XS] = breakaway(p)
     w[W_E_REST] = -1.0
+    w[W_FD_SLOPE] = np.nan
     w[W_ODE] = 0.0 if meth == codes.GPS else 1.0
     w[W_NF_OK] = 1.0 if normal_form_valid(p) and meth != codes.GPS else 0.0
     w[W_CONSERVATIVE] = 1.0 if p[A1] == 0.0 and p[A2] == 0.0 and p[C] == 0.0 \
         and p[RY] == p[RK] else 0.0
-    # gps's map does not depend on the tolerance: no integration noise to tighten
-    w[W_RTOL] = o[O_RTOL] if meth != codes.GPS else RTOL_FLOOR
+    w[W_RTOL] = o[O_RTOL]
     for i in range(NACC):
         clear(acc[i])
     init_state(st, p[X0], p[XD0], p, o)
@@ -297,14 +300,18 @@ def on_event(ev, st, p, o, w, acc, out):
 def slip_section(st, p, o, w, acc, out):
     """At a section of a slip motion: undo a Newton step that left its itinerary,
     let the normal form decide where it is valid, else ``newton_decision``; carry
-    out the action. Returns True when ``out`` is answered."""
+    out the action. gps, whose map is not the ODE's, is solved on its own map
+    (``own_map_step``). Returns True when ``out`` is answered."""
+    xe = x_eq(p)
+    if w[W_ODE] == 0.0:
+        n_steps = acc[ACC_LAST][A_DT] / o[O_DT]        # steps of the last return
+        sigma = 4.0 * math.sqrt(n_steps) * EPS * (w[W_LX] + abs(w[W_A + 3]))
+        action, value = own_map_step(st, p, w, acc, xe, sigma)
+        return action >= TERMINAL and finish(action, value, st, p, w, acc, out)
     undone, after_jump = undo_jump(st, p, w, acc)
     if undone:
         return False
-    dP = section_slope(w, p, acc)
-    if math.isnan(dP):
-        return False
-    xe = x_eq(p)
+    dP = return_slope(p, w[W_A + 2], w[W_A + 3], acc[ACC_LAST], w[W_SALTH + 1])
     nf_here = w[W_NF_OK] > 0.0 and w[W_E + 2] == 0
     a_nf = np.nan
     if nf_here:
@@ -313,8 +320,6 @@ def slip_section(st, p, o, w, acc, out):
             return False
         if action == REST:
             return finish(REST, dP, st, p, w, acc, out)
-    if gps_at_rest(w, dP, xe):
-        return finish(REST, dP, st, p, w, acc, out)
     action, value, rtol, rest, err0 = newton_decision(
         w[W_A + 2], w[W_A + 3], dP, xe, w[W_E + 1], w[W_E + 2], w[W_RTOLH],
         w[W_RTOLH + 1], w[W_RTOL], w[W_TOL], w[W_LX], after_jump, w[W_ERR_JUMP],

@@ -37,106 +37,11 @@ from .law import breakaway, stick_band, zdd, zddd
 from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
                      O_METHOD, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
+from .events import F_XD, F_ZD, F_ZDD, cubic, polish, zd_event
 from .stepper import ADAPTIVE, EXPONENT, TOUCH_FACTOR, proposal, step
 
 EPS = np.finfo(np.float64).eps
-_F_ZD = 0    # functions whose roots are polished on re-steps
-_F_XD = 1
-_F_ZDD = 2
-
-
 # ---------------------------------------------------------------- small pieces
-@kernel(inline="always")
-def _fun(which, x, zd, s, p):
-    v = p[V]
-    if which == _F_ZD:
-        return zd, zdd(x, zd, s, p)
-    if which == _F_XD:
-        return zd + v, zdd(x, zd, s, p)
-    return zdd(x, zd, s, p), zddd(x, zd, s, p, v)
-
-
-@kernel
-def _polish(which, x, zd, s, p, o, lo, hi, sign_lo, guess, st):
-    """Root in (lo, hi] of F(h) = fun(step(x, zd, h)); F(lo) has sign ``sign_lo``.
-
-    Safeguarded Newton: Newton steps inside the bracket, bisection otherwise.
-    Returns (h, x1, zd1).
-    """
-    h = guess if lo < guess <= hi else 0.5 * (lo + hi)
-    x1 = x
-    z1 = zd
-    for _ in range(60):
-        x1, z1, _a, _b, _c, _l, _e, _ok = step(x, zd, h, s, p, o, False)
-        st[S_N] += 1.0
-        f, df = _fun(which, x1, z1, s, p)
-        if f == 0.0:
-            break
-        if (f > 0.0) == (sign_lo > 0.0):
-            lo = h
-        else:
-            hi = h
-        if hi - lo <= 2.0 * EPS * hi:
-            break
-        hn = h - f / df if df != 0.0 else 0.5 * (lo + hi)
-        if not (lo < hn < hi):
-            hn = 0.5 * (lo + hi)
-        if abs(hn - h) <= 2.0 * EPS * hi:
-            h = hn
-            x1, z1, _a, _b, _c, _l, _e, _ok = step(x, zd, h, s, p, o, False)
-            st[S_N] += 1.0
-            break
-        h = hn
-    return h, x1, z1
-
-
-@kernel(inline="always")
-def _cubic(f0, f1, d0, d1, th):
-    """Cubic Hermite interpolant on [0, 1] (values f, theta-derivatives d)."""
-    a = 2.0 * (f0 - f1) + d0 + d1
-    b = 3.0 * (f1 - f0) - 2.0 * d0 - d1
-    return ((a * th + b) * th + d0) * th + f0
-
-
-@kernel
-def _critical(f0, f1, d0, d1):
-    """Critical points in (0, 1) of the Hermite cubic, sorted; (n, t1, t2)."""
-    a = 3.0 * (2.0 * (f0 - f1) + d0 + d1)
-    b = 2.0 * (3.0 * (f1 - f0) - 2.0 * d0 - d1)
-    c = d0
-    r1 = -1.0
-    r2 = -1.0
-    scale = abs(a) + abs(b) + abs(c)
-    if scale == 0.0:
-        return 0, 0.0, 0.0
-    if abs(a) <= 1e-14 * scale:
-        if b != 0.0:
-            r1 = -c / b
-    else:
-        disc = b * b - 4.0 * a * c
-        if disc >= 0.0:
-            sq = math.sqrt(disc)
-            q = -0.5 * (b + (sq if b >= 0.0 else -sq))
-            if q != 0.0:
-                r1 = q / a
-                r2 = c / q
-            else:
-                r1 = -b / (2.0 * a)
-    if r1 > r2:
-        r1, r2 = r2, r1
-    n = 0
-    t1 = 0.0
-    t2 = 0.0
-    for r in (r1, r2):
-        if 0.0 < r < 1.0:
-            if n == 0:
-                t1 = r
-            else:
-                t2 = r
-            n += 1
-    return n, t1, t2
-
-
 @kernel
 def touch_tol(p, o):
     """Velocity tolerance [cm/s] within which ``zdot = 0`` is a touch.
@@ -282,63 +187,6 @@ def stick_until_slip(st, p, acc, t_stop):
     return codes.EV_STOP_TIME, codes.OK
 
 
-@kernel
-def _zd_event(g0, g1, d0, d1, armed, near):
-    """Scan the Hermite cubic of g = s zdot over a step.
-
-    Returns (kind, th_a, th_b, th_c, armed): kind 0 nothing, 1 crossing bracketed
-    in [th_a, th_b], 2 a turning point th_c (local min of g, bracketed by th_a, th_b)
-    whose value is within ``near`` of 0 and must be checked on the integrator.
-    """
-    # The cubic is linear interpolation plus th (1 - th) [A (1 - th) - B th] with
-    # A = d0 - (g1 - g0), B = d1 - (g1 - g0): it stays above min(g0, g1) - max|A, B|/4.
-    # When that bound is above `near` nothing can be found: skip the scan.
-    dg = g1 - g0
-    if armed and min(g0, g1) - 0.25 * max(abs(d0 - dg), abs(d1 - dg)) > near:
-        return 0, 0.0, 0.0, 0.0, armed
-    n, c1, c2 = _critical(g0, g1, d0, d1)
-    # candidate points 0 < critical points < 1; g is monotone between neighbours
-    if n == 0:
-        pts = (0.0, 1.0, 1.0, 1.0)
-    elif n == 1:
-        pts = (0.0, c1, 1.0, 1.0)
-    else:
-        pts = (0.0, c1, c2, 1.0)
-    k = n + 2
-    start = 0
-    if not armed:
-        # A start on the switching line (g0 = 0) is never itself an event: skip to
-        # the first interior maximum of g (zdot turning back towards 0).
-        start = -1
-        if g0 > 0.0 and d0 <= 0.0:
-            start = 0
-        else:
-            a = 2.0 * (g0 - g1) + d0 + d1
-            b = 3.0 * (g1 - g0) - 2.0 * d0 - d1
-            for i in range(1, k - 1):
-                th = pts[i]
-                if 6.0 * a * th + 2.0 * b < 0.0 and _cubic(g0, g1, d0, d1, th) > 0.0:
-                    start = i
-                    break
-        if start < 0:
-            return 0, 0.0, 0.0, 0.0, g1 > 0.0 and d1 <= 0.0
-        armed = True
-    for i in range(start, k - 1):
-        ta = pts[i]
-        tb = pts[i + 1]
-        gb = _cubic(g0, g1, d0, d1, tb)
-        if tb == 1.0:
-            gb = g1
-        if gb <= 0.0:
-            return 1, ta, tb, 0.0, armed
-        if i + 1 < k - 1 and gb <= near:
-            a = 2.0 * (g0 - g1) + d0 + d1
-            b = 3.0 * (g1 - g0) - 2.0 * d0 - d1
-            if 6.0 * a * tb + 2.0 * b > 0.0:       # local minimum of g
-                return 2, ta, pts[i + 2], tb, armed
-    return 0, 0.0, 0.0, 0.0, armed
-
-
 @kernel(inline="always")
 def _book(acc, qx, qv, qw, ql, h):
     """Add a step's quadratures and its duration to the accumulators."""
@@ -367,6 +215,151 @@ def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
     return ev
 
 
+# outcomes of one attempted step (_take_step)
+_ACCEPTED = 0
+_REJECTED = 1
+_STOPPED = 2
+
+
+@kernel
+def _take_step(st, p, o, s, t_stop, adaptive, expo, h_max, h_min_gps):
+    """One attempted step from the state in st towards t_stop (the controller's step,
+    clipped there; the GPS denominator guard halves it).
+
+    Returns ``(outcome, status, h, last, x1, z1, qx, qv, qw, ql)``: _ACCEPTED (the
+    step and its quadratures), _REJECTED (the controller shrank ``st[S_H]``: try
+    again) or _STOPPED with the status (the clock cannot advance, or the guard failed).
+    """
+    t = st[S_T]
+    x = st[S_X]
+    zd = st[S_ZD]
+    h = proposal(x, zd, s, p, o, st[S_H])
+    if adaptive:
+        h = min(h, h_max)
+    last = False
+    if t + h >= t_stop:
+        h = t_stop - t
+        last = True
+    if h <= EPS * max(abs(t), 1.0):
+        # below the resolution of t: only the remainder up to t_stop may be
+        # dropped; a step that cannot advance the clock is a failure, not a jump
+        if not last:
+            return _STOPPED, codes.STEP_UNDERFLOW, h, last, x, zd, 0.0, 0.0, 0.0, 0.0
+        st[S_T] = t_stop
+        return _STOPPED, codes.OK, h, last, x, zd, 0.0, 0.0, 0.0, 0.0
+    x1, z1, qx, qv, qw, ql, err, ok = step(x, zd, h, s, p, o, True)
+    st[S_N] += 1.0
+    if not ok:                      # GPS denominator guard: halve the step
+        hh = h
+        while not ok and hh > h_min_gps:
+            hh *= 0.5
+            x1, z1, qx, qv, qw, ql, err, ok = step(x, zd, hh, s, p, o, True)
+            st[S_N] += 1.0
+        if not ok:
+            return _STOPPED, codes.GPS_DENOMINATOR, h, last, x1, z1, qx, qv, qw, ql
+        h = hh
+        last = False
+    if adaptive:
+        if not (err <= 1.0):
+            fac = 0.2 if not (err < 1e300) else max(0.2, 0.9 * err ** expo)
+            st[S_H] = h * fac
+            return _REJECTED, codes.OK, h, last, x1, z1, qx, qv, qw, ql
+        st[S_H] = h * min(5.0, max(0.2, 0.9 * (err + 1e-300) ** expo))
+    return _ACCEPTED, codes.OK, h, last, x1, z1, qx, qv, qw, ql
+
+
+@kernel
+def _crossing_root(st, p, o, x, zd, s, h, g0, g1, d0, d1, ta, tb):
+    """The first root of zdot in the bracket [ta, tb] (fractions of the step h) of
+    the Hermite cubic of g = s zdot, if the integrator confirms it: ``(h_ev, x_ev)``
+    (h_ev < 0: none). Newton starts from the cubic's own root (bisection on it)."""
+    gb = g1
+    if tb < 1.0:
+        _xb, zb, _a, _b, _c, _l, _e, _ok = step(x, zd, tb * h, s, p, o, False)
+        st[S_N] += 1.0
+        gb = s * zb
+    if gb > 0.0:
+        return -1.0, x
+    ca = ta
+    cb = tb
+    for _ in range(40):
+        cm = 0.5 * (ca + cb)
+        if cubic(g0, g1, d0, d1, cm) > 0.0:
+            ca = cm
+        else:
+            cb = cm
+    h_ev, xe, _ze = polish(F_ZD, x, zd, s, p, o, ta * h, tb * h, s,
+                            0.5 * (ca + cb) * h, st)
+    return h_ev, xe
+
+
+@kernel
+def _zero_in_step(st, p, o, x, zd, s, h, x1, z1, a0, a1, gtol, near):
+    """zdot = 0 inside the step from (x, zd) to (x1, z1): crossings, double crossings
+    and touches (a turning point within gtol of 0, placed at the turning point, where
+    it is well conditioned). Returns ``(h_ev, x_ev)``, h_ev < 0 when there is none."""
+    v = p[V]
+    g0 = s * zd
+    g1 = s * z1
+    kind, ta, tb, tc, armed = zd_event(g0, g1, s * a0 * h, s * a1 * h,
+                                        st[S_ARMED] > 0.0, near)
+    st[S_ARMED] = 1.0 if armed else 0.0
+    h_ev = -1.0
+    xe = x1
+    crossing = False
+    if kind == 2:                   # check the turning point on the integrator
+        # zdd has the sign -s where g falls towards the touch, +s after it
+        hc, xc, zc = polish(F_ZDD, x, zd, s, p, o, 0.5 * (ta + tc) * h,
+                             0.5 * (tc + tb) * h, -s, tc * h, st)
+        gc = s * zc
+        if abs(gc) <= gtol:         # a touch
+            h_ev = hc
+            xe = xc
+        elif gc < 0.0:              # a real double crossing: the first root
+            h_ev, xe, _ze = polish(F_ZD, x, zd, s, p, o, ta * h, hc, s,
+                                    0.5 * (ta + tc) * h, st)
+            crossing = True
+    elif kind == 1:
+        h_ev, xe = _crossing_root(st, p, o, x, zd, s, h, g0, g1, s * a0 * h, s * a1 * h,
+                                  ta, tb)
+        crossing = h_ev >= 0.0
+        if not crossing:
+            xe = x1
+    if crossing:
+        # A crossing whose excursion past 0 stays within the graze tolerance is a
+        # touch: its root is ill-conditioned (error ~ sqrt(eps)), its turning
+        # point (zdd = 0) is not, so the touch is placed there.
+        gp = s * zdd(xe, 0.0, s, p)
+        gpp = s * zddd(xe, 0.0, s, p, v)
+        if gp < 0.0 and gpp > 0.0 and gp * gp <= 2.0 * gpp * gtol:
+            tau = -gp / gpp
+            h_ev, xe, _zc = polish(F_ZDD, x, zd, s, p, o, h_ev, h_ev + 2.0 * tau,
+                                    -s, h_ev + tau, st)
+    if kind == 0 and 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol \
+            and st[S_ARMED] > 0.0:
+        # the step ends on a touch (exact arcs end on turning points): zdot came
+        # down to within gtol of 0 and stopped falling (not a creep away from 0)
+        h_ev = h
+        xe = x1
+    return h_ev, xe
+
+
+@kernel
+def _end_at_section(st, p, o, acc, x, zd, s, t, h_xe, xx, a0, rising):
+    """Book the partial step to the extremum of x at h_xe and stop there: the
+    Poincare section (xdot = 0 exactly). Returns its event."""
+    v = p[V]
+    _x, _z, qx, qv, qw, ql, _e, _ok = step(x, zd, h_xe, s, p, o, True)
+    st[S_N] += 1.0
+    _book(acc, qx, qv, qw, ql, h_xe)
+    st[S_T] = t + h_xe
+    st[S_X] = xx
+    st[S_ZD] = -v               # xdot = 0 exactly at the section
+    _note_x(acc, xx, 0.0)
+    _velocity_extremum(st, p, o, acc, x, zd, s, h_xe, a0, zdd(xx, -v, s, p))
+    return codes.EV_XMAX if rising else codes.EV_XMIN
+
+
 @kernel
 def slide_until_event(st, p, o, acc, t_stop):
     """Integrate the sliding phase until zdot = 0, an extremum of x, or t_stop."""
@@ -377,9 +370,8 @@ def slide_until_event(st, p, o, acc, t_stop):
     expo = EXPONENT[meth]
     max_steps = o[O_MAX_STEPS]
     lx = o[O_LX]
-    lv = o[O_LV]
     gtol = touch_tol(p, o)
-    near = max(gtol, 1e-3 * lv)
+    near = max(gtol, 1e-3 * o[O_LV])
     omega = math.sqrt(p[K] / p[M])
     h_max = 0.5 / omega
     h_min_gps = 1e-12 / omega
@@ -391,120 +383,30 @@ def slide_until_event(st, p, o, acc, t_stop):
             return codes.EV_STOP_TIME, codes.STEP_BUDGET
         x = st[S_X]
         zd = st[S_ZD]
-        h = proposal(x, zd, s, p, o, st[S_H])
-        if adaptive:
-            h = min(h, h_max)
-        last = False
-        if t + h >= t_stop:
-            h = t_stop - t
-            last = True
-        if h <= EPS * max(abs(t), 1.0):
-            # below the resolution of t: only the remainder up to t_stop may be
-            # dropped; a step that cannot advance the clock is a failure, not a jump
-            if not last:
-                return codes.EV_STOP_TIME, codes.STEP_UNDERFLOW
-            st[S_T] = t_stop
-            return codes.EV_STOP_TIME, codes.OK
-        x1, z1, qx, qv, qw, ql, err, ok = step(x, zd, h, s, p, o, True)
-        st[S_N] += 1.0
-        if not ok:                      # GPS denominator guard: halve the step
-            hh = h
-            while not ok and hh > h_min_gps:
-                hh *= 0.5
-                x1, z1, qx, qv, qw, ql, err, ok = step(x, zd, hh, s, p, o, True)
-                st[S_N] += 1.0
-            if not ok:
-                return codes.EV_STOP_TIME, codes.GPS_DENOMINATOR
-            h = hh
-            last = False
-        if adaptive:
-            if not (err <= 1.0):
-                fac = 0.2 if not (err < 1e300) else max(0.2, 0.9 * err ** expo)
-                st[S_H] = h * fac
-                continue
-            st[S_H] = h * min(5.0, max(0.2, 0.9 * (err + 1e-300) ** expo))
+        outcome, status, h, last, x1, z1, qx, qv, qw, ql = _take_step(
+            st, p, o, s, t_stop, adaptive, expo, h_max, h_min_gps)
+        if outcome == _STOPPED:
+            return codes.EV_STOP_TIME, status
+        if outcome == _REJECTED:
+            continue
         if not (abs(x1) < 1e12 * lx and abs(z1) < 1e12 * omega * lx):
             return codes.EV_STOP_TIME, codes.DIVERGED
         a0 = zdd(x, zd, s, p)
         a1 = zdd(x1, z1, s, p)
-        # --- zdot = 0: crossings, double crossings and touches inside the step
-        g0 = s * zd
-        g1 = s * z1
-        kind, ta, tb, tc, armed = _zd_event(g0, g1, s * a0 * h, s * a1 * h,
-                                            st[S_ARMED] > 0.0, near)
-        st[S_ARMED] = 1.0 if armed else 0.0
-        h_ev = -1.0
-        xe = x1
-        crossing = False
-        if kind == 2:                   # check the turning point on the integrator
-            # zdd has the sign -s where g falls towards the touch, +s after it
-            hc, xc, zc = _polish(_F_ZDD, x, zd, s, p, o, 0.5 * (ta + tc) * h,
-                                 0.5 * (tc + tb) * h, -s, tc * h, st)
-            gc = s * zc
-            if abs(gc) <= gtol:         # a touch
-                h_ev = hc
-                xe = xc
-            elif gc < 0.0:              # a real double crossing: the first root
-                h_ev, xe, _ze = _polish(_F_ZD, x, zd, s, p, o, ta * h, hc, s,
-                                        0.5 * (ta + tc) * h, st)
-                crossing = True
-        elif kind == 1:
-            gb = g1
-            if tb < 1.0:
-                _xb, zb, _a, _b, _c, _l, _e, _ok = step(x, zd, tb * h, s, p, o, False)
-                st[S_N] += 1.0
-                gb = s * zb
-            if gb <= 0.0:
-                # Newton starts from the cubic's own root (bisection on the cubic)
-                ca = ta
-                cb = tb
-                for _ in range(40):
-                    cm = 0.5 * (ca + cb)
-                    if _cubic(g0, g1, s * a0 * h, s * a1 * h, cm) > 0.0:
-                        ca = cm
-                    else:
-                        cb = cm
-                h_ev, xe, _ze = _polish(_F_ZD, x, zd, s, p, o, ta * h, tb * h, s,
-                                        0.5 * (ca + cb) * h, st)
-                crossing = True
-        if crossing:
-            # A crossing whose excursion past 0 stays within the graze tolerance is a
-            # touch: its root is ill-conditioned (error ~ sqrt(eps)), its turning
-            # point (zdd = 0) is not, so the touch is placed there.
-            gp = s * zdd(xe, 0.0, s, p)
-            gpp = s * zddd(xe, 0.0, s, p, v)
-            if gp < 0.0 and gpp > 0.0 and gp * gp <= 2.0 * gpp * gtol:
-                tau = -gp / gpp
-                h_ev, xe, _zc = _polish(_F_ZDD, x, zd, s, p, o, h_ev, h_ev + 2.0 * tau,
-                                        -s, h_ev + tau, st)
-        if kind == 0 and 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol \
-                and st[S_ARMED] > 0.0:
-            # the step ends on a touch (exact arcs end on turning points): zdot came
-            # down to within gtol of 0 and stopped falling (not a creep away from 0)
-            h_ev = h
-            xe = x1
+        h_ev, xe = _zero_in_step(st, p, o, x, zd, s, h, x1, z1, a0, a1, gtol, near)
         # --- extremum of x (Poincare section) inside the step
         h_xe = -1.0
+        xx = x1
         xd0 = zd + v
         xd1 = z1 + v
         if v != 0.0 and xd0 != 0.0 and (xd0 > 0.0) != (xd1 > 0.0):
-            h_xe, xx, zx = _polish(_F_XD, x, zd, s, p, o, 0.0, h,
-                                   1.0 if xd0 > 0.0 else -1.0, h * xd0 / (xd0 - xd1), st)
+            h_xe, xx, _zx = polish(F_XD, x, zd, s, p, o, 0.0, h,
+                                    1.0 if xd0 > 0.0 else -1.0, h * xd0 / (xd0 - xd1), st)
         if h_ev >= 0.0 and (h_xe < 0.0 or h_ev <= h_xe):
             return _finish_zero(st, p, o, acc, x, zd, s, h_ev, xe), codes.OK
         if h_xe >= 0.0:
-            _x, _z, qx, qv, qw, ql, _e, _ok = step(x, zd, h_xe, s, p, o, True)
-            st[S_N] += 1.0
-            _book(acc, qx, qv, qw, ql, h_xe)
-            st[S_T] = t + h_xe
-            st[S_X] = xx
-            st[S_ZD] = -v               # xdot = 0 exactly at the section
-            _note_x(acc, xx, 0.0)
-            _velocity_extremum(st, p, o, acc, x, zd, s, h_xe, a0,
-                               zdd(xx, -v, s, p))
-            if xd0 > 0.0:
-                return codes.EV_XMAX, codes.OK
-            return codes.EV_XMIN, codes.OK
+            return _end_at_section(st, p, o, acc, x, zd, s, t, h_xe, xx, a0,
+                                   xd0 > 0.0), codes.OK
         _book(acc, qx, qv, qw, ql, h)
         _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1)
         st[S_T] = t + h if not last else t_stop
@@ -519,7 +421,7 @@ def slide_until_event(st, p, o, acc, t_stop):
 def _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1):
     """Record an extremum of xdot (zdd = 0) inside [0, h] of the step from (x, zd)."""
     if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
-        _h, xv, zv = _polish(_F_ZDD, x, zd, s, p, o, 0.0, h, 1.0 if a0 > 0.0 else -1.0,
+        _h, xv, zv = polish(F_ZDD, x, zd, s, p, o, 0.0, h, 1.0 if a0 > 0.0 else -1.0,
                              h * a0 / (a0 - a1), st)
         _note_x(acc, xv, zv + p[V])
 

@@ -97,7 +97,12 @@ W_TH = 32          # their local times, 4 slots [s]
 W_E = 36           # phase events in each of the last 3 returns
 W_SALTH = 39       # log saltation of the last 2 returns
 W_RTOLH = 41       # tolerance of the last 2 returns
-NW = 43
+W_FD_PROBE = 43    # gps (own_map_step): the last return was a probe
+W_FD_A0 = 44       # ... of the base return a0 -> a1 [cm]
+W_FD_A1 = 45
+W_FD_DELTA = 46    # ... started at a0 + delta [cm]
+W_FD_SLOPE = 47    # the slope it measured (NaN: none yet)
+NW = 48
 
 # observables row written by the attractor kernel
 OB_AMPLITUDE = 0

@@ -15,8 +15,8 @@ The return map ``a -> P(a)`` of a slip cycle is solved by Newton's method with t
 exact slope (``return_map.py``, Liouville); a fixed point is accepted on a verified
 residual ``|P(a) - a| / (1 - P') <= tol L / 2`` from returns computed at
 ``rtol <= tol (1 - P') / 2``: the integrator's noise (~2 rtol L per return) is
-amplified by ``1 / (1 - P')`` in the fixed point. For method gps the slope is the
-secant of three returns of gps's own map (its discrete map is not the ODE's).
+amplified by ``1 / (1 - P')`` in the fixed point. Method gps follows its own map
+(``own_map_step``): its discrete map is not the ODE's.
 """
 import math
 
@@ -25,13 +25,13 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .law import log_saltation, x_eq
+from .law import log_saltation
 from .layout import (A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, ACC_LAST, ACC_SEC, NA, O_RTOL, RY,
                      S_T, S_X, S_ZD, V, W_A, W_A_FROM, W_E, W_E_JUMP, W_E_REST,
-                     W_ERR_JUMP, W_JUMPED, W_LX, W_N_EV, W_N_SEC, W_NEWTON_REST, W_NF_OK,
-                     W_ODE, W_ON_NF, W_RESET_SEEN, W_RTOL, W_RTOLH, W_SALT, W_SALTH,
+                     W_ERR_JUMP, W_FD_A0, W_FD_A1, W_FD_DELTA, W_FD_PROBE,
+                     W_FD_SLOPE, W_JUMPED, W_LX, W_N_EV, W_N_SEC, W_NEWTON_REST,
+                     W_ON_NF, W_RESET_SEEN, W_RTOL, W_RTOLH, W_SALT, W_SALTH,
                      W_T_LAST, W_T_OFF, W_TH, W_TOL)
-from .return_map import return_slope
 
 # Lowest relative tolerance given to the integrator: below it, roundoff in the
 # error estimate of dopri5 (weights rtol (L + |x|)) makes the controller erratic.
@@ -233,21 +233,6 @@ def newton_decision(a0, a1, dP, xe, e1, e2, rtol_h0, rtol_h1, rtol_int, tol, lx,
 
 
 @kernel
-def section_slope(w, p, acc):
-    """Slope of the return map at the last return: Liouville's formula for methods
-    that follow the ODE; for gps the secant of its own last three returns (NaN when
-    they are not three returns of one itinerary)."""
-    a0 = w[W_A + 2]
-    a1 = w[W_A + 3]
-    if w[W_ODE] > 0.0:
-        return return_slope(p, a0, a1, acc[ACC_LAST], w[W_SALTH + 1])
-    if w[W_N_SEC] < 3.0 or w[W_E + 1] != w[W_E + 2]:
-        return np.nan
-    d0 = a0 - w[W_A + 1]
-    return (a1 - a0) / d0 if d0 != 0.0 else 0.0
-
-
-@kernel
 def undo_jump(st, p, w, acc):
     """``(undone, after_jump)``: whether the last section was a Newton jump, and
     whether that step left the itinerary whose slope it used (e.g. towards a cycle
@@ -267,14 +252,63 @@ def undo_jump(st, p, w, acc):
 
 
 @kernel
-def gps_at_rest(w, dP, xe):
-    """gps: the fixed point of its own section map (Steffensen on three returns of
-    a stop-free, contracting motion) is x_eq to tol L / 2."""
-    if w[W_ODE] > 0.0 or w[W_E + 2] != 0 or not 0.0 < dP < 1.0:
-        return False
+def own_map_step(st, p, w, acc, xe, sigma):
+    """Method gps: Newton on its own section map, with the slope measured by a
+    probe. Returns (action, value); carries out its jumps.
+
+    gps's discrete map is not the ODE's (it has its own Hopf point), so Liouville's
+    slope is not its slope, and the ratio of successive changes is lost in the
+    rounding noise ``sigma`` [cm] of the section values as they converge. Instead,
+    after a base return ``a0 -> a1`` the motion is moved to ``a0 + delta`` and one
+    probe return measures the slope ``(P(a0 + delta) - a1) / delta``; ``delta`` is
+    2000 sigma / (1 - slope) (the slope's noise ``2 sigma / delta`` 1e-3 of its
+    distance from 1), at least 1e-4 and at most 1e-2 of the distance to x_eq (the
+    map's curvature over delta stays small); a slope whose noise exceeds a quarter
+    of its distance from 1 is not used. Newton then jumps from a0; the next base
+    return is accepted (ACCEPT, value: the slope) when
+    ``|a1 - a0| / (1 - slope) <= tol L / 2``. A fixed point (or Newton target)
+    within tol L / 2 of x_eq is the equilibrium (REST). Where no
+    delta fits (next to gps's own Hopf point), the motion is followed and the point
+    may end unconverged: gps's answer, not the ODE's."""
+    half = 0.5 * w[W_TOL] * w[W_LX]
     a0 = w[W_A + 2]
-    a_fix = a0 + (w[W_A + 3] - a0) / (1.0 - dP)
-    return abs(a_fix - xe) <= 0.5 * w[W_TOL] * w[W_LX]
+    a1 = w[W_A + 3]
+    if w[W_E + 1] != w[W_E + 2]:
+        w[W_FD_PROBE] = 0.0
+        return FOLLOW, 0.0
+    if w[W_FD_PROBE] > 0.0:                      # the probe return just ended
+        w[W_FD_PROBE] = 0.0
+        slope = (a1 - w[W_FD_A1]) / w[W_FD_DELTA]
+        w[W_FD_SLOPE] = slope
+        gap = 1.0 - slope
+        if not gap > 8.0 * sigma / abs(w[W_FD_DELTA]):
+            return FOLLOW, 0.0        # expanding, or the slope's noise above gap / 4
+        base = w[W_FD_A0]
+        a_new = base + (w[W_FD_A1] - base) / gap
+        r = (a_new - xe) / (w[W_FD_A1] - xe)
+        if w[W_E + 2] == 0 and abs(a_new - xe) <= half:
+            return REST, 0.0
+        a_new = xe + min(max(r, 0.5), 2.0) * (w[W_FD_A1] - xe)
+        jump(st, p, w, acc, a_new)
+        w[W_RESET_SEEN] = 0.0           # a jump ends any period being measured
+        return FOLLOW, 0.0
+    gap = 1.0 - w[W_FD_SLOPE]                    # NaN before the first probe
+    if gap > 0.0 and abs(a1 - a0) / gap <= half:
+        if w[W_E + 2] == 0 and abs(a0 + (a1 - a0) / gap - xe) <= half:
+            return REST, 0.0                     # the fixed point is x_eq
+        return ACCEPT, w[W_FD_SLOPE]
+    dist = abs(a0 - xe)
+    delta = 2e3 * sigma / gap if gap > 0.0 else 1e-4 * dist
+    delta = max(delta, 1e-4 * dist)
+    if not delta <= 1e-2 * dist:
+        return FOLLOW, 0.0
+    w[W_FD_PROBE] = 1.0
+    w[W_FD_A0] = a0
+    w[W_FD_A1] = a1
+    w[W_FD_DELTA] = delta if a0 >= xe else -delta
+    jump(st, p, w, acc, a0 + w[W_FD_DELTA])
+    w[W_RESET_SEEN] = 0.0
+    return FOLLOW, 0.0
 
 
 @kernel
