@@ -9,7 +9,7 @@ units cancel.
 import numpy as np
 from .jit import kernel
 
-from .law import friction, law_integrand, zdd_im
+from .law import coefficients, friction_of, law_integrand, zdd_of
 from .layout import K, M, O_LV, O_LX, O_RTOL, RK, RY, V
 
 ORDER = 5
@@ -63,42 +63,52 @@ def scales(p):
     return lx, lv
 
 
-@kernel
+@kernel(inline="always")
 def dopri5_step(x, zd, h, s, p, o, want_q):
     """One Dormand-Prince step of the sliding field; see ``stepper.py``."""
+    if p[RY] == p[RK]:          # the polynomial law: no Stribeck branch
+        return _dopri5_step(x, zd, h, s, p, o, want_q, None)
+    return _dopri5_step(x, zd, h, s, p, o, want_q, p[RY] - p[RK])
+
+
+@kernel
+def _dopri5_step(x, zd, h, s, p, o, want_q, d):
+    """``dopri5_step`` for the Stribeck drop ``d = r_y - r_k`` (None: none; see
+    ``law.stribeck_drop``)."""
     v = p[V]
     im = 1.0 / p[M]
+    cf = coefficients(s, p)
     # zdot's weight has a floor at the rounding of the spring force k x, which the
     # estimate carries as noise ~ 0.15 h eps k |x| / m: a tolerance below the
     # resolution of x (tiny v far from x = 0) would otherwise shrink the steps for
     # ever. (From the step's start: off the chain of dependent stages.)
     floor_z = EPS * h * p[K] * im * abs(x)
     k1x = zd + v
-    k1z = zdd_im(x, zd, s, p, im)
+    k1z = zdd_of(x, zd, s, cf, d, im)
     x2 = x + h * A21 * k1x
     z2 = zd + h * A21 * k1z
     k2x = z2 + v
-    k2z = zdd_im(x2, z2, s, p, im)
+    k2z = zdd_of(x2, z2, s, cf, d, im)
     x3 = x + h * (A31 * k1x + A32 * k2x)
     z3 = zd + h * (A31 * k1z + A32 * k2z)
     k3x = z3 + v
-    k3z = zdd_im(x3, z3, s, p, im)
+    k3z = zdd_of(x3, z3, s, cf, d, im)
     x4 = x + h * (A41 * k1x + A42 * k2x + A43 * k3x)
     z4 = zd + h * (A41 * k1z + A42 * k2z + A43 * k3z)
     k4x = z4 + v
-    k4z = zdd_im(x4, z4, s, p, im)
+    k4z = zdd_of(x4, z4, s, cf, d, im)
     x5 = x + h * (A51 * k1x + A52 * k2x + A53 * k3x + A54 * k4x)
     z5 = zd + h * (A51 * k1z + A52 * k2z + A53 * k3z + A54 * k4z)
     k5x = z5 + v
-    k5z = zdd_im(x5, z5, s, p, im)
+    k5z = zdd_of(x5, z5, s, cf, d, im)
     x6 = x + h * (A61 * k1x + A62 * k2x + A63 * k3x + A64 * k4x + A65 * k5x)
     z6 = zd + h * (A61 * k1z + A62 * k2z + A63 * k3z + A64 * k4z + A65 * k5z)
     k6x = z6 + v
-    k6z = zdd_im(x6, z6, s, p, im)
+    k6z = zdd_of(x6, z6, s, cf, d, im)
     x1 = x + h * (B1 * k1x + B3 * k3x + B4 * k4x + B5 * k5x + B6 * k6x)
     zd1 = zd + h * (B1 * k1z + B3 * k3z + B4 * k4z + B5 * k5z + B6 * k6z)
     k7x = zd1 + v
-    k7z = zdd_im(x1, zd1, s, p, im)
+    k7z = zdd_of(x1, zd1, s, cf, d, im)
     ex = h * (E1 * k1x + E3 * k3x + E4 * k4x + E5 * k5x + E6 * k6x + E7 * k7x)
     ez = h * (E1 * k1z + E3 * k3z + E4 * k4z + E5 * k5z + E6 * k6z + E7 * k7z)
     lx = o[O_LX]
@@ -114,10 +124,10 @@ def dopri5_step(x, zd, h, s, p, o, want_q):
         qx = h * (B1 * x + B3 * x3 + B4 * x4 + B5 * x5 + B6 * x6)
         qv = h * (B1 * k1x * k1x + B3 * k3x * k3x + B4 * k4x * k4x
                   + B5 * k5x * k5x + B6 * k6x * k6x)
-        qw = h * (B1 * friction(zd, s, p) * k1x + B3 * friction(z3, s, p) * k3x
-                  + B4 * friction(z4, s, p) * k4x + B5 * friction(z5, s, p) * k5x
-                  + B6 * friction(z6, s, p) * k6x)
-        if p[RY] != p[RK]:
+        qw = h * (B1 * friction_of(zd, s, cf, d) * k1x + B3 * friction_of(z3, s, cf, d) * k3x
+                  + B4 * friction_of(z4, s, cf, d) * k4x + B5 * friction_of(z5, s, cf, d) * k5x
+                  + B6 * friction_of(z6, s, cf, d) * k6x)
+        if d is not None:
             ql = h * (B1 * law_integrand(zd, p) + B3 * law_integrand(z3, p)
                       + B4 * law_integrand(z4, p) + B5 * law_integrand(z5, p)
                       + B6 * law_integrand(z6, p))

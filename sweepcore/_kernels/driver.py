@@ -33,10 +33,10 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .law import breakaway, stick_band, zdd, zddd
+from .law import accel, breakaway, coefficients, jerk, stick_band
 from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
-                     O_METHOD, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
+                     O_METHOD, O_RTOL, RK, RY, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
 from .events import F_XD, F_ZD, F_ZDD, cubic, polish, zd_event
 from .stepper import ADAPTIVE, EXPONENT, TOUCH_FACTOR, proposal, step
 
@@ -215,59 +215,6 @@ def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
     return ev
 
 
-# outcomes of one attempted step (_take_step)
-_ACCEPTED = 0
-_REJECTED = 1
-_STOPPED = 2
-
-
-@kernel
-def _take_step(st, p, o, s, t_stop, adaptive, expo, h_max, h_min_gps):
-    """One attempted step from the state in st towards t_stop (the controller's step,
-    clipped there; the GPS denominator guard halves it).
-
-    Returns ``(outcome, status, h, last, x1, z1, qx, qv, qw, ql)``: _ACCEPTED (the
-    step and its quadratures), _REJECTED (the controller shrank ``st[S_H]``: try
-    again) or _STOPPED with the status (the clock cannot advance, or the guard failed).
-    """
-    t = st[S_T]
-    x = st[S_X]
-    zd = st[S_ZD]
-    h = proposal(x, zd, s, p, o, st[S_H])
-    if adaptive:
-        h = min(h, h_max)
-    last = False
-    if t + h >= t_stop:
-        h = t_stop - t
-        last = True
-    if h <= EPS * max(abs(t), 1.0):
-        # below the resolution of t: only the remainder up to t_stop may be
-        # dropped; a step that cannot advance the clock is a failure, not a jump
-        if not last:
-            return _STOPPED, codes.STEP_UNDERFLOW, h, last, x, zd, 0.0, 0.0, 0.0, 0.0
-        st[S_T] = t_stop
-        return _STOPPED, codes.OK, h, last, x, zd, 0.0, 0.0, 0.0, 0.0
-    x1, z1, qx, qv, qw, ql, err, ok = step(x, zd, h, s, p, o, True)
-    st[S_N] += 1.0
-    if not ok:                      # GPS denominator guard: halve the step
-        hh = h
-        while not ok and hh > h_min_gps:
-            hh *= 0.5
-            x1, z1, qx, qv, qw, ql, err, ok = step(x, zd, hh, s, p, o, True)
-            st[S_N] += 1.0
-        if not ok:
-            return _STOPPED, codes.GPS_DENOMINATOR, h, last, x1, z1, qx, qv, qw, ql
-        h = hh
-        last = False
-    if adaptive:
-        if not (err <= 1.0):
-            fac = 0.2 if not (err < 1e300) else max(0.2, 0.9 * err ** expo)
-            st[S_H] = h * fac
-            return _REJECTED, codes.OK, h, last, x1, z1, qx, qv, qw, ql
-        st[S_H] = h * min(5.0, max(0.2, 0.9 * (err + 1e-300) ** expo))
-    return _ACCEPTED, codes.OK, h, last, x1, z1, qx, qv, qw, ql
-
-
 @kernel
 def _crossing_root(st, p, o, x, zd, s, h, g0, g1, d0, d1, ta, tb):
     """The first root of zdot in the bracket [ta, tb] (fractions of the step h) of
@@ -294,61 +241,56 @@ def _crossing_root(st, p, o, x, zd, s, h, g0, g1, d0, d1, ta, tb):
 
 
 @kernel
-def _zero_in_step(st, p, o, x, zd, s, h, x1, z1, a0, a1, gtol, near):
-    """zdot = 0 inside the step from (x, zd) to (x1, z1): crossings, double crossings
-    and touches (a turning point within gtol of 0, placed at the turning point, where
-    it is well conditioned). Returns ``(h_ev, x_ev)``, h_ev < 0 when there is none."""
+def _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol, cf, d):
+    """Where zdot = 0 inside the step from (x, zd), once the scan of the step's
+    Hermite cubic (``events.zd_event``) found a crossing (kind 1, bracketed in
+    [ta, tb]) or a turning point tc that may touch 0 (kind 2). Touches are placed at
+    the turning point, where they are well conditioned. Returns ``(h_ev, x_ev)``,
+    h_ev < 0 when the integrator does not confirm it."""
     v = p[V]
-    g0 = s * zd
-    g1 = s * z1
-    kind, ta, tb, tc, armed = zd_event(g0, g1, s * a0 * h, s * a1 * h,
-                                        st[S_ARMED] > 0.0, near)
-    st[S_ARMED] = 1.0 if armed else 0.0
     h_ev = -1.0
-    xe = x1
+    xe = x
     crossing = False
     if kind == 2:                   # check the turning point on the integrator
         # zdd has the sign -s where g falls towards the touch, +s after it
         hc, xc, zc = polish(F_ZDD, x, zd, s, p, o, 0.5 * (ta + tc) * h,
-                             0.5 * (tc + tb) * h, -s, tc * h, st)
+                            0.5 * (tc + tb) * h, -s, tc * h, st)
         gc = s * zc
         if abs(gc) <= gtol:         # a touch
-            h_ev = hc
-            xe = xc
-        elif gc < 0.0:              # a real double crossing: the first root
+            return hc, xc
+        if gc < 0.0:                # a real double crossing: the first root
             h_ev, xe, _ze = polish(F_ZD, x, zd, s, p, o, ta * h, hc, s,
-                                    0.5 * (ta + tc) * h, st)
+                                   0.5 * (ta + tc) * h, st)
             crossing = True
-    elif kind == 1:
+    else:
         h_ev, xe = _crossing_root(st, p, o, x, zd, s, h, g0, g1, s * a0 * h, s * a1 * h,
                                   ta, tb)
         crossing = h_ev >= 0.0
-        if not crossing:
-            xe = x1
     if crossing:
         # A crossing whose excursion past 0 stays within the graze tolerance is a
         # touch: its root is ill-conditioned (error ~ sqrt(eps)), its turning
         # point (zdd = 0) is not, so the touch is placed there.
-        gp = s * zdd(xe, 0.0, s, p)
-        gpp = s * zddd(xe, 0.0, s, p, v)
+        gp = s * accel(xe, 0.0, s, cf, d, p[M])
+        gpp = s * jerk(xe, 0.0, s, cf, d, p[M], v)
         if gp < 0.0 and gpp > 0.0 and gp * gp <= 2.0 * gpp * gtol:
             tau = -gp / gpp
             h_ev, xe, _zc = polish(F_ZDD, x, zd, s, p, o, h_ev, h_ev + 2.0 * tau,
-                                    -s, h_ev + tau, st)
-    if kind == 0 and 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol \
-            and st[S_ARMED] > 0.0:
-        # the step ends on a touch (exact arcs end on turning points): zdot came
-        # down to within gtol of 0 and stopped falling (not a creep away from 0)
-        h_ev = h
-        xe = x1
+                                   -s, h_ev + tau, st)
     return h_ev, xe
 
 
 @kernel
-def _end_at_section(st, p, o, acc, x, zd, s, t, h_xe, xx, a0, rising):
-    """Book the partial step to the extremum of x at h_xe and stop there: the
-    Poincare section (xdot = 0 exactly). Returns its event."""
+def _section(st, p, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf, d):
+    """The extremum of x inside the step from (x, zd) (xdot changes sign): if it
+    comes before the zdot = 0 event at h_ev (h_ev < 0: none), book the partial step
+    to it and stop there, at the Poincare section (xdot = 0 exactly). Returns its
+    event, or EV_NONE when the zdot event comes first."""
     v = p[V]
+    xd0 = zd + v
+    h_xe, xx, _zx = polish(F_XD, x, zd, s, p, o, 0.0, h, 1.0 if xd0 > 0.0 else -1.0,
+                           h * xd0 / (xd0 - (z1 + v)), st)
+    if h_ev >= 0.0 and h_xe >= h_ev:
+        return codes.EV_NONE
     _x, _z, qx, qv, qw, ql, _e, _ok = step(x, zd, h_xe, s, p, o, True)
     st[S_N] += 1.0
     _book(acc, qx, qv, qw, ql, h_xe)
@@ -356,65 +298,120 @@ def _end_at_section(st, p, o, acc, x, zd, s, t, h_xe, xx, a0, rising):
     st[S_X] = xx
     st[S_ZD] = -v               # xdot = 0 exactly at the section
     _note_x(acc, xx, 0.0)
-    _velocity_extremum(st, p, o, acc, x, zd, s, h_xe, a0, zdd(xx, -v, s, p))
-    return codes.EV_XMAX if rising else codes.EV_XMIN
+    _velocity_extremum(st, p, o, acc, x, zd, s, h_xe, a0, accel(xx, -v, s, cf, d, p[M]))
+    return codes.EV_XMAX if xd0 > 0.0 else codes.EV_XMIN
 
 
 @kernel
 def slide_until_event(st, p, o, acc, t_stop):
     """Integrate the sliding phase until zdot = 0, an extremum of x, or t_stop."""
+    if p[RY] == p[RK]:              # the polynomial law (see law.stribeck_drop)
+        return _slide(st, p, o, acc, t_stop, None)
+    return _slide(st, p, o, acc, t_stop, p[RY] - p[RK])
+
+
+@kernel
+def _slide(st, p, o, acc, t_stop, d):
+    """``slide_until_event`` for the Stribeck drop ``d`` (None: none). Helpers taking
+    arrays are called only where something happens: numba passes each array with a
+    reference count, which on every step would cost more than the event scan."""
     v = p[V]
     s = st[S_MODE]
-    meth = int(o[O_METHOD])
-    adaptive = ADAPTIVE[meth]
-    expo = EXPONENT[meth]
-    max_steps = o[O_MAX_STEPS]
-    lx = o[O_LX]
+    cf = coefficients(s, p)
+    m = p[M]
+    adaptive = ADAPTIVE[int(o[O_METHOD])]
+    expo = EXPONENT[int(o[O_METHOD])]
     gtol = touch_tol(p, o)
     near = max(gtol, 1e-3 * o[O_LV])
-    omega = math.sqrt(p[K] / p[M])
-    h_max = 0.5 / omega
-    h_min_gps = 1e-12 / omega
+    omega = math.sqrt(p[K] / m)
     while True:
         t = st[S_T]
         if t >= t_stop:
             return codes.EV_STOP_TIME, codes.OK
-        if st[S_N] >= max_steps:
+        if st[S_N] >= o[O_MAX_STEPS]:
             return codes.EV_STOP_TIME, codes.STEP_BUDGET
         x = st[S_X]
         zd = st[S_ZD]
-        outcome, status, h, last, x1, z1, qx, qv, qw, ql = _take_step(
-            st, p, o, s, t_stop, adaptive, expo, h_max, h_min_gps)
-        if outcome == _STOPPED:
-            return codes.EV_STOP_TIME, status
-        if outcome == _REJECTED:
-            continue
-        if not (abs(x1) < 1e12 * lx and abs(z1) < 1e12 * omega * lx):
+        h = proposal(x, zd, s, p, o, st[S_H])
+        if adaptive:
+            h = min(h, 0.5 / omega)
+        last = t + h >= t_stop
+        if last:
+            h = t_stop - t
+        if h <= EPS * max(abs(t), 1.0):
+            # below the resolution of t: only the remainder up to t_stop may be
+            # dropped; a step that cannot advance the clock is a failure, not a jump
+            if not last:
+                return codes.EV_STOP_TIME, codes.STEP_UNDERFLOW
+            st[S_T] = t_stop
+            return codes.EV_STOP_TIME, codes.OK
+        x1, z1, qx, qv, qw, ql, err, ok = step(x, zd, h, s, p, o, True)
+        st[S_N] += 1.0
+        if not ok:                  # GPS denominator guard: halve the step
+            ok, h, x1, z1, qx, qv, qw, ql = _halved(st, p, o, x, zd, s, h, omega)
+            if not ok:
+                return codes.EV_STOP_TIME, codes.GPS_DENOMINATOR
+            last = False
+        if adaptive:
+            st[S_H] = _next_step(h, err, expo)
+            if not (err <= 1.0):
+                continue
+        if not (abs(x1) < 1e12 * o[O_LX] and abs(z1) < 1e12 * omega * o[O_LX]):
             return codes.EV_STOP_TIME, codes.DIVERGED
-        a0 = zdd(x, zd, s, p)
-        a1 = zdd(x1, z1, s, p)
-        h_ev, xe = _zero_in_step(st, p, o, x, zd, s, h, x1, z1, a0, a1, gtol, near)
+        a0 = accel(x, zd, s, cf, d, m)
+        a1 = accel(x1, z1, s, cf, d, m)
+        # --- zdot = 0: crossings, double crossings and touches inside the step
+        g0 = s * zd
+        g1 = s * z1
+        kind, ta, tb, tc, armed = zd_event(g0, g1, s * a0 * h, s * a1 * h,
+                                           st[S_ARMED] > 0.0, near)
+        st[S_ARMED] = 1.0 if armed else 0.0
+        h_ev, xe = -1.0, x1
+        if kind != 0:
+            h_ev, xe = _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb,
+                                    tc, gtol, cf, d)
+        elif 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol and armed:
+            # the step ends on a touch (exact arcs end on turning points): zdot came
+            # down to within gtol of 0 and stopped falling (not a creep away from 0)
+            h_ev = h
         # --- extremum of x (Poincare section) inside the step
-        h_xe = -1.0
-        xx = x1
-        xd0 = zd + v
-        xd1 = z1 + v
-        if v != 0.0 and xd0 != 0.0 and (xd0 > 0.0) != (xd1 > 0.0):
-            h_xe, xx, _zx = polish(F_XD, x, zd, s, p, o, 0.0, h,
-                                    1.0 if xd0 > 0.0 else -1.0, h * xd0 / (xd0 - xd1), st)
-        if h_ev >= 0.0 and (h_xe < 0.0 or h_ev <= h_xe):
+        if v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0):
+            ev = _section(st, p, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf, d)
+            if ev != codes.EV_NONE:
+                return ev, codes.OK
+        if h_ev >= 0.0:
             return _finish_zero(st, p, o, acc, x, zd, s, h_ev, xe), codes.OK
-        if h_xe >= 0.0:
-            return _end_at_section(st, p, o, acc, x, zd, s, t, h_xe, xx, a0,
-                                   xd0 > 0.0), codes.OK
         _book(acc, qx, qv, qw, ql, h)
-        _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1)
+        if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
+            _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1)
         st[S_T] = t + h if not last else t_stop
         st[S_X] = x1
         st[S_ZD] = z1
         _note_x(acc, x1, z1 + v)
         if last:
             return codes.EV_STOP_TIME, codes.OK
+
+
+@kernel(inline="always")
+def _next_step(h, err, expo):
+    """The controller's next step [s] after a step h with scaled error err: shrunk
+    (at least 5x) after a rejection, grown at most 5x after an acceptance."""
+    if not (err <= 1.0):
+        return h * (0.2 if not (err < 1e300) else max(0.2, 0.9 * err ** expo))
+    return h * min(5.0, max(0.2, 0.9 * (err + 1e-300) ** expo))
+
+
+@kernel
+def _halved(st, p, o, x, zd, s, h, omega):
+    """The GPS denominator guard: the step halved until it can be taken, down to
+    1e-12/omega: ``(ok, h, x1, z1, qx, qv, qw, ql)``."""
+    ok = False
+    x1, z1, qx, qv, qw, ql = x, zd, 0.0, 0.0, 0.0, 0.0
+    while not ok and h > 1e-12 / omega:
+        h *= 0.5
+        x1, z1, qx, qv, qw, ql, _err, ok = step(x, zd, h, s, p, o, True)
+        st[S_N] += 1.0
+    return ok, h, x1, z1, qx, qv, qw, ql
 
 
 @kernel

@@ -40,12 +40,6 @@ EPS = np.finfo(np.float64).eps
 
 # ------------------------------------------------------------------ the law F(s)
 @kernel(inline="always")
-def stribeck(p):
-    """Stribeck drop ``d = r_y - r_k`` [kN] (0: no Stribeck term)."""
-    return p[RY] - p[RK]
-
-
-@kernel(inline="always")
 def level(zd, p):
     """``|F|`` of the Coulomb-Stribeck part at relative speed zd [kN]:
     ``r_y + d expm1(-|zd|/v_s)``, exactly r_y at zd = 0 and r_k at high speed."""
@@ -56,19 +50,84 @@ def level(zd, p):
 
 
 @kernel(inline="always")
+def stribeck_drop(p):
+    """``r_y - r_k`` [kN], or None for the polynomial law (r_k = r_y).
+
+    Steppers pass it on as an argument: numba then compiles them twice, and in the
+    polynomial version the Stribeck branches (calls to ``exp``) are pruned before
+    they are typed. A call on a cold branch still makes the compiler save every
+    live register around it, which on dopri5's chain of stages cost ~10 % of a step.
+    """
+    d = p[RY] - p[RK]
+    return None if d == 0.0 else d
+
+
+@kernel(inline="always")
+def coefficients(s, p):
+    """The law's constants for a slide with sign s, as locals:
+    ``(k, f0, f1, a1, a2, r_y, v_s, c)`` with ``f0 = r_y s + c v`` and
+    ``f1 = c - alpha1`` (the damping folded in, so that it adds no operation to the
+    chain of stages). Steppers and the driver take them once per step instead of
+    loading p at every stage."""
+    return (p[K], p[RY] * s + p[C] * p[V], p[C] - p[A1], p[A1], p[A2], p[RY], p[VS],
+            p[C])
+
+
+@kernel
+def force_of(zd, s, cf, d):
+    """``F(zd) + c (zd + v)`` [kN] from the constants ``cf`` of ``coefficients``;
+    ``d`` is ``stribeck_drop`` (None: the polynomial law)."""
+    k, f0, f1, a1, a2, ry, vs, c = cf
+    if d is not None:
+        f0 += d * math.expm1(-abs(zd) / vs) * s
+    return f0 + f1 * zd + a2 * zd * zd * zd
+
+
+@kernel
+def friction_of(zd, s, cf, d):
+    """The friction force F(zd) [kN] alone (no damping) from ``cf``: eq. (40) for
+    r_k = r_y (``d`` None)."""
+    k, f0, f1, a1, a2, ry, vs, c = cf
+    lev = ry
+    if d is not None:
+        lev = ry + d * math.expm1(-abs(zd) / vs)
+    return lev * s - a1 * zd + a2 * zd * zd * zd
+
+
+@kernel(inline="always")
+def accel(x, zd, s, cf, d, m):
+    """Sliding acceleration [cm/s^2] (eq. 41) from ``cf`` and ``d``."""
+    return (-cf[0] * x - force_of(zd, s, cf, d)) / m
+
+
+@kernel(inline="always")
+def jerk(x, zd, s, cf, d, m, v):
+    """Time derivative of the sliding acceleration along the flow [cm/s^3]."""
+    k, f0, f1, a1, a2, ry, vs, c = cf
+    g = a1 - 3.0 * a2 * zd * zd - c
+    if d is not None:
+        g += d / vs * math.exp(-abs(zd) / vs)
+    return (-k * (zd + v) + g * accel(x, zd, s, cf, d, m)) / m
+
+
+@kernel(inline="always")
+def zdd_of(x, zd, s, cf, d, im):
+    """Sliding acceleration [cm/s^2] from ``cf``, with ``im = 1/m`` (no division on
+    the chain of stages)."""
+    return (-cf[0] * x - force_of(zd, s, cf, d)) * im
+
+
+@kernel(inline="always")
 def friction(zd, s, p):
     """Friction force r_a on the slider while sliding with sign s [kN] (eq. 40 for
     r_k = r_y)."""
-    return level(zd, p) * s - p[A1] * zd + p[A2] * zd * zd * zd
+    return friction_of(zd, s, coefficients(s, p), stribeck_drop(p))
 
 
 @kernel(inline="always")
 def sliding_force(zd, s, p):
-    """Friction plus damping on the slider while sliding, ``F(zd) + c (zd + v)`` [kN].
-
-    Written as ``(level s + c v) + (c - alpha1) zd + alpha2 zd^3``: the damping folds
-    into coefficients computed from p alone, off the chain of dependent stages."""
-    return (level(zd, p) * s + p[C] * p[V]) + (p[C] - p[A1]) * zd + p[A2] * zd * zd * zd
+    """Friction plus damping on the slider while sliding, ``F(zd) + c (zd + v)`` [kN]."""
+    return force_of(zd, s, coefficients(s, p), stribeck_drop(p))
 
 
 @kernel(inline="always")
@@ -85,25 +144,13 @@ def slope(zd, p):
 @kernel(inline="always")
 def zdd(x, zd, s, p):
     """Relative (= absolute) acceleration while sliding [cm/s^2], eq. (41)."""
-    return (-p[K] * x - sliding_force(zd, s, p)) / p[M]
-
-
-@kernel(inline="always")
-def zdd_im(x, zd, s, p, im):
-    """``zdd`` with ``im = 1/m`` given: steppers take the reciprocal once per step, so
-    no division sits on the chain of dependent stages."""
-    return (-p[K] * x - sliding_force(zd, s, p)) * im
+    return accel(x, zd, s, coefficients(s, p), stribeck_drop(p), p[M])
 
 
 @kernel(inline="always")
 def zddd(x, zd, s, p, v):
     """Time derivative of zdd along the sliding flow [cm/s^3]."""
-    a = zdd(x, zd, s, p)
-    d = p[RY] - p[RK]
-    g = p[A1] - 3.0 * p[A2] * zd * zd - p[C]
-    if d != 0.0:
-        g += d / p[VS] * math.exp(-abs(zd) / p[VS])
-    return (-p[K] * (zd + v) + g * a) / p[M]
+    return jerk(x, zd, s, coefficients(s, p), stribeck_drop(p), p[M], v)
 
 
 # ------------------------------------------------------ sticking and breakaway
