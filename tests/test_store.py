@@ -24,7 +24,7 @@ from sweepcore.sweep import SweepTooLarge, estimate, sweep
 from sweepcore.variables import OBSERVABLES
 
 sweep_mod = importlib.import_module("sweepcore.sweep")
-io_mod = importlib.import_module("sweepcore.io")
+store_mod = importlib.import_module("sweepcore.io.store")
 RUN_CHUNK = sweep_mod.run_chunk_parallel
 CHUNKS = 10                   # the paper map's 72 points: 8 chunks
 COMPARED = list(OBSERVABLES) + ["regime", "status", "converged", "q", "v_star", "x_eq",
@@ -350,7 +350,7 @@ def test_disk_full_while_storing_a_chunk_names_it_and_stays_resumable(
     def chunk_open(file, mode="r", *args, **kwargs):
         f = open(file, mode, *args, **kwargs)
         return FullDisk(f) if ".chunk-000003." in str(file) else f
-    monkeypatch.setattr(io_mod, "open", chunk_open, raising=False)
+    monkeypatch.setattr(store_mod, "open", chunk_open, raising=False)
     spy(monkeypatch)
     with pytest.raises(OSError, match=r"writing chunk 3 \(points \[30, 40\)\) to "
                        r".*map\.nc\.partial/chunk-000003.* failed \(No space left on "
@@ -359,7 +359,7 @@ def test_disk_full_while_storing_a_chunk_names_it_and_stays_resumable(
         sweep(paper_map, chunks=CHUNKS, path=path, progress=False)
     assert err.value.errno == errno.ENOSPC
     assert not list(WorkingStore.location(path).glob(".chunk-*"))   # no temporary
-    monkeypatch.delattr(io_mod, "open")
+    monkeypatch.delattr(store_mod, "open")
     resumed = spy(monkeypatch)
     ds = sweep(paper_map, chunks=CHUNKS, path=path, progress=False)
     assert sorted(resumed) == list(range(30, 72, CHUNKS))
