@@ -19,7 +19,8 @@ from .grid import Grid
 from .io import check_cf, open_result, write_netcdf
 from .params import Params
 from .simulate import simulate
-from .sweep import SweepTooLarge, estimate, sweep
+from .sizing import SweepTooLarge, estimate
+from .sweep import sweep
 
 try:
     __version__ = version("sweepcore")

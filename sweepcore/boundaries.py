@@ -47,18 +47,14 @@ kernel inside a dask task), so Python costs a few microseconds per attractor.
 from __future__ import annotations
 
 import datetime
-import itertools
 import math
-from concurrent.futures import ThreadPoolExecutor
 
-import numba
 import numpy as np
 import xarray as xr
 
-from . import variables
+from . import execute, variables
 from ._kernels import codes, layout
-from ._kernels.attractor import (_LANES, RTOL_FLOOR, attractor_rows,
-                                 attractor_rows_parallel)
+from ._kernels.attractor import RTOL_FLOOR
 from .grid import AXES, COLUMNS, Grid
 from .law import v_star as _v_star
 from .options import make_options
@@ -163,39 +159,6 @@ def _together(gens):
     return results
 
 
-_POOL = []
-
-
-def _attractors(P, o, out, parallel: bool):
-    """``attractor_rows`` over the rows of P, on every numba thread if ``parallel``.
-
-    Waking numba's thread pool costs ~2 ms a call, more than a small batch of
-    attractors, and the parallel kernel deals its ``_LANES`` lanes to the threads
-    in contiguous blocks, so a batch of fewer rows than lanes runs on one thread
-    only: batches below ``threads * _LANES`` rows are shared by Python threads
-    instead, row by row (the kernel releases the GIL).
-    """
-    n = P.shape[0]
-    threads = numba.get_num_threads() if parallel else 1
-    if threads == 1 or n == 1:
-        attractor_rows(P, o, out)
-    elif n >= threads * _LANES:
-        attractor_rows_parallel(P, o, out)
-    else:
-        if not _POOL:
-            _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="sweepcore"))
-        # each thread takes the next row when done (their costs differ ~10x)
-        P = np.ascontiguousarray(P)
-        rows = itertools.count()
-
-        def work(_):
-            for i in rows:
-                if i >= n:
-                    return
-                attractor_rows(P[i:i + 1], o, out[i:i + 1])
-        list(_POOL[0].map(work, range(min(threads, n))))
-
-
 def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
     """Run one solver per row of ``base`` to the end; returns (results, evaluations).
 
@@ -218,7 +181,7 @@ def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
         P[:, layout.X0] = req[:, 1]
         P[:, layout.XD0] = np.where(np.isnan(req[:, 2]), P[:, layout.V], req[:, 2])
         out = np.empty((len(owners), layout.NOBS))
-        _attractors(P, o, out, parallel)
+        execute.attractors(P, o, out, parallel)
         # A start inside a cycle that the search does not bring to an attractor
         # (a motion growing slowly onto a stick-slip cycle at low damping ends with
         # the budget spent) is retried once from rest on the belt at x = 0.
@@ -229,7 +192,7 @@ def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
             Q[:, layout.X0] = 0.0
             Q[:, layout.XD0] = Q[:, layout.V]
             redo = np.empty((again.size, layout.NOBS))
-            _attractors(Q, o, redo, parallel)
+            execute.attractors(Q, o, redo, parallel)
             out[again] = redo
             for j in again:
                 evals[owners[j]] += 1
@@ -819,25 +782,6 @@ def locate_chunk(base: np.ndarray, along: str, values: np.ndarray, xtol: float,
     return results
 
 
-def _execute(kind, target, tasks):
-    """Run ``tasks`` (list of (function, args)) with sweep's executors."""
-    if kind == "direct":
-        return [f(*args, parallel=True) for f, args in tasks]
-    if kind == "local":
-        import dask
-        delayed = [dask.delayed(f, pure=True)(*args) for f, args in tasks]
-        return list(dask.compute(*delayed, scheduler=target))
-    from distributed import Client
-
-    def run(client):
-        futures = [client.submit(f, *args, pure=False) for f, args in tasks]
-        return client.gather(futures)
-    if isinstance(target, str):
-        with Client(target, set_as_default=False) as client:
-            return run(client)
-    return run(target)
-
-
 # ----------------------------------------------------------------- public API
 def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 1e-9,
                       scan: int = 32, offset: float = 5e-3, tol: float = 1e-10,
@@ -888,21 +832,22 @@ def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 
         ``along`` other than v the names keep the ``v_`` prefix; units follow
         ``along``.)
     """
-    from .sweep import _executor
     _check_search(along, xtol, offset)
     values = _scan_values(grid, along, bracket, scan)
     o = make_options(method, tol=tol, **options)
-    kind, target = _executor(client, scheduler)
+    kind, target = execute.resolve(client, scheduler)
     other = _other_grid(grid, along, float(values[0]))
     start = _start(grid)
     size = other.size
-    if chunks is not None and (isinstance(chunks, bool) or not isinstance(
-            chunks, (int, np.integer)) or chunks < 1):
-        raise ValueError(f"chunks must be an integer >= 1, got {chunks!r}")
-    chunk = size if chunks is None else min(int(chunks), size)
-    tasks = [(locate_chunk, (other.rows(a, min(a + chunk, size)), along, values,
-                             xtol, offset, start, o)) for a in range(0, size, chunk)]
-    results = [r for part in _execute(kind, target, tasks) for r in part]
+    execute.check_chunks(chunks)
+    bounds = execute.chunk_bounds(size, size if chunks is None else min(int(chunks), size))
+    parts = [None] * len(bounds)
+
+    def task(i):
+        rows = other.rows(*bounds[i])
+        return locate_chunk, (rows, along, values, xtol, offset, start, o)
+    execute.run(kind, target, range(len(bounds)), task, parts.__setitem__)
+    results = [r for part in parts for r in part]
     call = (f"sweepcore.locate_boundaries({grid!r}, along={along!r}, "
             f"bracket={(float(values[0]), float(values[-1]))!r}, xtol={xtol!r}, "
             f"scan={scan!r}, offset={offset!r}, tol={tol!r}, method={method!r})")
