@@ -8,6 +8,8 @@ import pytest
 
 import sweepcore as sc
 from sweepcore import boundaries as bd
+from sweepcore.boundaries.graze import _graze
+from sweepcore.boundaries.point import _Point
 from sweepcore._kernels import codes, layout
 
 PAPER = dict(m=5.0, k=50.0, r_y=10.0, alpha1=1.0)
@@ -55,8 +57,8 @@ def _synthetic_rows(v0, asks):
 
 def test_graze_solver_finds_a_known_root_faster_than_bisection():
     v0 = 4.123456789012
-    pt = bd._Point(np.array([5.0, 50.0, 10.0, 4.0, 1.0, 0.01, 0.0, 4.0]), "v")
-    solver = bd._graze(pt, 3.0, 6.0, xtol=1e-9)
+    pt = _Point(np.array([5.0, 50.0, 10.0, 4.0, 1.0, 0.01, 0.0, 4.0]), "v")
+    solver = _graze(pt, 3.0, 6.0, xtol=1e-9)
     asks, evaluations = next(solver), 0
     try:
         while True:

@@ -1,0 +1,69 @@
+"""What every boundary solver knows of its search: the outcome codes, the regime
+groups, and :class:`_Point` (the fixed parameters of one search, the parameter
+``along`` which it moves, and what the solvers derive from them)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .._kernels import codes, layout
+from ..grid import COLUMNS
+
+# Outcome of one boundary search (codes in _kernels/codes.py, the one table)
+LOCATED = codes.B_LOCATED
+ABSENT = codes.B_ABSENT
+FAILED = codes.B_FAILED
+INCONSISTENT = codes.B_INCONSISTENT
+SEARCH_NAMES = codes.SEARCH_NAMES
+
+CYCLES = (codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
+PROPER = (codes.R_EQUILIBRIUM, codes.R_SLIP_CYCLE, codes.R_STICK_SLIP,
+          codes.R_NEUTRAL, codes.R_STUCK)
+STUCK = math.nan        # xdot0 of a request: start stuck on the belt (xdot0 = v)
+
+
+class _Point:
+    """The fixed parameters of one search and what the solvers need from them."""
+
+    def __init__(self, row: np.ndarray, along: str, tol: float | None = None):
+        self.row, self.along, self.tol = row, along, tol
+        self.col = COLUMNS[along]
+
+    def at(self, value: float) -> np.ndarray:
+        r = self.row.copy()
+        r[self.col] = value
+        return r
+
+    def x_eq(self, value: float) -> float:
+        """Steady-sliding position at ``along = value`` [cm], eq. (43)."""
+        r = self.at(value)
+        v = r[layout.V]
+        if v == 0.0:
+            return 0.0
+        va = abs(v)
+        return math.copysign(1.0, v) * (r[layout.RY] - r[layout.A1] * va
+                                        + r[layout.A2] * va ** 3) / r[layout.K]
+
+    def speed(self, value: float) -> float:
+        return self.at(value)[layout.V]
+
+    def contraction(self, value: float) -> float:
+        """``|q| T`` at ``along = value``: q = (alpha1 - 3 alpha2 v^2)/m (eq. 46),
+        T = 2 pi/omega; ``1 - mu`` of a small slip cycle there (mu its Floquet
+        multiplier) is about this."""
+        r = self.at(value)
+        q = (r[layout.A1] - 3.0 * r[layout.A2] * r[layout.V] ** 2) / r[layout.M]
+        return abs(q) * 2.0 * math.pi * math.sqrt(r[layout.M] / r[layout.K])
+
+    def fit_variable(self, value):
+        """The variable in which A^2 is fitted: v^2 along v (q is linear in it)."""
+        return np.asarray(value) ** 2 if self.along == "v" else np.asarray(value)
+
+
+def _ok(row) -> bool:
+    return int(row[layout.OB_STATUS]) == codes.OK
+
+
+def _regime(row) -> int:
+    return int(row[layout.OB_REGIME])
