@@ -8,6 +8,7 @@ import pytest
 
 import sweepcore as sc
 from sweepcore import boundaries as bd
+from sweepcore.boundaries.drive import _together, lockstep
 from sweepcore.boundaries.graze import _graze
 from sweepcore.boundaries.point import _Point
 from sweepcore._kernels import codes, layout
@@ -70,6 +71,30 @@ def test_graze_solver_finds_a_known_root_faster_than_bisection():
     assert abs(out["value"] - v0) <= 1e-9
     # bisection on the labels alone needs log2(3/1e-9) = 32 evaluations
     assert evaluations <= 16
+
+
+def test_lockstep_hands_each_solver_its_own_rows_and_counts_its_requests():
+    """Solvers asking different numbers of values per round, one of them two nested
+    solvers run together: each gets the rows of its own requests (here the
+    request itself, times 10) and the count of its requests comes back."""
+    def solver(values):
+        got = []
+        for batch in values:
+            got.extend((yield list(batch)))
+        return got
+
+    nested = _together([solver([[1.0], [2.0, 3.0]]), solver([[4.0]])])
+    run = lockstep([solver([[5.0, 6.0]]), nested, solver([])])
+    asks, rounds = next(run), 0
+    try:
+        while True:
+            rounds += 1
+            asks = run.send([10.0 * r for _owner, r in asks])
+    except StopIteration as stop:
+        results, evaluations = stop.value
+    assert results == [[50.0, 60.0], [[10.0, 20.0, 30.0], [40.0]], []]
+    assert evaluations.tolist() == [2, 4, 0]
+    assert rounds == 2
 
 
 # ------------------------------------------------------------- the Hopf point

@@ -58,7 +58,7 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
                                   hist["graze_amp"][-1] * scale, seeds,
                                   hist["graze_width"]))
         kinds.append("graze")
-    found = yield from (_together(subs) if subs else _nothing())
+    found = yield from _together(subs)      # [] at once when there is none
     res = _empty()
     missing = {"hopf", "graze"} - {k for k, f in zip(kinds, found)
                                    if f["status"] == LOCATED}
@@ -84,11 +84,6 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
                 res["graze_amp"] = full["graze_amp"]
             res[key] = full[key]
     return res
-
-
-def _nothing():
-    return []
-    yield  # pragma: no cover - makes this a generator
 
 
 def _history():

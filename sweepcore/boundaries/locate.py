@@ -143,7 +143,7 @@ def _locate_point(pt: _Point, values: np.ndarray, xtol: float, offset: float, st
             js = j if reg[j] == codes.R_SLIP_CYCLE else j + 1
             jt = j + 1 if js == j else j
             subs.append(_graze(pt, us[jt], us[js], xtol, [(us[js], rows[js])]))
-    found = iter((yield from _together(subs)) if subs else [])
+    found = iter((yield from _together(subs)))
     hopfs, grazes = [], []
     for j, kind in zip(changes, kinds):
         if kind is None:
