@@ -84,10 +84,7 @@ def _hopf(pt: _Point, guess: float, side: int, offset: float, reach=None,
         us = r * (1.0 + side * offset * np.arange(1, N_SAMPLES + 1))
         check = r * (1.0 - side * offset)
         if reach is None:
-            row = pt.at(r)
-            omega = math.sqrt(row[layout.K] / row[layout.M])
-            scale = row[layout.RY] / row[layout.K] + abs(row[layout.V]) / omega
-            reach = 0.05 * scale * np.sqrt(np.arange(1, N_SAMPLES + 1))
+            reach = 0.05 * pt.length_scale(r) * np.sqrt(np.arange(1, N_SAMPLES + 1))
         reqs = [(u, pt.x_eq(u) + a, 0.0) for u, a in zip(us, reach)]
         rows = yield reqs + [(check, pt.x_eq(check), 0.0)]
         samples, eq_row = rows[:N_SAMPLES], rows[N_SAMPLES]
@@ -194,10 +191,7 @@ def _seeded_hopf(pt: _Point, guess: float, offset: float, reach, shape, xtol):
         if not err <= 0.5 * xtol:
             return (yield from _hopf(pt, guess, -1, offset, reach=reach))
     # plus the amplitudes' error (measured up to ~2 tol L) moving the root
-    row = pt.at(guess)
-    omega = math.sqrt(row[layout.K] / row[layout.M])
-    dA = 2.0 * (pt.tol or 0.0) * (row[layout.RY] / row[layout.K]
-                                  + abs(row[layout.V]) / omega)
+    dA = 2.0 * (pt.tol or 0.0) * pt.length_scale(guess)
     amp = np.sqrt([a2(0), a2(1)])
     moved = _shaped_root(w[0], (amp[0] + dA) ** 2, w[1], (amp[1] - dA) ** 2, shape, hi)
     err += abs(math.sqrt(moved) - root) if np.isfinite(moved) else math.inf

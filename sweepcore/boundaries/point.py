@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from .. import law
 from .._kernels import codes, layout
 from ..grid import COLUMNS
 
@@ -35,26 +36,30 @@ class _Point:
         r[self.col] = value
         return r
 
+    def source(self, value: float) -> dict:
+        """The parameters at ``along = value``, as a source of :mod:`sweepcore.law`."""
+        return law.from_row(self.at(value))
+
     def x_eq(self, value: float) -> float:
         """Steady-sliding position at ``along = value`` [cm], eq. (43)."""
-        r = self.at(value)
-        v = r[layout.V]
-        if v == 0.0:
-            return 0.0
-        va = abs(v)
-        return math.copysign(1.0, v) * (r[layout.RY] - r[layout.A1] * va
-                                        + r[layout.A2] * va ** 3) / r[layout.K]
+        return float(law.derived("x_eq", self.source(value)))
 
     def speed(self, value: float) -> float:
         return self.at(value)[layout.V]
 
+    def length_scale(self, value: float) -> float:
+        """The kernel's length scale L = r_y/k + |v|/omega at ``along = value`` [cm]:
+        the unit of its tolerances."""
+        src = self.source(value)
+        omega = float(law.derived("omega", src))
+        return src["r_y"] / src["k"] + abs(src["v"]) / omega
+
     def contraction(self, value: float) -> float:
-        """``|q| T`` at ``along = value``: q = (alpha1 - 3 alpha2 v^2)/m (eq. 46),
-        T = 2 pi/omega; ``1 - mu`` of a small slip cycle there (mu its Floquet
-        multiplier) is about this."""
-        r = self.at(value)
-        q = (r[layout.A1] - 3.0 * r[layout.A2] * r[layout.V] ** 2) / r[layout.M]
-        return abs(q) * 2.0 * math.pi * math.sqrt(r[layout.M] / r[layout.K])
+        """``|q| T`` at ``along = value`` (q of eq. 46, T = 2 pi/omega): ``1 - mu``
+        of a small slip cycle there (mu its Floquet multiplier) is about this."""
+        src = self.source(value)
+        q = float(law.derived("q", src))
+        return abs(q) * 2.0 * math.pi / float(law.derived("omega", src))
 
     def fit_variable(self, value):
         """The variable in which A^2 is fitted: v^2 along v (q is linear in it)."""
