@@ -1,18 +1,17 @@
 """One slider over time: the hybrid driver sampled on a time axis, as xarray."""
 from __future__ import annotations
 
-import datetime
 import math
 
 import numpy as np
 import xarray as xr
 
+from . import labels, law
 from ._kernels import codes, layout
 from ._kernels.attractor import resolve_options
 from ._kernels.trajectory import fresh_acc, run_trajectory
 from .options import make_options
 from .params import LONG_NAMES, UNITS, Params, check_real, did_you_mean
-from .sweep import REFERENCE
 
 
 def start_row(params: Params, x0: float, xdot0: float | None) -> np.ndarray:
@@ -116,13 +115,13 @@ TIME_STUCK = {"units": "s", "long_name": "time stuck on the belt during the run"
 
 
 def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
-    from . import __version__
-    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     v = params.v
     xd = zd + v
     stick = mode == codes.STICK
-    ra = np.where(stick, -params.k * x,
-                  params.r_y * mode - params.alpha1 * zd + params.alpha2 * zd ** 3)
+    # while sliding the law of eq. (40), on the side the phase says (zd is 0 at a
+    # stick, where -k x holds the slider)
+    ra = np.where(stick, -params.k * x, law.friction(zd, params, phase=mode))
+    method = codes.METHOD_NAMES[int(o[layout.O_METHOD])]
     ev_t, ev_kind, ev_x, ev_zd = ev
     kinds = sorted(k for k in codes.EVENT_NAMES if k <= codes.EV_ABNORMAL_STOP)
     ds = xr.Dataset(
@@ -157,14 +156,11 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
                 **{name: ((), value, {"units": UNITS[name], "long_name": LONG_NAMES[name]})
                    for name, value in zip(UNITS, row)}},
         attrs={
-            "Conventions": "CF-1.11",
-            "title": "sweepcore single-slider simulation",
-            "source": f"sweepcore {__version__}: hybrid stick/slide driver "
-                      f"(method {codes.METHOD_NAMES[int(o[layout.O_METHOD])]})",
-            "references": REFERENCE,
-            "history": f"{now} sweepcore {__version__}: sweepcore.simulate()",
-            "comment": "Units kN, cm, s (mass kN s2 cm-1).",
-            "method": codes.METHOD_NAMES[int(o[layout.O_METHOD])],
+            **labels.provenance("sweepcore single-slider simulation",
+                                "sweepcore.simulate()",
+                                f"hybrid stick/slide driver (method {method})",
+                                "Units kN, cm, s (mass kN s2 cm-1)."),
+            "method": method,
             "status": codes.STATUS_NAMES[status],
             "n_steps": n_steps,
         },

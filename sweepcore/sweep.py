@@ -54,7 +54,6 @@ sweeps of 1e6 and 1e7 points and the time of a refusal.
 """
 from __future__ import annotations
 
-import datetime
 import functools
 import hashlib
 import json
@@ -62,7 +61,6 @@ import logging
 import math
 import sys
 import uuid
-from importlib.metadata import PackageNotFoundError, version
 from pathlib import Path
 
 import numba
@@ -70,9 +68,7 @@ import numpy as np
 import xarray as xr
 from tqdm.auto import tqdm
 
-from . import execute
-from . import grid as _grid
-from . import variables
+from . import execute, labels, law, variables
 from ._kernels import codes, layout
 from ._kernels.attractor import attractor_rows, attractor_rows_parallel
 from .boundary import BOUNDARY_VARIABLES, hopf_boundary
@@ -85,16 +81,6 @@ from .sizing import (SweepTooLarge, default_chunk, estimate, refuse_if_too_large
 # estimate and SweepTooLarge live in sizing; sweepcore.sweep.estimate is documented
 __all__ = ["sweep", "estimate", "SweepTooLarge", "run_chunk", "run_chunk_parallel"]
 _log = logging.getLogger(__name__)
-
-REFERENCE = ('C.-S. Liu, "Coulomb friction applied to analyze the cutting vibration '
-             'of tool on workpiece"')
-
-
-def _version() -> str:
-    try:
-        return version("sweepcore")
-    except PackageNotFoundError:   # source tree without install
-        return "0.1.0"
 
 
 # ----------------------------------------------------------------- one chunk
@@ -338,7 +324,7 @@ def _kernel_digest() -> str:
 
 def _working_store(path, grid, o, method, tol, options, chunk) -> WorkingStore:
     """The resumable store of ``path``, keyed by a hash of what fixes the results."""
-    config = {"grid": grid.fingerprint(), "options": o.tolist(), "version": _version(),
+    config = {"grid": grid.fingerprint(), "options": o.tolist(), "version": labels.version(),
               "kernels": _kernel_digest()}
     digest = hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()
     readable = {"grid": repr(grid), "method": method, "tol": tol, **options}
@@ -372,15 +358,6 @@ def _option_attrs(o: np.ndarray) -> dict:
     }
 
 
-def _flag_attrs(meta: dict) -> dict:
-    return {**meta, "flag_values": np.array(meta["flag_values"], dtype=np.int8)}
-
-
-def _attrs(units: str, long_name: str, comment: str) -> dict:
-    attrs = {"units": units, "long_name": long_name}
-    return {**attrs, "comment": comment} if comment else attrs
-
-
 def _dataset(grid: Grid, column, o: np.ndarray, method: str,
              call: str) -> xr.Dataset:
     """The labelled result; ``column(col)`` gives observable column ``col`` over the
@@ -388,11 +365,11 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
     dims = grid.dims
     data = {}
     for name, (col, *meta) in variables.OBSERVABLES.items():
-        data[name] = xr.Variable(dims, column(col), _attrs(*meta))
+        data[name] = xr.Variable(dims, column(col), labels.attrs(*meta))
     status = column(layout.OB_STATUS).astype(np.int8)
     regime = column(layout.OB_REGIME).astype(np.int8)
-    data["regime"] = xr.Variable(dims, regime, _flag_attrs(variables.REGIME))
-    data["status"] = xr.Variable(dims, status, _flag_attrs(variables.STATUS))
+    data["regime"] = xr.Variable(dims, regime, labels.flag_attrs(variables.REGIME))
+    data["status"] = xr.Variable(dims, status, labels.flag_attrs(variables.STATUS))
     data["converged"] = xr.Variable(
         dims, (status == codes.OK).astype(np.int8),
         {"units": "1", "long_name": "attractor recognised (status ok)",
@@ -408,12 +385,9 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
         inputs = {a: xr.DataArray(dsa.from_array(c.values, chunks=block[c.dims[0]]),
                                   dims=c.dims) if c.ndim else c.variable
                   for a, c in inputs.items()}
-
-    for name, (func, args) in _grid.ANALYTIC.items():
-        da = xr.apply_ufunc(func, *(inputs[a] for a in args), keep_attrs=False,
-                            dask="parallelized", output_dtypes=[np.float64])
-        da = da.transpose(*(d for d in dims if d in da.dims))
-        ds[name] = xr.Variable(da.dims, da.data, _attrs(*variables.ANALYTIC[name]))
+    for name in law.DERIVED:
+        da = labels.analytic(name, inputs, dims)      # a Variable where inputs are
+        ds[name] = xr.Variable(da.dims, da.data, da.attrs)
 
     if "v" in ds.dims and ds.sizes["v"] >= 2:
         # lazily: the boundary needs the regime of the whole grid, 1 byte per point
@@ -421,17 +395,13 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
                            else ds)
         ds = ds.assign({n: bd[n].variable for n in BOUNDARY_VARIABLES})
 
-    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     ds.attrs.update({
-        "Conventions": "CF-1.11",
-        "title": "Attractors of the stick-slip friction oscillator over a parameter grid",
-        "history": f"{now} sweepcore {_version()}: {call}",
-        "source": f"sweepcore {_version()}: hybrid stick/slide driver with on-line "
-                  "attractor search (numba kernels)",
-        "references": REFERENCE,
-        "comment": "Units kN, cm, s (mass kN s2 cm-1). Each point starts at "
-                   "(x0, xdot0) and is run until its attractor is recognised; see "
-                   "status and converged.",
+        **labels.provenance(
+            "Attractors of the stick-slip friction oscillator over a parameter grid",
+            call, "hybrid stick/slide driver with on-line attractor search (numba "
+            "kernels)", "Units kN, cm, s (mass kN s2 cm-1). Each point starts at "
+            "(x0, xdot0) and is run until its attractor is recognised; see status and "
+            "converged."),
         "method": method,
         "tol": float(o[layout.O_RTOL]),
         **_option_attrs(o),

@@ -3,54 +3,25 @@ dimensions, the regime changes along ``transition``, and the analytic values alo
 v to compare with."""
 from __future__ import annotations
 
-import datetime
-import math
-
 import numpy as np
 import xarray as xr
 
-from .. import variables
+from .. import labels
 from .._kernels import codes, layout
 from ..grid import Grid
-from ..law import v_star as _v_star
 from ..params import LONG_NAMES, UNITS
 from .point import ABSENT, SEARCH_NAMES
 
 
-def _flag(meanings: dict, long_name: str) -> dict:
-    keys = sorted(meanings)
-    return {"units": "1", "long_name": long_name,
-            "flag_values": np.array(keys, np.int8),
-            "flag_meanings": " ".join(meanings[k] for k in keys)}
-
-
-def _analytic(ds: xr.Dataset) -> xr.Dataset:
-    """``v_star`` and the averaging estimate of the stick onset beside the located
-    boundaries (along v)."""
-    vs_units, vs_long, vs_comment = variables.ANALYTIC["v_star"]
-    vs = xr.apply_ufunc(_v_star, ds["alpha1"], ds["alpha2"])
-    ds["v_star"] = xr.Variable(vs.dims, np.asarray(vs.values, np.float64),
-                               {"units": vs_units, "long_name": vs_long,
-                                "comment": vs_comment})
-    ds["v_stick_onset_estimate"] = xr.Variable(
-        vs.dims, 2.0 / math.sqrt(5.0) * np.asarray(vs.values, np.float64),
-        {"units": "cm s-1", "long_name": "averaging estimate 2 v*/sqrt(5) of the "
-                                         "stick onset",
-         "comment": "the averaged cycle's velocity amplitude 2 sqrt(v*^2 - v^2) "
-                    "reaches v"})
-    return ds
-
-
 def _dataset(other: Grid, along: str, results, o, method, call,
              transitions: bool) -> xr.Dataset:
-    from ..sweep import REFERENCE, _version
     dims, shape = other.dims, other.shape
     units = UNITS[along]
 
     def field(key, dtype=np.float64):
         return np.array([r[key] for r in results], dtype).reshape(shape)
 
-    status = _flag(SEARCH_NAMES, "outcome of the boundary search")
+    status = labels.flags(SEARCH_NAMES, "outcome of the boundary search")
     data = {
         "v_hopf": (field("v_hopf"), {
             "units": units, "long_name": "measured Hopf point (cycle | equilibrium)",
@@ -101,24 +72,21 @@ def _dataset(other: Grid, along: str, results, o, method, call,
             "units": units, "long_name": f"{LONG_NAMES[along]} of a regime change"})
         ds["transition_width"] = xr.Variable(tdims, wid, {
             "units": units, "long_name": "final bracket width (Hopf: error estimate)"})
-        ds["regime_below"] = xr.Variable(tdims, below, _flag(regimes,
+        ds["regime_below"] = xr.Variable(tdims, below, labels.flags(regimes,
                                                              "regime below the change"))
-        ds["regime_above"] = xr.Variable(tdims, above, _flag(regimes,
+        ds["regime_above"] = xr.Variable(tdims, above, labels.flags(regimes,
                                                              "regime above the change"))
         ds["transition_status"] = xr.Variable(tdims, st, {
             **status, "long_name": "outcome of the search of the change"})
     if along == "v":        # the analytic values to compare with
-        ds = _analytic(ds)
-    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+        ds["v_star"] = labels.analytic("v_star", ds).variable
+        ds["v_stick_onset_estimate"] = labels.stick_onset_estimate(ds).variable
     ds.attrs.update({
-        "Conventions": "CF-1.11",
-        "title": "Regime boundaries of the stick-slip friction oscillator",
-        "history": f"{now} sweepcore {_version()}: {call}",
-        "source": f"sweepcore {_version()}: root solves on smooth indicators of the "
-                  "attractor (sweepcore.boundaries)",
-        "references": REFERENCE,
-        "comment": "Units kN, cm, s. Status flags say where a boundary was not "
-                   "located and why.",
+        **labels.provenance(
+            "Regime boundaries of the stick-slip friction oscillator", call,
+            "root solves on smooth indicators of the attractor (sweepcore.boundaries)",
+            "Units kN, cm, s. Status flags say where a boundary was not located and "
+            "why."),
         "along": along,
         "method": method,
         "tol": float(o[layout.O_RTOL]),
