@@ -17,7 +17,7 @@ import sweepcore
 from sweepcore.io import write_netcdf
 from sweepcore.params import LONG_NAMES, UNITS
 from sweepcore.sweep import REFERENCE
-from sweepcore.plot import friction_figure, save
+from sweepcore.plot import plot_friction, save
 
 from _common import Timer, output_dir
 
@@ -49,7 +49,7 @@ def main(out):
                    "references": REFERENCE,
                    "history": f"{now:%Y-%m-%dT%H:%M:%SZ} python studies/paper_fig4.py"})
         write_netcdf(ds, out / "paper_fig4.nc")
-        save(friction_figure(R_Y, ALPHA1, ALPHA2), out / "paper_fig4.png")
+        save(plot_friction(R_Y, ALPHA1, ALPHA2), out / "paper_fig4.png")
     print(f"  v* = {v_star:.6g} cm/s, minimum sliding friction "
           f"{R_Y - 2 * ALPHA1 * v_star / 3:.6g} kN")
     return [out / "paper_fig4.nc", out / "paper_fig4.png"]

@@ -308,8 +308,8 @@ def _run(args, study, grid, out, png) -> int:
         print(f"wrote {out} ({grid.size} points in {elapsed:.1f} s)")
         print(regime_line(ds))
     if png is not None:
-        from .plot import figure_for, save
-        save(figure_for(ds, **study.plot), png)
+        from .plot import plot_result, save
+        save(plot_result(ds, **study.plot), png)
         if not args.quiet:
             print(f"wrote {png}")
     return 0
@@ -342,7 +342,7 @@ def _command_line(args) -> str:
 
 def cmd_plot(args) -> int:
     """``sweepcore plot``: the natural picture of a result file."""
-    from .plot import figure_for, save
+    from .plot import plot_result, save
 
     ds = _open(args.result)
     out = Path(args.output) if args.output else Path(args.result).with_suffix(".png")
@@ -375,7 +375,7 @@ def cmd_plot(args) -> int:
                 kwargs = {**parse_study(ds.attrs["study"]).plot, **kwargs}
             except StudyError:    # a study of another version: default picture
                 pass
-    save(figure_for(ds, **kwargs), out)
+    save(plot_result(ds, **kwargs), out)
     print(f"wrote {out}")
     return 0
 
@@ -405,8 +405,8 @@ def cmd_simulate(args) -> int:
         write_netcdf(ds, args.output)
         print(f"wrote {args.output}")
     if args.png:
-        from .plot import save, trajectory_figure
-        save(trajectory_figure(ds), args.png)
+        from .plot import save, plot_trajectory
+        save(plot_trajectory(ds), args.png)
         print(f"wrote {args.png}")
     if not (args.output or args.png):
         print("(nothing written: give -o RUN.nc and/or --png FIG.png)")
@@ -726,8 +726,8 @@ def cmd_boundary(args) -> int:
               f"one is along {b['along']})")
         png = None
     if png is not None:
-        from .plot import figure_for, save
-        save(figure_for(ds), png)
+        from .plot import plot_result, save
+        save(plot_result(ds), png)
         if not args.quiet:
             print(f"wrote {png}")
     return 0
