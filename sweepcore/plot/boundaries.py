@@ -2,7 +2,6 @@
 against their second parameter (over a regime map when one is given)."""
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import xarray as xr
@@ -84,7 +83,7 @@ def plot_diagram(ds: xr.Dataset, title: str | None = None) -> Figure:
 
 
 def plot_boundaries(ds: xr.Dataset, over: xr.Dataset | None = None,
-                      title: str | None = None) -> Figure:
+                    title: str | None = None) -> Figure:
     """Located boundary curves (:func:`sweepcore.locate_boundaries` or
     :func:`sweepcore.continue_boundary`) against their second parameter.
 
@@ -145,7 +144,9 @@ def plot_boundaries(ds: xr.Dataset, over: xr.Dataset | None = None,
     axh.set_title("Hopf point against the analytic v*", fontsize=10)
     axs.plot(y, (ds["v_stick_onset"] / ds["v_star"]).values, color="#CC79A7",
              marker=".", ms=3, lw=1.0, label=r"$v_{stick}/v^*$ (located)")
-    axs.axhline(math.sqrt(0.8), color="0.4", ls=":", label=r"averaging $\sqrt{4/5}$")
+    if "v_stick_onset_estimate" in ds:
+        axs.plot(y, (ds["v_stick_onset_estimate"] / ds["v_star"]).values, color="0.4",
+                 ls=":", label=r"averaging $\sqrt{4/5}$")
     axs.set_ylabel("stick onset / v*")
     axs.legend(fontsize=8)
     axs.set_title("stick onset against the averaging estimate", fontsize=10)

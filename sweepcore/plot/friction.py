@@ -6,32 +6,38 @@ import math
 import numpy as np
 from matplotlib.figure import Figure
 
+from .. import law
+
 
 
 def plot_friction(r_y: float, alpha1: float, alpha2: float,
-                    zdot_max: float | None = None) -> Figure:
+                  zdot_max: float | None = None) -> Figure:
     """Fig. 4 of the paper: the friction law r_a(zdot) of eq. (40), with v* marked.
 
-    r_a = r_y sgn(zdot) - alpha1 zdot + alpha2 zdot^3 while sliding; at zdot = 0 the
-    force is anywhere in [-r_y, r_y] (eq. 6), drawn as a vertical segment. The slope
-    is negative for |zdot| < v* = sqrt(alpha1/(3 alpha2)), where r_a has its
-    minimum r_y - (2/3) alpha1 v*.
+    r_a = r_y sgn(zdot) - alpha1 zdot + alpha2 zdot^3 while sliding
+    (:func:`sweepcore.law.friction`); at zdot = 0 the force is anywhere in
+    [-r_y, r_y] (eq. 6), drawn as a vertical segment. The slope is negative for
+    |zdot| < v* (:mod:`sweepcore.law`), where r_a has its minimum, marked when
+    v* is finite and > 0.
     """
-    v_star = math.sqrt(alpha1 / (3 * alpha2)) if alpha2 > 0 and alpha1 > 0 else math.nan
+    law_of = {"r_y": r_y, "alpha1": alpha1, "alpha2": alpha2}
+    v_star = float(law.derived("v_star", law_of))
+    if not 0.0 < v_star < math.inf:     # no negative slope: nothing to mark
+        v_star = math.nan
     if zdot_max is None:
         zdot_max = 2.2 * v_star if math.isfinite(v_star) else 10.0
     fig = Figure(figsize=(7.5, 5.2), layout="constrained")
     ax = fig.subplots()
     for sgn in (1, -1):
         zd = sgn * np.linspace(1e-9, zdot_max, 400)
-        ra = r_y * sgn - alpha1 * zd + alpha2 * zd ** 3
+        ra = law.friction(zd, law_of, phase=sgn)
         ax.plot(zd, ra, color="#0072B2", lw=2,
                 label=(r"$r_a = r_y\,\mathrm{sgn}(\dot z) - \alpha_1\dot z "
                        r"+ \alpha_2\dot z^3$ (eq. 40)") if sgn == 1 else None)
     ax.plot([0, 0], [-r_y, r_y], color="#0072B2", lw=2, ls=":",
             label=r"sticking: $r_a \in [-r_y, r_y]$ (eq. 6)")
     if math.isfinite(v_star):
-        r_min = r_y - 2 * alpha1 * v_star / 3
+        r_min = float(law.friction(v_star, law_of))
         for sgn in (1, -1):
             ax.plot(sgn * v_star, sgn * r_min, "o", color="#D55E00", ms=7, zorder=3)
             ax.axvline(sgn * v_star, color="#D55E00", lw=0.8, ls="--")

@@ -2,13 +2,12 @@
 with the paper's reference curves."""
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
+from .. import labels
 from .._kernels import codes
 from .style import (REGIME_COLOURS, axis_scale, flag_axis, fmt, label, regime_codes,
                     sweep_title)
@@ -27,7 +26,7 @@ _MARKERS = "osD^vP"
 
 
 def plot_lines(ds: xr.Dataset, dim: str, variables=("amplitude", "mean"),
-                title: str | None = None, series: str | None = None) -> Figure:
+               title: str | None = None, series: str | None = None) -> Figure:
     """Observables of a 1-D sweep against ``dim``, points coloured by regime.
 
     The paper's reference curves are drawn beside the measurement: v/omega for the
@@ -115,7 +114,8 @@ def _vstar_line(ax, ds, dim, handles):
 
 
 def _small_cycle(ax, ds, dim, handles):
-    """Averaging estimate A = 2 sqrt(v*^2 - v^2)/omega for 2 v*/sqrt(5) < v < v*.
+    """Averaging estimate A = 2 sqrt(v*^2 - v^2)/omega between the estimated stick
+    onset (2 v*/sqrt(5), :func:`sweepcore.law.stick_onset_estimate`) and v*.
 
     First-order averaging of eq. (41) about x_eq gives the velocity amplitude
     2 sqrt(v*^2 - v^2) of the small slip cycle; it reaches the belt speed (and the
@@ -124,9 +124,10 @@ def _small_cycle(ax, ds, dim, handles):
     if dim != "v" or "v_star" not in ds or "omega" not in ds:
         return
     vs, om = np.unique(ds["v_star"].values), np.unique(ds["omega"].values)
-    if vs.size != 1 or om.size != 1 or not np.isfinite(vs[0]):
+    onset = np.unique(labels.stick_onset_estimate(ds).values)
+    if vs.size != 1 or om.size != 1 or onset.size != 1 or not np.isfinite(vs[0]):
         return
-    v = np.linspace(2 * vs[0] / math.sqrt(5), vs[0], 200)
+    v = np.linspace(onset[0], vs[0], 200)
     v = v[(v >= ds.v.values.min()) & (v <= ds.v.values.max())]
     if v.size:
         handles["small"] = ax.plot(v, 2 * np.sqrt(vs[0] ** 2 - v ** 2) / om[0],

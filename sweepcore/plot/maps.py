@@ -2,7 +2,6 @@
 analytic v* and the measured boundaries drawn over them."""
 from __future__ import annotations
 
-import math
 import warnings
 
 import numpy as np
@@ -13,6 +12,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
+from .. import law
 from .style import (REGIME_COLOURS, SYMBOLS, axis_scale, fmt, is_geometric, label,
                     pretty_units, regime_codes, sweep_title)
 
@@ -55,8 +55,8 @@ def _plane(ds: xr.Dataset, x: str | None, y: str | None):
 
 
 def plot_map(ds: xr.Dataset, x: str | None = None, y: str | None = None,
-               variables=("regime", "amplitude"), title: str | None = None,
-               boundary: bool = True) -> Figure:
+             variables=("regime", "amplitude"), title: str | None = None,
+             boundary: bool = True) -> Figure:
     """Maps of a 2-D sweep: categorical regime map and colour maps of observables.
 
     Parameters
@@ -211,20 +211,22 @@ def _overlays(ds: xr.Dataset, x: str, y: str) -> list:
     return out
 
 
-# v* and the averaging estimate of the end of stick-slip, 2 v*/sqrt(5): the small
+# v* and the averaging estimate of the end of stick-slip (sweepcore.law): the small
 # cycle has velocity amplitude 2 sqrt(v*^2 - v^2) (first-order averaging of eq. 41
 # about x_eq), which reaches the belt speed v when v = 2 v*/sqrt(5); see
 # docs/studies.md, "hopf_map".
 _ANALYTIC = (
-    (1.0, dict(color="white", ls="--", lw=2.0,
-               label=r"analytic $v^* = \sqrt{\alpha_1/3\alpha_2}$ ($q = 0$)")),
-    (2.0 / math.sqrt(5.0), dict(color="white", ls=":", lw=2.0,
-                                label=r"estimate: stick-slip below $2v^*/\sqrt{5}$")),
+    (lambda src: law.derived("v_star", src), dict(
+        color="white", ls="--", lw=2.0,
+        label=r"analytic $v^* = \sqrt{\alpha_1/3\alpha_2}$ ($q = 0$)")),
+    (law.stick_onset_estimate, dict(
+        color="white", ls=":", lw=2.0,
+        label=r"estimate: stick-slip below $2v^*/\sqrt{5}$")),
 )
 
 
 def _analytic_curves(ds, x, y) -> list:
-    """v* = sqrt(alpha1/(3 alpha2)) and 2 v*/sqrt(5) in the (x, y) plane.
+    """v* and the averaging estimate of the stick onset in the (x, y) plane.
 
     Drawn when one axis is v and the other alpha1 or alpha2 (the other fixed).
     """
@@ -237,12 +239,10 @@ def _analytic_curves(ds, x, y) -> list:
     ends = ds[other].values[[0, -1]]
     s = np.geomspace(*ends, 400) if is_geometric(ds[other].values) \
         else np.linspace(*ends, 400)
-    a1, a2 = (s, float(ds[fixed])) if other == "alpha1" else (float(ds[fixed]), s)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        vs = np.sqrt(np.asarray(a1) / (3 * np.asarray(a2)))
+    src = {other: s, fixed: float(ds[fixed])}
     out = []
-    for factor, style in _ANALYTIC:
-        vv = factor * vs
+    for formula, style in _ANALYTIC:
+        vv = np.broadcast_to(formula(src), s.shape)
         vv = np.where((vv >= ds.v.values.min()) & (vv <= ds.v.values.max()), vv, np.nan)
         if np.isfinite(vv).any():
             # white on the maps; outlined in grey in the legend, which is on white

@@ -90,7 +90,7 @@ def _trajectory_title(ds: xr.Dataset) -> str:
 
 
 def plot_cases(runs, labels, title: str | None = None,
-                 equilibria=None) -> Figure:
+               equilibria=None) -> Figure:
     """Fig. 5 of the paper: x(t), xdot(t) and (x, xdot) for several runs (one row each).
 
     Parameters
