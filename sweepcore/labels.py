@@ -62,6 +62,14 @@ def flags(meanings: dict, long_name: str) -> dict:
             "flag_meanings": " ".join(meanings[k] for k in keys)}
 
 
+def parameter(ds: xr.Dataset, name: str) -> float:
+    """A simulation's parameter: its scalar coordinate (files of older versions: the
+    global attribute), NaN when absent."""
+    if name in ds.coords and ds[name].ndim == 0:
+        return float(ds[name])
+    return float(ds.attrs.get(name, np.nan))
+
+
 # ------------------------------------------------------------ analytic variables
 def _over(coords, name: str, formula) -> xr.DataArray:
     """``formula(source)`` over the coordinates that ``law.derived(name)`` takes,

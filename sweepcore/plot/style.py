@@ -126,14 +126,6 @@ def fmt(value) -> str:
     return f"{v:.4g}" if isinstance(v, (int, float)) else str(v)
 
 
-def param(ds: xr.Dataset, name: str) -> float:
-    """A simulation's parameter: its scalar coordinate (files of older versions: the
-    global attribute), NaN when absent."""
-    if name in ds.coords and ds[name].ndim == 0:
-        return float(ds[name])
-    return float(ds.attrs.get(name, np.nan))
-
-
 def regime_codes(ds: xr.Dataset) -> tuple[list, list]:
     attrs = ds["regime"].attrs
     values = [int(x) for x in np.atleast_1d(attrs.get("flag_values",

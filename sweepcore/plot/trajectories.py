@@ -6,7 +6,8 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
-from .style import SYMBOLS, label, param
+from ..labels import parameter
+from .style import SYMBOLS, label
 
 _EVENT_STYLE = {
     "slip": dict(marker="^", color="#009E73", label="slip (eq. 27)"),
@@ -52,7 +53,7 @@ def plot_trajectory(ds: xr.Dataset, title: str | None = None) -> Figure:
     """
     fig = Figure(figsize=(13, 7.2), layout="constrained")
     axs = fig.subplots(2, 3)
-    v = param(ds, "v")
+    v = parameter(ds, "v")
     t = ds.time.values
     events = _events(ds)
     rows = (("z", "zdot", True), ("x", "xdot", False))
@@ -81,11 +82,11 @@ def plot_trajectory(ds: xr.Dataset, title: str | None = None) -> Figure:
 
 
 def _trajectory_title(ds: xr.Dataset) -> str:
-    p = ", ".join(f"${SYMBOLS[n]}$ = {param(ds, n):.4g}" for n in
+    p = ", ".join(f"${SYMBOLS[n]}$ = {parameter(ds, n):.4g}" for n in
                   ("m", "k", "r_y", "v", "alpha1", "alpha2")
-                  if np.isfinite(param(ds, n)))
-    start = (f"start ($x_0$, $\\dot{{x}}_0$) = ({param(ds, 'x0'):.4g}, "
-             f"{param(ds, 'xdot0'):.4g})")
+                  if np.isfinite(parameter(ds, n)))
+    start = (f"start ($x_0$, $\\dot{{x}}_0$) = ({parameter(ds, 'x0'):.4g}, "
+             f"{parameter(ds, 'xdot0'):.4g})")
     return f"Single slider: {p}; {start}; method {ds.attrs.get('method', '?')}"
 
 
@@ -107,7 +108,7 @@ def plot_cases(runs, labels, title: str | None = None,
     axs = np.atleast_2d(fig.subplots(n, 3))
     letters = iter("abcdefghijklmnopqrstuvwxyz")
     for i, (ds, text) in enumerate(zip(runs, labels)):
-        v = param(ds, "v")
+        v = parameter(ds, "v")
         t = ds.time.values
         ax_x, ax_v, ax_p = axs[i]
         ax_x.plot(t, ds.x.values, lw=0.9, color="#0072B2")
