@@ -56,7 +56,7 @@ def _thread_count(text: str) -> int:
 
 # ------------------------------------------------------------------- parser
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser of ``sweepcore`` (subcommands run, plot, simulate, info)."""
+    """The argument parser of ``sweepcore`` (the subcommands of :data:`SUBCOMMANDS`)."""
     parser = argparse.ArgumentParser(
         prog="sweepcore",
         description="Parameter sweeps of the stick-slip friction oscillator (Liu): a "
@@ -75,12 +75,10 @@ def build_parser() -> argparse.ArgumentParser:
                         help="show the full traceback of an error")
     parser.add_argument("--version", action="version", version=f"sweepcore {version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
-    _add_run(sub)
-    _add_plot(sub)
-    _add_simulate(sub)
-    _add_info(sub)
-    _add_export(sub)
-    _add_boundary(sub)
+    for name, (summary, description, add_options) in SUBCOMMANDS.items():
+        p = sub.add_parser(name, help=summary, description=description)
+        add_options(p)
+        p.set_defaults(func=getattr(commands, f"cmd_{name}"))
     return parser
 
 
@@ -100,14 +98,7 @@ def _add_study_options(p, output: str, png: str, scheduler: str, chunks: str,
     p.add_argument("-q", "--quiet", action="store_true", help=quiet)
 
 
-def _add_run(sub):
-    p = sub.add_parser(
-        "run", help="run the sweep of a TOML study file, write netCDF and its picture",
-        description="Run the sweep described by a TOML study file (format: "
-                    "docs/studies.md), write the result as netCDF and draw it. The "
-                    "study file is validated first: on any error nothing is written. "
-                    "An interrupted run resumes when rerun with the same output. "
-                    + UNITS_HELP + ".")
+def _run_options(p):
     _add_study_options(
         p, output="netCDF result; default [output] path of the study, else <study "
                   "stem>.nc in the current directory",
@@ -118,16 +109,9 @@ def _add_run(sub):
         chunks="points per chunk (task and resume unit); default [solver] chunks, else "
                "sweepcore's choice",
         quiet="no progress bar and no summary")
-    p.set_defaults(func=commands.cmd_run)
 
 
-def _add_plot(sub):
-    p = sub.add_parser(
-        "plot", help="draw the natural picture of a result file",
-        description="Draw a result: a 2-D sweep as regime and amplitude maps with "
-                    "the analytic v* and the measured boundaries, a 1-D sweep as "
-                    "amplitude and mean against its axis, a simulation as time "
-                    "histories and phase planes (the paper's Fig. 3).")
+def _plot_options(p):
     p.add_argument("result", metavar="RESULT.nc", help="netCDF result of run/simulate")
     p.add_argument("-o", "--output", metavar="FIG.png",
                    help="picture; default the result's path with .png")
@@ -135,15 +119,9 @@ def _add_plot(sub):
     p.add_argument("--y", metavar="DIM", help="dimension up (maps)")
     p.add_argument("--variables", metavar="NAME[,NAME...]",
                    help="panels, e.g. regime,amplitude,mean (sweeps)")
-    p.set_defaults(func=commands.cmd_plot)
 
 
-def _add_simulate(sub):
-    p = sub.add_parser(
-        "simulate", help="simulate one slider: time histories and phase planes",
-        description="Simulate one slider from (x0, xdot0) and draw z, zdot, x, xdot "
-                    "against time and the phase planes (z, zdot) and (x, xdot), as "
-                    "the paper's Fig. 3. " + UNITS_HELP + ".")
+def _simulate_options(p):
     req = p.add_argument_group("slider (required)")
     req.add_argument("--m", type=float, required=True, help="mass [kN s^2/cm], > 0")
     req.add_argument("--k", type=float, required=True, help="stiffness [kN/cm], > 0")
@@ -163,8 +141,7 @@ def _add_simulate(sub):
                    help="end time [s] (default 60)")
     p.add_argument("--output-dt", dest="output_dt", type=float, default=None,
                    help="sampling interval [s] (default a hundredth of 2 pi/omega)")
-    p.add_argument("--method", default="auto",
-                   choices=METHODS,
+    p.add_argument("--method", default="auto", choices=METHODS,
                    help="stepper (default auto: exact for alpha2 = 0, else dopri5)")
     p.add_argument("--tol", type=float, default=1e-10,
                    help="tolerance of dopri5 (default 1e-10)")
@@ -172,45 +149,20 @@ def _add_simulate(sub):
                    help="fixed step of gps and rk4 [s] (default 2 pi/omega/50)")
     p.add_argument("-o", "--output", metavar="RUN.nc", help="write the run as netCDF")
     p.add_argument("--png", metavar="FIG.png", help="write the picture")
-    p.set_defaults(func=commands.cmd_simulate)
 
 
-def _add_info(sub):
-    p = sub.add_parser("info", help="summarise a result file",
-                       description="Print the dimensions, axes with units, regime "
-                                   "and status counts, converged fraction and the "
-                                   "provenance attributes of a result file.")
+def _info_options(p):
     p.add_argument("result", metavar="RESULT.nc")
-    p.set_defaults(func=commands.cmd_info)
 
 
-def _add_export(sub):
-    p = sub.add_parser(
-        "export", help="write a result file as CSV (one row per point or sample)",
-        description="Write a result as CSV: a sweep as one row per grid point (the "
-                    "swept parameters, then every variable), a simulation as one row "
-                    "per time sample (its event log goes to <OUT stem>_events.csv). "
-                    "Column headers carry the units, e.g. 'amplitude [cm]'; regime, "
-                    "status and other flag variables are written as names. Meanings: "
-                    "docs/variables.md.")
+def _export_options(p):
     p.add_argument("result", metavar="RESULT.nc", help="netCDF result of run/simulate")
     p.add_argument("--csv", required=True, metavar="OUT.csv", help="CSV file to write")
     p.add_argument("--variables", metavar="NAME[,NAME...]",
                    help="only these variables (default all)")
-    p.set_defaults(func=commands.cmd_export)
 
 
-def _add_boundary(sub):
-    p = sub.add_parser(
-        "boundary", help="locate the Hopf point and the stick onset to full precision, "
-                         "or draw a bifurcation diagram",
-        description="Locate the regime boundaries of a study along v (the Hopf point "
-                    "from the cycle's amplitude, the stick onset from the grazing of "
-                    "the cycle with the belt, every other change from the labels) to "
-                    "xtol, for every point of the other axes, or follow them along one "
-                    "parameter by continuation, or scan a bifurcation diagram up and "
-                    "down; settings in the study's [boundary] table (docs/studies.md). "
-                    + UNITS_HELP + ".")
+def _boundary_options(p):
     _add_study_options(
         p, output="netCDF result; default [boundary] path, else <study "
                   "stem>_boundaries.nc",
@@ -218,4 +170,51 @@ def _add_boundary(sub):
         scheduler="as for run (not for continuation or diagrams)",
         chunks="points per task (not for continuation or diagrams)",
         quiet="no summary")
-    p.set_defaults(func=commands.cmd_boundary)
+
+
+# name -> (one-line help, description, the function adding its options); the
+# command's function is commands.cmd_<name>
+SUBCOMMANDS = {
+    "run": (
+        "run the sweep of a TOML study file, write netCDF and its picture",
+        "Run the sweep described by a TOML study file (format: docs/studies.md), "
+        "write the result as netCDF and draw it. The study file is validated first: "
+        "on any error nothing is written. An interrupted run resumes when rerun with "
+        "the same output. " + UNITS_HELP + ".",
+        _run_options),
+    "plot": (
+        "draw the natural picture of a result file",
+        "Draw a result: a 2-D sweep as regime and amplitude maps with the analytic v* "
+        "and the measured boundaries, a 1-D sweep as amplitude and mean against its "
+        "axis, a simulation as time histories and phase planes (the paper's Fig. 3).",
+        _plot_options),
+    "simulate": (
+        "simulate one slider: time histories and phase planes",
+        "Simulate one slider from (x0, xdot0) and draw z, zdot, x, xdot against time "
+        "and the phase planes (z, zdot) and (x, xdot), as the paper's Fig. 3. "
+        + UNITS_HELP + ".",
+        _simulate_options),
+    "info": (
+        "summarise a result file",
+        "Print the dimensions, axes with units, regime and status counts, converged "
+        "fraction and the provenance attributes of a result file.",
+        _info_options),
+    "export": (
+        "write a result file as CSV (one row per point or sample)",
+        "Write a result as CSV: a sweep as one row per grid point (the swept "
+        "parameters, then every variable), a simulation as one row per time sample "
+        "(its event log goes to <OUT stem>_events.csv). Column headers carry the "
+        "units, e.g. 'amplitude [cm]'; regime, status and other flag variables are "
+        "written as names. Meanings: docs/variables.md.",
+        _export_options),
+    "boundary": (
+        "locate the Hopf point and the stick onset to full precision, or draw a "
+        "bifurcation diagram",
+        "Locate the regime boundaries of a study along v (the Hopf point from the "
+        "cycle's amplitude, the stick onset from the grazing of the cycle with the "
+        "belt, every other change from the labels) to xtol, for every point of the "
+        "other axes, or follow them along one parameter by continuation, or scan a "
+        "bifurcation diagram up and down; settings in the study's [boundary] table "
+        "(docs/studies.md). " + UNITS_HELP + ".",
+        _boundary_options),
+}
