@@ -40,8 +40,10 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
     x0, xdot0 : float
         Start [cm], [cm/s]. ``xdot0=None`` starts stuck on the belt (xdot0 = v), as
         in the paper's figures.
-    method : {"auto", "exact", "gps", "rk4", "dopri5"}
-        "exact" (closed-form arcs) needs alpha2 = 0; "auto" picks it then, else dopri5.
+    method : str
+        "auto" or a stepper of ``sweepcore.options.METHODS`` (the method table of
+        ``sweepcore._kernels.codes``); "exact" (closed-form arcs) needs alpha2 = 0;
+        "auto" picks it then, else dopri5.
     output_dt : float, optional
         Sampling interval [s]; default 2 pi / omega / 100 (at most 10^6 samples).
     tol, dt, max_steps, gps_a, graze :

@@ -117,9 +117,10 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
     ----------
     grid : Grid
         Validated parameter sets (kN, cm, s).
-    method : {"auto", "exact", "gps", "rk4", "dopri5"}
-        Stepper; "auto" is exact where alpha2 = 0, else dopri5 at ``tol``.
-        "exact" needs alpha2 = 0 at every point.
+    method : str
+        "auto" or a stepper of ``sweepcore.options.METHODS`` (the method table of
+        ``sweepcore._kernels.codes``); "auto" is exact where alpha2 = 0, else dopri5
+        at ``tol``. "exact" needs alpha2 = 0 at every point.
     tol : float
         Integration and convergence tolerance (see :func:`sweepcore.attractor`).
     chunks : int, optional
