@@ -8,15 +8,15 @@ feeds energy into the vibration. The curve's minimum there is r_y - (2/3) alpha1
     python studies/paper_fig4.py [--out out/]   ->  paper_fig4.nc, paper_fig4.png
 """
 import datetime
-import math
 
 import numpy as np
 import xarray as xr
 
 import sweepcore
+from sweepcore import law
 from sweepcore.io import write_netcdf
+from sweepcore.labels import REFERENCE
 from sweepcore.params import LONG_NAMES, UNITS
-from sweepcore.sweep import REFERENCE
 from sweepcore.plot import plot_friction, save
 
 from _common import Timer, output_dir
@@ -26,10 +26,11 @@ R_Y, ALPHA1, ALPHA2 = 10.0, 1.0, 0.01      # kN, kN s/cm, kN s^3/cm^3
 
 def main(out):
     with Timer("paper_fig4"):
-        v_star = math.sqrt(ALPHA1 / (3 * ALPHA2))
+        law_of = {"r_y": R_Y, "alpha1": ALPHA1, "alpha2": ALPHA2}
+        v_star = float(law.derived("v_star", law_of))
         zd = np.linspace(-2.2 * v_star, 2.2 * v_star, 881)
         zd = zd[zd != 0.0]
-        ra = R_Y * np.sign(zd) - ALPHA1 * zd + ALPHA2 * zd ** 3
+        ra = law.friction(zd, law_of)
         now = datetime.datetime.now(datetime.timezone.utc)
         ds = xr.Dataset(
             {"r_a": ("zdot", ra, {"units": "kN", "long_name": "friction force",
