@@ -184,4 +184,3 @@ def attractors(P: np.ndarray, o: np.ndarray, out: np.ndarray, parallel: bool) ->
                     return
                 attractor_rows(P[i:i + 1], o, out[i:i + 1])
         list(_POOL[0].map(work, range(min(threads, n))))
-

@@ -72,10 +72,10 @@ def _dataset(other: Grid, along: str, results, o, method, call,
             "units": units, "long_name": f"{LONG_NAMES[along]} of a regime change"})
         ds["transition_width"] = xr.Variable(tdims, wid, {
             "units": units, "long_name": "final bracket width (Hopf: error estimate)"})
-        ds["regime_below"] = xr.Variable(tdims, below, labels.flags(regimes,
-                                                             "regime below the change"))
-        ds["regime_above"] = xr.Variable(tdims, above, labels.flags(regimes,
-                                                             "regime above the change"))
+        ds["regime_below"] = xr.Variable(tdims, below, labels.flags(
+            regimes, "regime below the change"))
+        ds["regime_above"] = xr.Variable(tdims, above, labels.flags(
+            regimes, "regime above the change"))
         ds["transition_status"] = xr.Variable(tdims, st, {
             **status, "long_name": "outcome of the search of the change"})
     if along == "v":        # the analytic values to compare with

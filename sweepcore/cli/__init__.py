@@ -9,6 +9,10 @@ option, missing output directory; nothing is written); 1 a failure while running
 (a simulation that fails writes nothing); 130 interrupted (a sweep with an output
 path resumes where it stopped when the same command is run again). Output
 directories are never created: a missing one is refused, as by the Python API.
+
+Rooms: :mod:`.parser` (the subcommands and their options, one table),
+:mod:`.commands` (what each subcommand does), :mod:`.summaries` (what ``info`` and
+the commands print about a result); here, :func:`main` and its error handling.
 """
 from __future__ import annotations
 

@@ -10,6 +10,7 @@ import numpy as np
 from ..boundaries import LOCATED
 from ..labels import parameter
 
+
 def _units(var) -> str:
     u = var.attrs.get("units", "")
     return "" if u in ("", "1") else f" {u}"

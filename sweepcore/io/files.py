@@ -54,7 +54,6 @@ def write_failed(what: str, where: Path, nbytes: int, err: BaseException,
                            f"system. {after}")
 
 
-
 def result_path(path, overwrite: bool = False) -> Path:
     """Check a result file name before any work; return it as a Path.
 
@@ -104,4 +103,3 @@ def result_path(path, overwrite: bool = False) -> Path:
         raise ValueError(f"path={raw!r}: file name longer than "
                          f"{name_max(target.parent)} bytes")
     return target
-

@@ -114,7 +114,6 @@ def write_netcdf(ds: xr.Dataset, path) -> Path:
     return path
 
 
-
 @contextlib.contextmanager
 def _small_chunk_cache():
     """HDF5 chunk caches of one chunk per variable while a file is written (netCDF's
@@ -239,4 +238,3 @@ def _check_flags(name, var) -> list[str]:
         problems.append(f"flag variable {name}: values {outside.tolist()} are not "
                         "among its flag_values")
     return problems
-

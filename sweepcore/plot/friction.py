@@ -9,7 +9,6 @@ from matplotlib.figure import Figure
 from .. import law
 
 
-
 def plot_friction(r_y: float, alpha1: float, alpha2: float,
                   zdot_max: float | None = None) -> Figure:
     """Fig. 4 of the paper: the friction law r_a(zdot) of eq. (40), with v* marked.

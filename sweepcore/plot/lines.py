@@ -12,6 +12,7 @@ from .._kernels import codes
 from .style import (REGIME_COLOURS, axis_scale, flag_axis, fmt, label, regime_codes,
                     sweep_title)
 
+
 def _observable_reference(ds: xr.Dataset, dim: str, name: str):
     """Paper's reference curve for ``name`` along ``dim``: (values, label) or None."""
     if name == "amplitude" and "v" in ds and "omega" in ds:

@@ -27,7 +27,7 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
         # drawn over the map named by the study ([boundary] over), when it exists
         over = ds.attrs.get("over")
         return plot_boundaries(ds, over=xr.open_dataset(over)
-                                 if over and Path(over).is_file() else None)
+                               if over and Path(over).is_file() else None)
     if "time" in ds.dims:
         if ds.attrs.get("status", "ok") != "ok":
             raise ValueError(f"a failed simulation (status {ds.attrs['status']}): its "
@@ -37,7 +37,7 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
             d = extra[0]
             runs = [ds.isel({d: i}) for i in range(ds.sizes[d])]
             return plot_cases(runs, [f"${SYMBOLS.get(d, d)}$ = {fmt(r[d])}"
-                                       for r in runs], title=ds.attrs.get("title"))
+                                     for r in runs], title=ds.attrs.get("title"))
         return plot_trajectory(ds, **kwargs)
     dims = [d for d in ds.dims if ds.sizes[d] > 1]
     if not dims:
@@ -52,7 +52,7 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
         kwargs = {k: v for k, v in kwargs.items() if k not in ("x", "y")}
         series = [d for d in dims if d != numeric[0]]
         return plot_lines(ds, numeric[0], series=series[0] if series else None,
-                           **kwargs)
+                          **kwargs)
     return plot_map(ds, **kwargs)
 
 
