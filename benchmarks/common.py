@@ -1,7 +1,7 @@
 """Shared pieces of the benchmarks: machine description, timing, the Hopf-map grid.
 
-Everything here is plain Python/numpy; the kernels are imported lazily so that
-``run.py`` can point ``NUMBA_CACHE_DIR`` at a private directory first.
+Importing this module imports sweepcore (the law, the code tables): ``run.py``
+points ``NUMBA_CACHE_DIR`` at a private directory before it does.
 """
 from __future__ import annotations
 
@@ -18,17 +18,18 @@ from pathlib import Path
 
 import numpy as np
 
+from sweepcore import law
+
 ROOT = Path(__file__).resolve().parent.parent       # the repository
 BENCH = ROOT / "benchmarks"
 RESULTS = BENCH / "results"
 
 # The paper's slider (Liu): m = 5 kN s^2/cm, k = 50 kN/cm, r_y = 10 kN, alpha1 = 1.
 PAPER = dict(m=5.0, k=50.0, r_y=10.0, alpha1=1.0)
-OMEGA = math.sqrt(PAPER["k"] / PAPER["m"])
 # The Hopf map of studies/hopf_map.toml: v in linspace(0.5, 10, 256), alpha2 in geomspace(1e-3, 0.1, 256)
 MAP_V = (0.5, 10.0)
 MAP_A2 = (1e-3, 0.1)
-NCOLS_P = 11     # m, k, r_y, v, alpha1, alpha2, c, r_k, v_s, x0, xdot0 (sweepcore/_kernels/layout.py)
+OMEGA = float(law.derived("omega", PAPER))     # natural frequency [1/s]
 
 
 # ------------------------------------------------------------------ the grids
@@ -38,36 +39,32 @@ def map_axes(nv: int = 256, na: int = 256):
 
 
 def rows(v, alpha2, alpha1=PAPER["alpha1"], x0=0.0, xdot0=None, product=True):
-    """Kernel rows (n, 8); product=True spans v x alpha2 (v slow), else pairs them.
+    """Kernel rows (n, layout.NP) of the paper's slider; product=True spans
+    v x alpha2 (v slow), else pairs them.
 
-    ``xdot0=None`` starts stuck on the belt (xdot0 = v), as in the paper's figures.
+    Built by ``sweepcore.Grid`` (product, or ``Grid.points``), which knows every
+    column of the row (``sweepcore._kernels.layout``) and the default of each
+    parameter not given here. ``xdot0=None`` starts stuck on the belt (xdot0 = v),
+    as in the paper's figures.
     """
+    from sweepcore.grid import Grid
     v = np.asarray(v, float)
     alpha2 = np.asarray(alpha2, float)
     if product:
-        V, A = np.meshgrid(v, alpha2, indexing="ij")
-        V, A = V.ravel(), A.ravel()
+        grid = Grid(**PAPER | {"alpha1": alpha1}, v=v, alpha2=alpha2, x0=x0, xdot0=xdot0)
     else:
         V, A = np.broadcast_arrays(v, alpha2)
-        V, A = V.ravel().copy(), A.ravel().copy()
-    P = np.empty((V.size, NCOLS_P))
-    P[:, 0] = PAPER["m"]
-    P[:, 1] = PAPER["k"]
-    P[:, 2] = PAPER["r_y"]
-    P[:, 3] = V
-    P[:, 4] = alpha1
-    P[:, 5] = A
-    P[:, 6] = 0.0                 # c: no damping
-    P[:, 7] = PAPER["r_y"]        # r_k = r_y: the paper's law
-    P[:, 8] = np.nan              # v_s: not used
-    P[:, 9] = x0
-    P[:, 10] = V if xdot0 is None else xdot0
-    return np.ascontiguousarray(P)
+        grid = Grid.points(**PAPER | {"alpha1": alpha1}, v=V.ravel(), alpha2=A.ravel(),
+                           x0=x0, xdot0=xdot0)
+    return grid.rows(0, grid.size)
 
 
 def length_scale(P):
     """The kernels' length scale r_y/k + |v|/omega of each row [cm] (error unit)."""
-    return P[:, 2] / P[:, 1] + np.abs(P[:, 3]) / np.sqrt(P[:, 1] / P[:, 0])
+    from sweepcore import law
+    from sweepcore._kernels import layout
+    w = law.derived("omega", {"m": P[:, layout.M], "k": P[:, layout.K]})
+    return P[:, layout.RY] / P[:, layout.K] + np.abs(P[:, layout.V]) / w
 
 
 # ------------------------------------------------------------------- timing
@@ -250,11 +247,12 @@ def load():
 # ------------------------------------------------------------------ errors
 # Column numbers of the kernels' observables row and the code tables, from the
 # package's one definition of each.
+from sweepcore._kernels import codes as _codes  # noqa: E402
 from sweepcore._kernels.codes import REGIME_NAMES as REGIMES  # noqa: E402
 from sweepcore._kernels.codes import STATUS_NAMES as STATUSES  # noqa: E402,F401
 from sweepcore._kernels.layout import (OB_AMPLITUDE, OB_MEAN, OB_NSTEPS,  # noqa: E402,F401
                                        OB_PERIOD, OB_REGIME, OB_STATUS)
-CYCLES = (1, 2, 3)
+CYCLES = (_codes.R_SLIP_CYCLE, _codes.R_STICK_SLIP, _codes.R_NEUTRAL)
 
 
 def regime_counts(out):

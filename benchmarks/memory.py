@@ -138,22 +138,12 @@ def stored_section(path=None) -> str:
     rows = []
     for r in R["streamed"]:
         where = "in memory" if r["in_memory"] else f"streamed to a {r['file_mib']:.1f} MiB file"
-        rows.append(f"| {r['points']:,} | {where} | {r['vm_hwm_mib']:.0f} MiB "
-                    f"({r['vm_hwm_before_mib']:.0f} MiB before the sweep) | "
-                    f"{r['wall_s']:.1f} s |")
+        rows.append([f"{r['points']:,}", where, f"{r['vm_hwm_mib']:.0f} MiB "
+                     f"({r['vm_hwm_before_mib']:.0f} MiB before the sweep)",
+                     f"{r['wall_s']:.1f} s"])
     refusals = "; ".join(f"{r['points']:.0e} points refused in {1e3 * r['seconds']:.2f} ms"
                          for r in R["refusals"])
-    return f"""## Memory of large sweeps
-
-`python benchmarks/memory.py` ({m['date']}, commit `{m['git_commit'][:10]}`) writes
-`results/memory.json`: peak resident memory (VmHWM, a fresh process each) of sweeps
-of a cheap grid (alpha2 = 0, closed-form stepper), in memory and with `path=`
-(the result streamed from the verified working store into the file):
-
-| points | result | peak memory | wall time |
-|---|---|---|---|
-{chr(10).join(rows)}
-
-A grid whose in-memory result would not fit is refused before any work, with the
-estimate and a pointer to `path=`: {refusals}.
-"""
+    from benchmarks.report import fill, table
+    return fill("memory", date=m["date"], commit=m["git_commit"][:10],
+                table=table(["points", "result", "peak memory", "wall time"], rows),
+                refusals=refusals)

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 import sweepcore as sc
+from sweepcore import law
 
 T = 1.5  # inside the first sliding arc after the slip (smooth order)
 P0 = sc.Params(5.0, 50.0, 10.0, 5.0, 1.0, 0.0)
@@ -45,7 +46,7 @@ def orders():
 def hopf_shift():
     """Bisection on v for the cycle -> equilibrium switch, per method."""
     a1, a2 = 1.0, 0.01
-    vs = math.sqrt(a1 / (3 * a2))
+    vs = float(law.derived("v_star", {"alpha1": a1, "alpha2": a2}))
     print(f"| method | step | measured v* [cm/s] | prediction sqrt((alpha1 + k dt)/(3 alpha2)) "
           f"| error vs v* = {vs:.4f} |")
     print("|---|---|---|---|---|")

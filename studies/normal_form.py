@@ -18,6 +18,7 @@ import math
 from pathlib import Path
 
 import sweepcore as sc
+from sweepcore import law
 from sweepcore._kernels.normal_form import NF_KAPPA
 
 RY = 10.0
@@ -32,9 +33,9 @@ def main():
           "remainder |")
     print("|---|---|---|---|---|---|---|---|---|---|")
     for m, k, a1 in SLIDERS:
-        w = math.sqrt(k / m)
+        w = float(law.derived("omega", {"m": m, "k": k}))
         for a2 in (0.001, 0.1):
-            vs = math.sqrt(a1 / (3 * a2))
+            vs = float(law.derived("v_star", {"alpha1": a1, "alpha2": a2}))
             for r in (0.98, 0.99, 0.995, 0.998, 0.999):
                 p = sc.Params(m, k, RY, r * vs, a1, a2)
                 a = sc.attractor(p, tol=1e-11)

@@ -11,6 +11,7 @@ import math
 import numpy as np
 
 import sweepcore as sc
+from sweepcore import law
 
 M, K, RY, A1, A2 = 5.0, 50.0, 10.0, 1.0, 0.01
 TOL = 1e-10
@@ -37,8 +38,8 @@ def claim_a():
 
 
 def claim_b():
-    vs = math.sqrt(A1 / (3 * A2))
-    w = math.sqrt(K / M)
+    vs = float(law.derived("v_star", {"alpha1": A1, "alpha2": A2}))
+    w = float(law.derived("omega", {"m": M, "k": K}))
     print(f"### (b) cycle amplitude across v* = {vs:.6f} cm/s "
           f"(m={M}, k={K}, r_y={RY}, alpha1={A1}, alpha2={A2})\n")
     print("Averaging prediction below v* (first Lyapunov coefficient < 0, supercritical): "

@@ -13,7 +13,7 @@ import numpy as np
 
 import sweepcore as sc
 from sweepcore.io import write_netcdf
-from sweepcore.plot import save, trajectory_figure
+from sweepcore.plot import save, plot_trajectory
 
 from _common import Timer, output_dir
 
@@ -28,7 +28,7 @@ def main(out):
                          output_dt=0.005)
         ds.attrs["title"] = "Liu, Fig. 3: constant Coulomb friction, started stuck"
         write_netcdf(ds, out / "paper_fig3.nc")
-        fig = trajectory_figure(ds, title=(
+        fig = plot_trajectory(ds, title=(
             "Fig. 3: constant friction, $m$ = 5 kN s$^2$/cm, $k$ = 50 kN/cm, "
             "$r_y$ = 10 kN, $v$ = 5 cm/s, started stuck ($x_0$ = 0, $\\dot x_0 = v$)"))
         _draw_circle(fig.axes[5], p)

@@ -8,16 +8,16 @@ feeds energy into the vibration. The curve's minimum there is r_y - (2/3) alpha1
     python studies/paper_fig4.py [--out out/]   ->  paper_fig4.nc, paper_fig4.png
 """
 import datetime
-import math
 
 import numpy as np
 import xarray as xr
 
 import sweepcore
+from sweepcore import law
 from sweepcore.io import write_netcdf
+from sweepcore.labels import REFERENCE
 from sweepcore.params import LONG_NAMES, UNITS
-from sweepcore.sweep import REFERENCE
-from sweepcore.plot import friction_figure, save
+from sweepcore.plot import plot_friction, save
 
 from _common import Timer, output_dir
 
@@ -26,10 +26,11 @@ R_Y, ALPHA1, ALPHA2 = 10.0, 1.0, 0.01      # kN, kN s/cm, kN s^3/cm^3
 
 def main(out):
     with Timer("paper_fig4"):
-        v_star = math.sqrt(ALPHA1 / (3 * ALPHA2))
+        law_of = {"r_y": R_Y, "alpha1": ALPHA1, "alpha2": ALPHA2}
+        v_star = float(law.derived("v_star", law_of))
         zd = np.linspace(-2.2 * v_star, 2.2 * v_star, 881)
         zd = zd[zd != 0.0]
-        ra = R_Y * np.sign(zd) - ALPHA1 * zd + ALPHA2 * zd ** 3
+        ra = law.friction(zd, law_of)
         now = datetime.datetime.now(datetime.timezone.utc)
         ds = xr.Dataset(
             {"r_a": ("zdot", ra, {"units": "kN", "long_name": "friction force",
@@ -49,7 +50,7 @@ def main(out):
                    "references": REFERENCE,
                    "history": f"{now:%Y-%m-%dT%H:%M:%SZ} python studies/paper_fig4.py"})
         write_netcdf(ds, out / "paper_fig4.nc")
-        save(friction_figure(R_Y, ALPHA1, ALPHA2), out / "paper_fig4.png")
+        save(plot_friction(R_Y, ALPHA1, ALPHA2), out / "paper_fig4.png")
     print(f"  v* = {v_star:.6g} cm/s, minimum sliding friction "
           f"{R_Y - 2 * ALPHA1 * v_star / 3:.6g} kN")
     return [out / "paper_fig4.nc", out / "paper_fig4.png"]

@@ -14,7 +14,7 @@ import xarray as xr
 
 import sweepcore as sc
 from sweepcore.io import write_netcdf
-from sweepcore.plot import cases_figure, save
+from sweepcore.plot import plot_cases, save
 
 from _common import Timer, output_dir
 
@@ -36,7 +36,7 @@ def main(out):
                           f"{a.regime.replace('_', '-')}")
             eqs.append(p.x_eq)
             rows.append((alpha2, p.q, a))
-        fig = cases_figure(runs, labels, equilibria=eqs, title=(
+        fig = plot_cases(runs, labels, equilibria=eqs, title=(
             "Fig. 5: friction law (40), $\\alpha_1$ = 1 kN s/cm, $m$ = 5, $k$ = 50, "
             "$r_y$ = 10, $v$ = 5 cm/s, started stuck"))
         save(fig, out / "paper_fig5.png")

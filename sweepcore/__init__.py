@@ -9,22 +9,19 @@ Public API::
     locate_boundaries, continue_boundary, bifurcation_diagram,
     open_result, write_netcdf, check_cf
 """
-from importlib.metadata import PackageNotFoundError, version
-
 from .attractor import Attractor, attractor
 from .boundaries import continue_boundary, locate_boundaries
 from .boundary import hopf_boundary
 from .diagram import bifurcation_diagram
 from .grid import Grid
 from .io import check_cf, open_result, write_netcdf
+from .labels import version as _version
 from .params import Params
 from .simulate import simulate
-from .sweep import SweepTooLarge, estimate, sweep
+from .sizing import SweepTooLarge, estimate
+from .sweep import sweep
 
-try:
-    __version__ = version("sweepcore")
-except PackageNotFoundError:  # running from a source tree without install
-    __version__ = "0.1.0"
+__version__ = _version()
 
 __all__ = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "estimate",
            "SweepTooLarge",

@@ -56,7 +56,9 @@ def attractor(params: Params, x0: float = 0.0, xdot0: float | None = None,
     params : Params
     x0, xdot0 : float
         Start [cm], [cm/s]; ``xdot0=None`` starts stuck on the belt.
-    method : {"auto", "exact", "gps", "rk4", "dopri5"}
+    method : str
+        "auto" or a stepper of ``sweepcore.options.METHODS`` (the method table of
+        ``sweepcore._kernels.codes``).
     tol : float
         Accuracy asked of the observables, relative to the point's length scale
         L = r_y/k + |v|/omega: the dopri5 tolerance, tightened per cycle where the

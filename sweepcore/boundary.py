@@ -11,9 +11,8 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from . import variables
+from . import labels
 from ._kernels import codes
-from . import law
 
 CYCLES = (codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
 BOUNDARY_VARIABLES = ("v_hopf_measured", "v_hopf_resolution", "v_stick_onset",
@@ -114,7 +113,5 @@ def hopf_boundary(ds: xr.Dataset, axis: str = "v") -> xr.Dataset:
             stick_res, units=units, comment=half,
             long_name="resolution of the measured end of stick-slip"),
     })
-    vs_units, vs_long_name, vs_comment = variables.ANALYTIC["v_star"]
-    out["v_star"] = _labelled(law.derived("v_star", ds),
-                              units=vs_units, long_name=vs_long_name, comment=vs_comment)
+    out["v_star"] = labels.analytic("v_star", ds)
     return out

@@ -8,18 +8,15 @@ supercritical Hopf point of Liu's model (docs/physics.md) they coincide.
 """
 from __future__ import annotations
 
-import datetime
 import math
 
 import numpy as np
 import xarray as xr
 
-from . import variables
+from . import execute, labels, variables
 from ._kernels import codes, layout
-from ._kernels.attractor import attractor_rows
 from .boundaries import locate_boundaries
 from .grid import AXES, COLUMNS, Grid
-from . import law
 from .options import make_options
 from .params import LONG_NAMES, UNITS
 
@@ -39,7 +36,7 @@ def _follow(base: np.ndarray, col: int, values, start, o) -> np.ndarray:
         row[0, col] = u
         row[0, layout.X0] = x0
         row[0, layout.XD0] = row[0, layout.V] if np.isnan(xd0) else xd0
-        attractor_rows(row, o, out[i:i + 1])
+        execute.attractors(row, o, out[i:i + 1], parallel=False)
         if int(out[i, layout.OB_STATUS]) == codes.OK and \
                 np.isfinite(out[i, layout.OB_X_MAX]):
             x0, xd0 = out[i, layout.OB_X_MAX], 0.0
@@ -101,15 +98,11 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
     dims = ("branch", along)
     data = {}
     for name in DIAGRAM_VARIABLES:
-        c, units, long_name, comment = variables.OBSERVABLES[name]
-        attrs = {"units": units, "long_name": long_name}
-        if comment:
-            attrs["comment"] = comment
-        data[name] = (dims, cols[:, :, c], attrs)
+        c, *meta = variables.OBSERVABLES[name]
+        data[name] = (dims, cols[:, :, c], labels.attrs(*meta))
     for name, meta in (("regime", variables.REGIME), ("status", variables.STATUS)):
         c = layout.OB_REGIME if name == "regime" else layout.OB_STATUS
-        data[name] = (dims, cols[:, :, c].astype(np.int8),
-                      {**meta, "flag_values": np.array(meta["flag_values"], np.int8)})
+        data[name] = (dims, cols[:, :, c].astype(np.int8), labels.flag_attrs(meta))
     coords = {n: v for n, v in Grid(**kw).coords().items()
               if n not in (along, "x0", "xdot0")}
     coords[along] = xr.Variable(along, values, {"units": UNITS[along],
@@ -118,27 +111,19 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
         "units": "1", "long_name": "direction of the scan (each point started "
                                    "from the previous attractor)"})
     ds = xr.Dataset(data, coords)
-    vs_units, vs_long, vs_comment = variables.ANALYTIC["v_star"]
-    ds["v_star"] = xr.Variable((), float(law.derived("v_star", ds)),
-                               {"units": vs_units, "long_name": vs_long,
-                                "comment": vs_comment})
+    ds["v_star"] = labels.analytic("v_star", ds).variable
     if boundaries:
         found = locate_boundaries(Grid(**{**kw, along: values}), along=along,
                                   tol=min(tol, 1e-10), method=method, **options)
         for name in ("v_hopf", "v_stick_onset"):
             ds[name] = xr.Variable((), float(found[name].values), found[name].attrs)
-    from .sweep import REFERENCE, _version
-    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     ds.attrs.update({
-        "Conventions": "CF-1.11",
-        "title": f"Bifurcation diagram of the stick-slip friction oscillator along "
-                 f"{along}",
-        "history": f"{now} sweepcore {_version()}: sweepcore.bifurcation_diagram("
-                   f"{grid!r}, along={along!r}, tol={tol!r}, method={method!r})",
-        "source": f"sweepcore {_version()}: attractors followed up and down, each "
-                  "started from the previous one (x0 = x_max, xdot0 = 0)",
-        "references": REFERENCE,
-        "comment": "Units kN, cm, s.",
+        **labels.provenance(
+            f"Bifurcation diagram of the stick-slip friction oscillator along {along}",
+            f"sweepcore.bifurcation_diagram({grid!r}, along={along!r}, tol={tol!r}, "
+            f"method={method!r})",
+            "attractors followed up and down, each started from the previous one "
+            "(x0 = x_max, xdot0 = 0)", "Units kN, cm, s."),
         "sweepcore_kind": "bifurcation_diagram",
         "along": along,
         "tol": float(tol),

@@ -7,7 +7,6 @@ one range of flat indices at a time, from the 1-D axes.
 """
 from __future__ import annotations
 
-import functools
 import hashlib
 import math
 import numbers
@@ -341,10 +340,3 @@ class Grid:
 
 
 Grid.__init__ = did_you_mean(Grid.__init__)
-
-
-# derived quantities stored in a sweep's Dataset: name -> (function, the axes it
-# depends on), from the friction law (one definition, sweepcore.law). The function
-# takes the tuple of the axes given (None axes are absent) and their arrays.
-ANALYTIC = {name: (functools.partial(law.evaluate_given, name), law.DERIVED[name][1])
-            for name in ("q", "v_star", "v_star_2", "first_lyapunov", "x_eq", "omega")}

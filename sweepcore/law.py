@@ -88,13 +88,6 @@ def evaluate(name: str, *arrays) -> np.ndarray:
     return out.reshape(shape)
 
 
-def evaluate_given(name: str, given: tuple, *arrays) -> np.ndarray:
-    """``evaluate`` with the arrays of the parameters ``given`` only (the others of
-    ``DERIVED[name][1]`` take their defaults)."""
-    args = dict(zip(given, arrays))
-    return evaluate(name, *(args.get(n) for n in DERIVED[name][1]))
-
-
 def derived(name: str, source):
     """Derived quantity ``name`` (a key of ``DERIVED``) of ``source``: a float for
     numbers, a numpy array for arrays (broadcast), a DataArray over the dimensions of

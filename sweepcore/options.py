@@ -8,7 +8,7 @@ import numpy as np
 from ._kernels import codes, layout, stepper
 
 # every method of the kernels' table (stepper.METHODS), and "auto"
-METHODS = ("auto",) + tuple(row[0] for row in stepper.METHODS)
+METHODS = ("auto", *codes.METHOD_CODES)
 CLOSED_FORM = tuple(row[0] for row in stepper.METHODS if row[5])
 AUTO = -1.0   # resolved per point in the kernel: a closed form where the law allows
               # one (no cubic and no Stribeck term), else dopri5

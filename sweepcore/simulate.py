@@ -1,19 +1,17 @@
 """One slider over time: the hybrid driver sampled on a time axis, as xarray."""
 from __future__ import annotations
 
-import datetime
 import math
 
 import numpy as np
 import xarray as xr
 
+from . import labels, law
 from ._kernels import codes, layout
 from ._kernels.attractor import resolve_options
 from ._kernels.trajectory import fresh_acc, run_trajectory
 from .options import check_method, make_options
-from . import law
 from .params import LONG_NAMES, UNITS, Params, check_real, did_you_mean
-from .sweep import REFERENCE
 
 
 def start_row(params: Params, x0: float, xdot0: float | None) -> np.ndarray:
@@ -42,9 +40,11 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
     x0, xdot0 : float
         Start [cm], [cm/s]. ``xdot0=None`` starts stuck on the belt (xdot0 = v), as
         in the paper's figures.
-    method : {"auto", "exact", "gps", "rk4", "dopri5"}
-        "exact" (closed-form arcs) needs a piecewise-linear law (alpha2 = 0, no
-        Stribeck term); "auto" picks it then, else dopri5.
+    method : str
+        "auto" or a stepper of ``sweepcore.options.METHODS`` (the method table of
+        ``sweepcore._kernels.stepper``); "exact" (closed-form arcs) needs a
+        piecewise-linear law (alpha2 = 0, no Stribeck term); "auto" picks it then,
+        else dopri5.
     output_dt : float, optional
         Sampling interval [s]; default 2 pi / omega / 100 (at most 10^6 samples).
     tol, dt, max_steps, gps_a, graze :
@@ -118,12 +118,13 @@ TIME_STUCK = {"units": "s", "long_name": "time stuck on the belt during the run"
 
 
 def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
-    from . import __version__
-    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
     v = params.v
     xd = zd + v
     stick = mode == codes.STICK
+    # while sliding the law F on the side the phase says; stuck, the force that
+    # holds the slider, -(k x + c v)
     ra = np.where(stick, law.stick_force(x, params), law.friction(zd, params, phase=mode))
+    method = codes.METHOD_NAMES[int(o[layout.O_METHOD])]
     ev_t, ev_kind, ev_x, ev_zd = ev
     kinds = sorted(k for k in codes.EVENT_NAMES if k <= codes.EV_ABNORMAL_STOP)
     ds = xr.Dataset(
@@ -160,14 +161,11 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
                    for name, value in zip(UNITS, row)
                    if not (name == "v_s" and params.v_s is None)}},
         attrs={
-            "Conventions": "CF-1.11",
-            "title": "sweepcore single-slider simulation",
-            "source": f"sweepcore {__version__}: hybrid stick/slide driver "
-                      f"(method {codes.METHOD_NAMES[int(o[layout.O_METHOD])]})",
-            "references": REFERENCE,
-            "history": f"{now} sweepcore {__version__}: sweepcore.simulate()",
-            "comment": "Units kN, cm, s (mass kN s2 cm-1).",
-            "method": codes.METHOD_NAMES[int(o[layout.O_METHOD])],
+            **labels.provenance("sweepcore single-slider simulation",
+                                "sweepcore.simulate()",
+                                f"hybrid stick/slide driver (method {method})",
+                                "Units kN, cm, s (mass kN s2 cm-1)."),
+            "method": method,
             "status": codes.STATUS_NAMES[status],
             "n_steps": n_steps,
         },

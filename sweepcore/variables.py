@@ -69,3 +69,7 @@ ANALYTIC = {
              "k x_eq = -F(-v); eq. (43) for the paper's law"),
     "omega": ("s-1", "natural frequency sqrt(k/m)", ""),
 }
+# beside the located boundaries (sweepcore.boundaries), along v
+STICK_ONSET_ESTIMATE = ("cm s-1", "averaging estimate 2 v*/sqrt(5) of the stick onset",
+                        "the averaged cycle's velocity amplitude 2 sqrt(v*^2 - v^2) "
+                        "reaches v")

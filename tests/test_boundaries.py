@@ -8,6 +8,9 @@ import pytest
 
 import sweepcore as sc
 from sweepcore import boundaries as bd
+from sweepcore.boundaries.drive import _together, lockstep
+from sweepcore.boundaries.graze import _graze
+from sweepcore.boundaries.point import _Point
 from sweepcore._kernels import codes, layout
 
 PAPER = dict(m=5.0, k=50.0, r_y=10.0, alpha1=1.0)
@@ -55,8 +58,9 @@ def _synthetic_rows(v0, asks):
 
 def test_graze_solver_finds_a_known_root_faster_than_bisection():
     v0 = 4.123456789012
-    pt = bd._Point(np.array([5.0, 50.0, 10.0, 4.0, 1.0, 0.01, 0.0, 4.0]), "v")
-    solver = bd._graze(pt, 3.0, 6.0, xtol=1e-9)
+    pt = _Point(sc.Params(m=5.0, k=50.0, r_y=10.0, v=4.0, alpha1=1.0, alpha2=0.01).row(0.0, 4.0),
+                "v")
+    solver = _graze(pt, 3.0, 6.0, xtol=1e-9)
     asks, evaluations = next(solver), 0
     try:
         while True:
@@ -68,6 +72,30 @@ def test_graze_solver_finds_a_known_root_faster_than_bisection():
     assert abs(out["value"] - v0) <= 1e-9
     # bisection on the labels alone needs log2(3/1e-9) = 32 evaluations
     assert evaluations <= 16
+
+
+def test_lockstep_hands_each_solver_its_own_rows_and_counts_its_requests():
+    """Solvers asking different numbers of values per round, one of them two nested
+    solvers run together: each gets the rows of its own requests (here the
+    request itself, times 10) and the count of its requests comes back."""
+    def solver(values):
+        got = []
+        for batch in values:
+            got.extend((yield list(batch)))
+        return got
+
+    nested = _together([solver([[1.0], [2.0, 3.0]]), solver([[4.0]])])
+    run = lockstep([solver([[5.0, 6.0]]), nested, solver([])])
+    asks, rounds = next(run), 0
+    try:
+        while True:
+            rounds += 1
+            asks = run.send([10.0 * r for _owner, r in asks])
+    except StopIteration as stop:
+        results, evaluations = stop.value
+    assert results == [[50.0, 60.0], [[10.0, 20.0, 30.0], [40.0]], []]
+    assert evaluations.tolist() == [2, 4, 0]
+    assert rounds == 2
 
 
 # ------------------------------------------------------------- the Hopf point

@@ -244,10 +244,12 @@ def test_two_sweeps_started_together(tmp_path, reference):
 @pytest.fixture(scope="module")
 def cluster():
     distributed = pytest.importorskip("distributed")
-    with dask.config.set({"distributed.nanny.pre-spawn-environ.NUMBA_NUM_THREADS": "1"}):
-        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                      host="127.0.0.1", dashboard_address=None) as c:
-            yield c
+    # env=, not the pre-spawn-environ config key: that one is also written into this
+    # process, whose numba then refuses to compile under its running thread pool
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  host="127.0.0.1", dashboard_address=None,
+                                  env={"NUMBA_NUM_THREADS": "1"}) as c:
+        yield c
 
 
 @pytest.fixture

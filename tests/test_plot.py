@@ -52,7 +52,7 @@ def _labels(fig):
 
 
 def test_map_has_vstar_boundary_and_regime_legend(hopf_small, tmp_path):
-    fig = plot.figure_for(hopf_small)
+    fig = plot.plot_result(hopf_small)
     ax_regime, ax_amp = fig.axes[0], fig.axes[1]
     assert ax_regime.get_yscale() == "log" and ax_regime.get_xscale() == "linear"
     assert ax_regime.get_xlabel() == "belt speed $v$ [cm/s]"
@@ -78,7 +78,7 @@ def test_uniform_field_is_not_stretched(hopf_small):
     ds = hopf_small.copy()
     ds["amplitude"] = ds.amplitude * 0 + 1.5 + 1e-12 * np.random.default_rng(0).random(
         ds.amplitude.shape)
-    fig = plot.map_figure(ds, variables=("amplitude",))
+    fig = plot.plot_map(ds, variables=("amplitude",))
     mesh = fig.axes[0].collections[0]
     assert mesh.norm.vmax - mesh.norm.vmin == pytest.approx(0.15)
     assert any("uniform: 1.5" in t.get_text() for t in fig.axes[0].texts)
@@ -87,7 +87,7 @@ def test_uniform_field_is_not_stretched(hopf_small):
 def test_line_figure_draws_references_and_series(tmp_path):
     ds = sweep(Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, alpha2=0.01,
                     v=np.linspace(4.0, 7.0, 9), x0=[0.0, 1.0]))
-    fig = plot.figure_for(ds)
+    fig = plot.plot_result(ds)
     labels = _labels(fig)
     assert r"$v/\omega$ (paper, eq. 39)" in labels
     assert "x0 = 0" in labels and "x0 = 1" in labels           # one series per start
@@ -99,19 +99,19 @@ def test_line_figure_draws_references_and_series(tmp_path):
 def test_trajectory_and_cases_figures(tmp_path):
     p = sc.Params(m=5.0, k=50.0, r_y=10.0, v=5.0)
     tr = sc.simulate(p, 6.0)
-    fig = plot.figure_for(tr)
+    fig = plot.plot_result(tr)
     assert len(fig.axes) == 6
     assert fig.axes[5].get_xlabel() == "slider position $x$ [cm]"
     assert any(t.startswith("abnormal stop (eq. 31)") for t in _labels(fig))
     plot.save(fig, tmp_path / "tr.png")
-    fig = plot.cases_figure([tr, tr], ["a", "b"], equilibria=[p.x_eq, p.x_eq])
+    fig = plot.plot_cases([tr, tr], ["a", "b"], equilibria=[p.x_eq, p.x_eq])
     assert len(fig.axes) == 6
     plot.save(fig, tmp_path / "cases.png")
     assert (tmp_path / "cases.png").read_bytes()[:8] == PNG_MAGIC
 
 
 def test_friction_figure_marks_vstar():
-    fig = plot.friction_figure(10.0, 1.0, 0.01)
+    fig = plot.plot_friction(10.0, 1.0, 0.01)
     ax = fig.axes[0]
     v_star = math.sqrt(1.0 / 0.03)
     dots = [ln for ln in ax.lines if ln.get_marker() == "o"]
@@ -136,19 +136,19 @@ def _legends_clear_of_axes(fig):
 
 
 def test_map_legends_are_off_the_maps(hopf_small):
-    _legends_clear_of_axes(plot.figure_for(hopf_small))
+    _legends_clear_of_axes(plot.plot_result(hopf_small))
 
 
 def test_line_and_trajectory_legends_are_off_the_data(hopf_small):
-    _legends_clear_of_axes(plot.figure_for(hopf_small.isel(alpha2=4)))
-    _legends_clear_of_axes(plot.figure_for(sc.simulate(sc.Params(5.0, 50.0, 10.0, 5.0),
+    _legends_clear_of_axes(plot.plot_result(hopf_small.isel(alpha2=4)))
+    _legends_clear_of_axes(plot.plot_result(sc.simulate(sc.Params(5.0, 50.0, 10.0, 5.0),
                                                        6.0)))
 
 
 def test_regime_axis_of_a_line_plot_reads_names(hopf_small):
     """A 1-D regime panel has one tick per regime code, named, not 3.8 ... 4.2."""
     ds = hopf_small.isel(alpha2=4)
-    fig = plot.figure_for(ds, variables=["amplitude", "regime"])
+    fig = plot.plot_result(ds, variables=["amplitude", "regime"])
     ax = fig.axes[1]
     ticks = [int(t) for t in ax.get_yticks()]
     names = [t.get_text() for t in ax.get_yticklabels()]
@@ -162,7 +162,7 @@ def test_regime_axis_of_a_line_plot_reads_names(hopf_small):
 
 def test_generic_figure_names_flag_axes(hopf_small):
     ds = hopf_small.isel(alpha2=4)[["status", "n_steps"]]
-    fig = plot.figure_for(ds)
+    fig = plot.plot_result(ds)
     labels = [t.get_text() for t in fig.axes[0].get_yticklabels()]
     assert "ok" in labels
 
@@ -170,4 +170,4 @@ def test_generic_figure_names_flag_axes(hopf_small):
 def test_failed_simulation_is_not_drawn():
     ds = sc.simulate(sc.Params(5.0, 50.0, 10.0, 5.0), 1.0, method="gps", dt=1.0)
     with pytest.raises(ValueError, match="failed simulation"):
-        plot.figure_for(ds)
+        plot.plot_result(ds)

@@ -24,7 +24,8 @@ from sweepcore.sweep import SweepTooLarge, estimate, sweep
 from sweepcore.variables import OBSERVABLES
 
 sweep_mod = importlib.import_module("sweepcore.sweep")
-io_mod = importlib.import_module("sweepcore.io")
+sizing_mod = importlib.import_module("sweepcore.sizing")
+store_mod = importlib.import_module("sweepcore.io.store")
 RUN_CHUNK = sweep_mod.run_chunk_parallel
 CHUNKS = 10                   # the paper map's 72 points: 8 chunks
 COMPARED = list(OBSERVABLES) + ["regime", "status", "converged", "q", "v_star", "x_eq",
@@ -350,7 +351,7 @@ def test_disk_full_while_storing_a_chunk_names_it_and_stays_resumable(
     def chunk_open(file, mode="r", *args, **kwargs):
         f = open(file, mode, *args, **kwargs)
         return FullDisk(f) if ".chunk-000003." in str(file) else f
-    monkeypatch.setattr(io_mod, "open", chunk_open, raising=False)
+    monkeypatch.setattr(store_mod, "open", chunk_open, raising=False)
     spy(monkeypatch)
     with pytest.raises(OSError, match=r"writing chunk 3 \(points \[30, 40\)\) to "
                        r".*map\.nc\.partial/chunk-000003.* failed \(No space left on "
@@ -359,7 +360,7 @@ def test_disk_full_while_storing_a_chunk_names_it_and_stays_resumable(
         sweep(paper_map, chunks=CHUNKS, path=path, progress=False)
     assert err.value.errno == errno.ENOSPC
     assert not list(WorkingStore.location(path).glob(".chunk-*"))   # no temporary
-    monkeypatch.delattr(io_mod, "open")
+    monkeypatch.delattr(store_mod, "open")
     resumed = spy(monkeypatch)
     ds = sweep(paper_map, chunks=CHUNKS, path=path, progress=False)
     assert sorted(resumed) == list(range(30, 72, CHUNKS))
@@ -419,10 +420,10 @@ def test_streamed_sweep_too_large_for_the_disk_is_refused_before_work(tmp_path,
 def test_refusal_compares_with_the_memory_available(paper_map, tmp_path, monkeypatch,
                                                     no_work):
     need = estimate(paper_map)["memory_bytes"]
-    monkeypatch.setattr(sweep_mod, "available_memory", lambda: need - 1)
+    monkeypatch.setattr(sizing_mod, "available_memory", lambda: need - 1)
     with pytest.raises(SweepTooLarge, match="72 points"):
         sweep(paper_map, progress=False)
-    monkeypatch.setattr(sweep_mod, "available_memory", lambda: need)
+    monkeypatch.setattr(sizing_mod, "available_memory", lambda: need)
     with pytest.raises(Interrupt):           # accepted: the first chunk starts
         sweep(paper_map, progress=False)
 
@@ -477,7 +478,7 @@ def test_available_memory_follows_an_address_space_limit(tmp_path):
     script = tmp_path / "limited.py"
     script.write_text(
         "import resource\n"
-        "from sweepcore.sweep import available_memory\n"
+        "from sweepcore.sizing import available_memory\n"
         "vm = next(int(line.split()[1]) * 1024 for line in open('/proc/self/status')"
         " if line.startswith('VmSize:'))\n"
         "limit = vm + 300 * 2**20\n"

@@ -305,10 +305,11 @@ def test_dask_schedulers_do_not_change_results(paper_map, map_reference, schedul
 def local_cluster():
     """Two single-threaded worker processes on 127.0.0.1, numba limited to 1 thread."""
     distributed = pytest.importorskip("distributed")
-    with dask.config.set({"distributed.nanny.pre-spawn-environ.NUMBA_NUM_THREADS": "1"}):
-        cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1,
-                                           processes=True, host="127.0.0.1",
-                                           dashboard_address=None)
+    # env=, not the pre-spawn-environ config key: that one is also written into this
+    # process, whose numba then refuses to compile under its running thread pool
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                       host="127.0.0.1", dashboard_address=None,
+                                       env={"NUMBA_NUM_THREADS": "1"})
     with cluster:
         yield cluster
 

@@ -1,0 +1,389 @@
+"""What each subcommand of ``sweepcore`` does: run and boundary (study files),
+simulate (one slider), plot, info and export (result files)."""
+from __future__ import annotations
+
+import shlex
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..execute import LOCAL_SCHEDULERS
+from ..labels import version
+from .summaries import (boundary_lines, describe, describe_boundaries, regime_line,
+                        simulation_summary)
+
+
+class UsageError(ValueError):
+    """A refused command line (exit code 2)."""
+
+
+# ----------------------------------------------------------- compilation
+COMPILE_MESSAGE = "sweepcore: compiling kernels, first run only, ~25 s"
+
+
+def kernels_cold(command: str, dask: bool = False) -> bool:
+    """True when the numba cache holds no fresh machine code for the kernels that
+    ``command`` ("run" or "simulate") calls first, so they compile on this call.
+
+    Reads numba's cache index (the same test numba makes before compiling: index
+    present, numba version and source stamp unchanged). Any surprise in numba's
+    private cache API counts as warm: then no message, never a wrong one.
+    """
+    from .._kernels import attractor, trajectory
+    try:
+        if command == "simulate":
+            kernels = (trajectory.run_trajectory, attractor.resolve_options)
+        else:
+            kernels = (attractor.attractor_rows if dask
+                       else attractor.attractor_rows_parallel,)
+        return any(not k._cache._cache_file._load_index() for k in kernels)
+    except Exception:   # kernels renamed, or numba's cache internals changed: say nothing
+        return False
+
+
+def announce_compile(command: str, dask: bool, quiet: bool) -> None:
+    """One line on stderr before a cold-cache compilation (silent otherwise)."""
+    if not quiet and kernels_cold(command, dask):
+        print(COMPILE_MESSAGE, file=sys.stderr, flush=True)
+
+
+# ---------------------------------------------------------------- commands
+def _resolve_outputs(args, default: str, study_png) -> tuple[Path, Path | None]:
+    """The result file and picture of a command that runs a study (run, boundary):
+    ``-o``, else ``default`` (the study's path, or a name after it); no picture with
+    ``--no-png`` or a study's ``png = false``; else ``--png``, else the study's png
+    file, else the result's path with .png."""
+    out = Path(args.output or default)
+    if out.suffix != ".nc":
+        raise UsageError(f"output must end in .nc, got {str(out)!r}")
+    if args.no_png or (args.png is None and study_png is False):
+        png = None
+    elif args.png is not None:
+        png = Path(args.png)
+    elif isinstance(study_png, str):
+        png = Path(study_png)
+    else:
+        png = out.with_suffix(".png")
+    if png is not None and png.suffix.lower() != ".png":
+        raise UsageError(f"picture must end in .png, got {str(png)!r}")
+    return out, png
+
+
+def _check_directories(*paths) -> None:
+    """Refuse an output whose directory is missing (sweepcore never creates one)."""
+    for path in paths:
+        if path is not None and not Path(path).parent.is_dir():
+            parent = Path(path).parent
+            raise UsageError(f"directory {str(parent)!r} of {str(path)!r} does not "
+                             f"exist: create it first (mkdir -p {shlex.quote(str(parent))})"
+                             " or choose another path")
+
+
+def cmd_run(args) -> int:
+    """``sweepcore run``: validate, sweep, label, write, draw."""
+    from ..grid import Grid
+    from ..options import make_options
+    from ..study import load_study
+
+    study = load_study(args.study)
+    grid = Grid(**study.grid_kwargs())
+    make_options(study.method, tol=study.tol, **study.options)
+    out, png = _resolve_outputs(args, study.output_path or f"{study.stem}.nc",
+                                study.png)
+    _check_directories(out, png)
+    return _run(args, study, grid, out, png)
+
+
+def _run(args, study, grid, out, png) -> int:
+    from ..io import write_netcdf
+    from ..sweep import sweep
+
+    if not args.quiet:
+        print(f"sweepcore run {args.study}: {grid.size} points "
+              f"({' x '.join(f'{d}: {n}' for d, n in zip(grid.dims, grid.shape))}), "
+              f"method {study.method}, tol {study.tol:g}", flush=True)
+    # local schedulers run the kernels from this machine's numba cache; a remote
+    # scheduler's cache is its workers' (and an unknown name is refused by sweep)
+    if args.scheduler is None or args.scheduler in LOCAL_SCHEDULERS:
+        announce_compile("run", args.scheduler is not None, args.quiet)
+    t0 = time.perf_counter()
+    ds = sweep(grid, method=study.method, tol=study.tol,
+               chunks=args.chunks or study.chunks, scheduler=args.scheduler, path=out,
+               progress=False if args.quiet else None, **study.options)
+    elapsed = time.perf_counter() - t0
+    ds = label_with_study(ds, study, _command_line(args))
+    write_netcdf(ds, out)
+    if not args.quiet:
+        print(f"wrote {out} ({grid.size} points in {elapsed:.1f} s)")
+        print(regime_line(ds))
+    if png is not None:
+        from ..plot import plot_result, save
+        save(plot_result(ds, **study.plot), png)
+        if not args.quiet:
+            print(f"wrote {png}")
+    return 0
+
+
+def label_with_study(ds, study, command: str):
+    """Record the study (title, file, full text) and the command in ``ds``'s attrs.
+
+    The text of the study file plus the version in ``history`` reproduce the result.
+    Geometric axes get ``spacing = "geometric"`` (plots use a log scale for them).
+    """
+    ds.attrs["study_title"] = study.title
+    if study.description:
+        ds.attrs["study_description"] = study.description
+    ds.attrs["study_file"] = str(study.path) if study.path else ""
+    ds.attrs["study"] = study.text
+    ds.attrs["history"] = (ds.attrs.get("history", "") + "\n" + command).strip()
+    for name, spacing in study.spacing_attrs().items():
+        if name in ds.coords:
+            ds[name].attrs["spacing"] = spacing
+    return ds
+
+
+def _command_line(args) -> str:
+    """``history`` line: time, version and the command as typed."""
+    now = time.strftime("%Y-%m-%dT%H:%M:%S%z")
+    return f"{now} sweepcore {version()}: " + shlex.join(["sweepcore", *args.argv])
+
+
+def cmd_plot(args) -> int:
+    """``sweepcore plot``: the natural picture of a result file."""
+    from ..plot import plot_result, save
+
+    ds = _open(args.result)
+    out = Path(args.output) if args.output else Path(args.result).with_suffix(".png")
+    if out.suffix.lower() != ".png":
+        raise UsageError(f"picture must end in .png, got {str(out)!r}")
+    _check_directories(out)
+    if "time" in ds.dims and ds.attrs.get("status", "ok") != "ok":
+        raise UsageError(f"{args.result} holds a failed simulation (status "
+                         f"{ds.attrs['status']}): nothing to draw")
+    kwargs = {}
+    if "time" not in ds.dims:
+        kwargs = {k: getattr(args, k) for k in ("x", "y") if getattr(args, k)}
+        swept = [d for d in ds.dims if ds.sizes[d] > 1 and ds[d].dtype.kind in "iuf"]
+        for key, dim in kwargs.items():
+            if dim not in swept:
+                raise UsageError(f"--{key} {dim}: not a swept axis of {args.result} "
+                                 f"(swept: {', '.join(swept)})")
+        if len(swept) < 2 and kwargs:
+            raise UsageError("--x/--y apply to maps; this result has one swept axis")
+        if args.variables:
+            names = [s.strip() for s in args.variables.split(",") if s.strip()]
+            missing = [n for n in names if n not in ds]
+            if missing:
+                raise UsageError(f"--variables: {', '.join(missing)} not in "
+                                 f"{args.result} (has {', '.join(ds.data_vars)})")
+            kwargs["variables"] = names
+        elif "study" in ds.attrs:
+            from ..study import StudyError, parse_study
+            try:
+                kwargs = {**parse_study(ds.attrs["study"]).plot, **kwargs}
+            except StudyError:    # a study of another version: default picture
+                pass
+    save(plot_result(ds, **kwargs), out)
+    print(f"wrote {out}")
+    return 0
+
+
+def cmd_simulate(args) -> int:
+    """``sweepcore simulate``: one slider, Fig. 3 style."""
+    from ..io import write_netcdf
+    from ..params import Params
+    from ..simulate import simulate
+
+    p = Params(m=args.m, k=args.k, r_y=args.r_y, v=args.v, alpha1=args.alpha1,
+               alpha2=args.alpha2)
+    for path, suffix in ((args.output, ".nc"), (args.png, ".png")):
+        if path is not None and Path(path).suffix.lower() != suffix:
+            raise UsageError(f"{path!r} must end in {suffix}")
+    _check_directories(args.output, args.png)
+    extra = {"dt": args.dt} if args.dt is not None else {}
+    announce_compile("simulate", False, False)
+    ds = simulate(p, t_end=args.t_end, x0=args.x0, xdot0=args.xdot0, method=args.method,
+                  output_dt=args.output_dt, tol=args.tol, **extra)
+    ds.attrs["history"] = _command_line(args)
+    print(simulation_summary(ds, p), flush=True)
+    if ds.attrs["status"] != "ok":
+        raise SimulationFailed(f"{ds.attrs['status']}: {failure_reason(ds, p, args)}; "
+                               "nothing written")
+    if args.output:
+        write_netcdf(ds, args.output)
+        print(f"wrote {args.output}")
+    if args.png:
+        from ..plot import save, plot_trajectory
+        save(plot_trajectory(ds), args.png)
+        print(f"wrote {args.png}")
+    if not (args.output or args.png):
+        print("(nothing written: give -o RUN.nc and/or --png FIG.png)")
+    return 0
+
+
+class SimulationFailed(RuntimeError):
+    """A simulation stopped before t_end (exit code 1, nothing written)."""
+
+
+def failure_reason(ds, p, args) -> str:
+    """The rule a failed simulation broke, in words, with its numbers."""
+    status = ds.attrs["status"]
+    method = ds.attrs.get("method", args.method)
+    if status == "fixed_step_too_large":
+        dt = args.dt if args.dt is not None else 2 * np.pi / p.omega / 50
+        return (f"the fixed step dt = {dt:g} s is too large for method {method}: gps "
+                f"and rk4 need omega dt <= 1, and omega = sqrt(k/m) = {p.omega:.6g} s-1 "
+                f"here, so dt <= {1 / p.omega:.6g} s (give a smaller --dt, or --method "
+                "dopri5)")
+    if status == "gps_denominator_guard":
+        return ("the group-preserving step's denominator ||u||^2 - tau^2 ||f||^2 "
+                "(eqs. 49-50) was not safely positive: give a smaller --dt")
+    if status == "step_budget_exceeded":
+        return (f"the run used its budget of integrator steps before t_end = "
+                f"{args.t_end:g} s: shorten --t-end, or loosen --tol")
+    if status == "step_size_underflow":
+        return ("the adaptive step fell below the floating-point resolution of t: "
+                "loosen --tol")
+    if status == "diverged":
+        return "the state left the finite range (|x| or |zdot| > 1e150, or NaN)"
+    if status == "event_location_failed":
+        return "a stick/slip event could not be located inside a step"
+    return "see docs/variables.md (status codes)"
+
+
+def cmd_info(args) -> int:
+    """``sweepcore info``: what a result file holds."""
+    ds = _open(args.result)
+    print(f"{args.result}:")
+    if ds.attrs.get("sweepcore_kind") in ("boundaries", "bifurcation_diagram"):
+        print(describe_boundaries(ds))
+    else:
+        print(describe(ds))
+    return 0
+
+
+def cmd_export(args) -> int:
+    """``sweepcore export``: a result file as CSV, units in the column headers."""
+    ds = _open(args.result)
+    out = Path(args.csv)
+    if out.suffix.lower() != ".csv":
+        raise UsageError(f"--csv must end in .csv, got {str(out)!r}")
+    _check_directories(out)
+    if args.variables:
+        names = [n.strip() for n in args.variables.split(",") if n.strip()]
+        missing = [n for n in names if n not in ds.data_vars]
+        if missing:
+            raise UsageError(f"--variables: {', '.join(missing)} not in {args.result} "
+                             f"(has {', '.join(ds.data_vars)})")
+        ds = ds[names]
+    tables = csv_tables(ds)
+    written = []
+    for suffix, frame in tables.items():
+        path = out.with_name(out.stem + suffix + out.suffix)
+        frame.to_csv(path, index=False)
+        written.append(f"{path} ({len(frame)} rows)")
+    print("wrote " + ", ".join(written))
+    return 0
+
+
+def csv_tables(ds) -> dict:
+    """``{file suffix: pandas.DataFrame}``: one table per group of dimensions.
+
+    A sweep is one table over its grid (variables on fewer dimensions, such as the
+    measured boundary, are repeated along the others); a simulation one over
+    ``time`` ("") and one over ``event`` ("_events"). Scalar coordinates (fixed
+    parameters) are repeated as columns. Flag variables become their names; headers are
+    ``name [units]``.
+    """
+    if "event" not in ds.dims:
+        return {"": _frame(ds)}
+    on_event = [n for n, v in ds.data_vars.items() if "event" in v.dims]
+    rest = [n for n in ds.data_vars if n not in on_event]
+    tables = {"": _frame(ds[rest])} if rest else {}
+    if on_event:
+        tables["_events"] = _frame(ds[on_event].drop_vars("time", errors="ignore"))
+    return tables
+
+
+def _frame(ds):
+    frame = ds.to_dataframe().reset_index()
+    columns = {}
+    for name in frame.columns:
+        attrs = ds[name].attrs if name in ds.variables else {}
+        if "flag_values" in attrs and "flag_meanings" in attrs:
+            codes = dict(zip(np.atleast_1d(attrs["flag_values"]).tolist(),
+                             str(attrs["flag_meanings"]).split()))
+            frame[name] = frame[name].map(lambda c: codes.get(int(c), f"code {c}"))
+        units = str(attrs.get("units", ""))
+        units = "s" if " since " in units else units
+        columns[name] = f"{name} [{units}]" if units not in ("", "1") else name
+    return frame.rename(columns=columns)
+
+
+def _open(path):
+    from ..io import open_result
+    if not Path(path).is_file():
+        raise UsageError(f"no such result file: {path}")
+    try:
+        return open_result(path)
+    except (OSError, ValueError) as err:
+        raise UsageError(f"cannot read {path} as netCDF: {err}") from None
+
+
+def cmd_boundary(args) -> int:
+    """``sweepcore boundary``: boundaries, their continuation or a diagram."""
+    from ..grid import Grid
+    from ..io import write_netcdf
+    from ..study import load_study
+
+    study = load_study(args.study)
+    b = study.boundary or {}
+    grid = Grid(**study.grid_kwargs())
+    if not b:
+        from ..study import parse_study
+        b = parse_study(study.text + "\n[boundary]\n", study.path).boundary
+    out, png = _resolve_outputs(args, b.get("path") or f"{study.stem}_boundaries.nc",
+                                b.get("png"))
+    if (args.scheduler or args.chunks) and (b["continuation"] or b["diagram"]):
+        raise UsageError("--scheduler and --chunks apply to located boundaries, not to "
+                         "a continuation or a diagram (sequential by nature)")
+    _check_directories(out, png)
+    t0 = time.perf_counter()
+    ds = _boundary_result(grid, study, b, args)
+    elapsed = time.perf_counter() - t0
+    ds = label_with_study(ds, study, _command_line(args))
+    if b.get("over"):
+        ds.attrs["over"] = b["over"]
+    write_netcdf(ds, out)
+    if not args.quiet:
+        print(f"wrote {out} ({elapsed:.1f} s)")
+        for line in boundary_lines(ds):
+            print(line)
+    if png is not None and ds.attrs.get("sweepcore_kind") == "boundaries" and \
+            "v_star" not in ds:
+        print(f"(no picture: boundary curves are drawn for searches along v, this "
+              f"one is along {b['along']})")
+        png = None
+    if png is not None:
+        from ..plot import plot_result, save
+        save(plot_result(ds), png)
+        if not args.quiet:
+            print(f"wrote {png}")
+    return 0
+
+
+def _boundary_result(grid, study, b, args):
+    from ..boundaries import continue_boundary, locate_boundaries
+    from ..diagram import bifurcation_diagram
+
+    common = dict(tol=b["tol"], method=study.method, **study.options)
+    if b["diagram"]:
+        return bifurcation_diagram(grid, along=b["along"], **common)
+    search = dict(along=b["along"], bracket=b["bracket"], xtol=b["xtol"],
+                  scan=b["scan"], offset=b["offset"], **common)
+    if b["continuation"]:
+        return continue_boundary(grid, over=b["continuation"], **search)
+    return locate_boundaries(grid, chunks=args.chunks, scheduler=args.scheduler,
+                             **search)

@@ -1,0 +1,220 @@
+"""The command line of ``sweepcore``: its subcommands and options, declared once."""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+
+from ..labels import version
+from ..options import METHODS
+from . import commands
+
+UNITS_HELP = ("units: force kN, length cm, time s; mass kN s^2/cm, stiffness kN/cm, "
+              "alpha1 kN s/cm, alpha2 kN s^3/cm^3")
+THREAD_VARIABLES = ("NUMBA_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
+                    "OPENBLAS_NUM_THREADS")
+
+
+# ------------------------------------------------------------------ threads
+def set_threads(n: int) -> None:
+    """Limit numba (and BLAS/OpenMP) to ``n`` threads, in this process and children.
+
+    The environment variables are set for worker processes; numba, already imported
+    by ``sweepcore``, is reconfigured before its thread pool starts.
+    """
+    for name in THREAD_VARIABLES:
+        os.environ[name] = str(n)
+    if "numba" in sys.modules:
+        import numba
+        numba.config.reload_config()
+        numba.set_num_threads(min(n, numba.config.NUMBA_NUM_THREADS))
+
+
+def _positive_int(text: str) -> int:
+    try:
+        n = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}") \
+            from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
+    return n
+
+
+def _thread_count(text: str) -> int:
+    """--threads: an integer from 1 to the threads numba allows (its
+    NUMBA_NUM_THREADS, by default the number of cores)."""
+    n = _positive_int(text)
+    import numba
+    top = numba.config.NUMBA_NUM_THREADS
+    if n > top:
+        raise argparse.ArgumentTypeError(
+            f"must be at most {top} (the threads numba allows here: "
+            f"NUMBA_NUM_THREADS, by default the number of cores), got {text!r}")
+    return n
+
+
+# ------------------------------------------------------------------- parser
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of ``sweepcore`` (the subcommands of :data:`SUBCOMMANDS`)."""
+    parser = argparse.ArgumentParser(
+        prog="sweepcore",
+        description="Parameter sweeps of the stick-slip friction oscillator (Liu): a "
+                    "slider of mass m on a belt of speed v, spring k, friction "
+                    "r_a = r_y sgn(zdot) - alpha1 zdot + alpha2 zdot^3. " + UNITS_HELP
+                    + ".",
+        epilog="Examples: sweepcore run studies/hopf_map.toml; sweepcore info "
+               "out/hopf_map.nc; sweepcore export out/hopf_map.nc --csv map.csv; "
+               "sweepcore simulate --m 5 --k 50 --r-y 10 --v 5 --png fig3.png. "
+               "Output variables and codes: docs/variables.md. "
+               "Exit codes: 0 ok, 1 failure, 2 refused input.")
+    parser.add_argument("--threads", type=_thread_count, metavar="N",
+                        help="numba threads (sets NUMBA_NUM_THREADS and friends); "
+                             "default: numba's (all cores)")
+    parser.add_argument("--traceback", action="store_true",
+                        help="show the full traceback of an error")
+    parser.add_argument("--version", action="version", version=f"sweepcore {version()}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for name, (summary, description, add_options) in SUBCOMMANDS.items():
+        p = sub.add_parser(name, help=summary, description=description)
+        add_options(p)
+        p.set_defaults(func=getattr(commands, f"cmd_{name}"))
+    return parser
+
+
+def _add_study_options(p, output: str, png: str, scheduler: str, chunks: str,
+                       quiet: str) -> None:
+    """The options of the commands that run a study file (run, boundary), declared
+    once: the study, the result and its picture, the executor, the quiet switch;
+    each command gives its own help texts (its defaults differ)."""
+    p.add_argument("study", metavar="STUDY.toml", help="study file")
+    p.add_argument("-o", "--output", metavar="OUT.nc", help=output)
+    group = p.add_mutually_exclusive_group()
+    group.add_argument("--png", metavar="FIG.png", help=png)
+    group.add_argument("--no-png", action="store_true", help="draw no picture")
+    p.add_argument("--scheduler", metavar="ADDRESS|threads|processes|synchronous",
+                   help=scheduler)
+    p.add_argument("--chunks", type=_positive_int, metavar="N", help=chunks)
+    p.add_argument("-q", "--quiet", action="store_true", help=quiet)
+
+
+def _run_options(p):
+    _add_study_options(
+        p, output="netCDF result; default [output] path of the study, else <study "
+                  "stem>.nc in the current directory",
+        png="picture; default [output] png of the study, else the result's path with "
+            ".png",
+        scheduler="dask scheduler (one task per chunk) or a distributed scheduler "
+                  "address tcp://host:port; default: numba threads in this process",
+        chunks="points per chunk (task and resume unit); default [solver] chunks, else "
+               "sweepcore's choice",
+        quiet="no progress bar and no summary")
+
+
+def _plot_options(p):
+    p.add_argument("result", metavar="RESULT.nc", help="netCDF result of run/simulate")
+    p.add_argument("-o", "--output", metavar="FIG.png",
+                   help="picture; default the result's path with .png")
+    p.add_argument("--x", metavar="DIM", help="dimension across (maps); default v")
+    p.add_argument("--y", metavar="DIM", help="dimension up (maps)")
+    p.add_argument("--variables", metavar="NAME[,NAME...]",
+                   help="panels, e.g. regime,amplitude,mean (sweeps)")
+
+
+def _simulate_options(p):
+    req = p.add_argument_group("slider (required)")
+    req.add_argument("--m", type=float, required=True, help="mass [kN s^2/cm], > 0")
+    req.add_argument("--k", type=float, required=True, help="stiffness [kN/cm], > 0")
+    req.add_argument("--r-y", dest="r_y", type=float, required=True,
+                     help="friction bound r_y [kN], >= 0")
+    req.add_argument("--v", type=float, required=True, help="belt speed [cm/s]")
+    p.add_argument("--alpha1", type=float, default=0.0,
+                   help="linear friction-speed coefficient [kN s/cm] (default 0)")
+    p.add_argument("--alpha2", type=float, default=0.0,
+                   help="cubic friction-speed coefficient [kN s^3/cm^3], >= 0 "
+                        "(default 0)")
+    p.add_argument("--x0", type=float, default=0.0, help="initial position [cm] "
+                                                         "(default 0)")
+    p.add_argument("--xdot0", type=float, default=None,
+                   help="initial velocity [cm/s] (default v: start stuck on the belt)")
+    p.add_argument("--t-end", dest="t_end", type=float, default=60.0,
+                   help="end time [s] (default 60)")
+    p.add_argument("--output-dt", dest="output_dt", type=float, default=None,
+                   help="sampling interval [s] (default a hundredth of 2 pi/omega)")
+    p.add_argument("--method", default="auto", choices=METHODS,
+                   help="stepper (default auto: exact for alpha2 = 0, else dopri5)")
+    p.add_argument("--tol", type=float, default=1e-10,
+                   help="tolerance of dopri5 (default 1e-10)")
+    p.add_argument("--dt", type=float, default=None,
+                   help="fixed step of gps and rk4 [s] (default 2 pi/omega/50)")
+    p.add_argument("-o", "--output", metavar="RUN.nc", help="write the run as netCDF")
+    p.add_argument("--png", metavar="FIG.png", help="write the picture")
+
+
+def _info_options(p):
+    p.add_argument("result", metavar="RESULT.nc")
+
+
+def _export_options(p):
+    p.add_argument("result", metavar="RESULT.nc", help="netCDF result of run/simulate")
+    p.add_argument("--csv", required=True, metavar="OUT.csv", help="CSV file to write")
+    p.add_argument("--variables", metavar="NAME[,NAME...]",
+                   help="only these variables (default all)")
+
+
+def _boundary_options(p):
+    _add_study_options(
+        p, output="netCDF result; default [boundary] path, else <study "
+                  "stem>_boundaries.nc",
+        png="picture; default [boundary] png, else the result's path with .png",
+        scheduler="as for run (not for continuation or diagrams)",
+        chunks="points per task (not for continuation or diagrams)",
+        quiet="no summary")
+
+
+# name -> (one-line help, description, the function adding its options); the
+# command's function is commands.cmd_<name>
+SUBCOMMANDS = {
+    "run": (
+        "run the sweep of a TOML study file, write netCDF and its picture",
+        "Run the sweep described by a TOML study file (format: docs/studies.md), "
+        "write the result as netCDF and draw it. The study file is validated first: "
+        "on any error nothing is written. An interrupted run resumes when rerun with "
+        "the same output. " + UNITS_HELP + ".",
+        _run_options),
+    "plot": (
+        "draw the natural picture of a result file",
+        "Draw a result: a 2-D sweep as regime and amplitude maps with the analytic v* "
+        "and the measured boundaries, a 1-D sweep as amplitude and mean against its "
+        "axis, a simulation as time histories and phase planes (the paper's Fig. 3).",
+        _plot_options),
+    "simulate": (
+        "simulate one slider: time histories and phase planes",
+        "Simulate one slider from (x0, xdot0) and draw z, zdot, x, xdot against time "
+        "and the phase planes (z, zdot) and (x, xdot), as the paper's Fig. 3. "
+        + UNITS_HELP + ".",
+        _simulate_options),
+    "info": (
+        "summarise a result file",
+        "Print the dimensions, axes with units, regime and status counts, converged "
+        "fraction and the provenance attributes of a result file.",
+        _info_options),
+    "export": (
+        "write a result file as CSV (one row per point or sample)",
+        "Write a result as CSV: a sweep as one row per grid point (the swept "
+        "parameters, then every variable), a simulation as one row per time sample "
+        "(its event log goes to <OUT stem>_events.csv). Column headers carry the "
+        "units, e.g. 'amplitude [cm]'; regime, status and other flag variables are "
+        "written as names. Meanings: docs/variables.md.",
+        _export_options),
+    "boundary": (
+        "locate the Hopf point and the stick onset to full precision, or draw a "
+        "bifurcation diagram",
+        "Locate the regime boundaries of a study along v (the Hopf point from the "
+        "cycle's amplitude, the stick onset from the grazing of the cycle with the "
+        "belt, every other change from the labels) to xtol, for every point of the "
+        "other axes, or follow them along one parameter by continuation, or scan a "
+        "bifurcation diagram up and down; settings in the study's [boundary] table "
+        "(docs/studies.md). " + UNITS_HELP + ".",
+        _boundary_options),
+}

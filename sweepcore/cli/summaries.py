@@ -1,0 +1,198 @@
+"""What ``sweepcore`` prints about a result: ``info``'s summaries of sweeps,
+simulations, boundaries and diagrams, and the lines ``run``, ``simulate`` and
+``boundary`` print when they finish."""
+from __future__ import annotations
+
+from collections import Counter
+
+import numpy as np
+
+from ..boundaries import LOCATED
+from ..labels import parameter
+
+
+def _units(var) -> str:
+    u = var.attrs.get("units", "")
+    return "" if u in ("", "1") else f" {u}"
+
+
+def _flag_counts(da) -> list[tuple[str, int]]:
+    values = np.atleast_1d(da.attrs.get("flag_values", []))
+    names = str(da.attrs.get("flag_meanings", "")).split()
+    counts = Counter(np.asarray(da.values).ravel().tolist())
+    out = [(name, counts.pop(int(val), 0)) for val, name in zip(values, names)]
+    out += [(f"code {code}", n) for code, n in sorted(counts.items())]
+    return out
+
+
+def regime_line(ds) -> str:
+    """One line of regime counts, e.g. ``regime: equilibrium 120, stick_slip 80``."""
+    if "regime" not in ds:
+        return ""
+    return "regime: " + ", ".join(f"{n} {c}" for n, c in _flag_counts(ds["regime"])
+                                  if c)
+
+
+def describe(ds) -> str:
+    """Multi-line summary of a sweep or simulation Dataset (``sweepcore info``)."""
+    if "time" in ds.dims:
+        return _describe_simulation(ds)
+    lines = []
+    size = int(np.prod([ds.sizes[d] for d in ds.dims])) if ds.dims else 1
+    shape = " x ".join(f"{d}: {n}" for d, n in ds.sizes.items())
+    lines.append(f"  sweep of {size} points ({shape})")
+    for key in ("study_title", "study_file"):
+        if ds.attrs.get(key):
+            lines.append(f"  {key.replace('_', ' ')}: {ds.attrs[key]}")
+    lines.append("  axes:")
+    for d in ds.dims:
+        c = ds[d]
+        vals = c.values
+        spacing = c.attrs.get("spacing", "")
+        name = f"{c.attrs.get('long_name', '')} [{c.attrs.get('units', '')}]"
+        lines.append(f"    {d:8s} {name}: {vals.size} values in [{vals.min():.6g}, {vals.max():.6g}]"
+                     + (f" ({spacing})" if spacing else ""))
+    fixed = [n for n in ds.coords if ds[n].ndim == 0]
+    if fixed:
+        lines.append("  fixed: " + ", ".join(f"{n} = {float(ds[n]):.6g}{_units(ds[n])}"
+                                             for n in fixed))
+    if "initial_velocity" in ds.attrs:
+        lines.append(f"  start: {ds.attrs['initial_velocity']}")
+    for var in ("regime", "status"):
+        if var in ds:
+            lines.append(f"  {var} counts:")
+            for name, count in _flag_counts(ds[var]):
+                if count:
+                    lines.append(f"    {name:22s} {count:9d}  ({100 * count / size:.3g} %)")
+    if "converged" in ds:
+        n = int(np.asarray(ds["converged"].values).sum())
+        lines.append(f"  converged: {n} of {size} ({100 * n / size:.6g} %)")
+    for var in ("amplitude", "mean", "period"):
+        if var in ds:
+            vals = ds[var].values
+            if np.isfinite(vals).any():
+                lines.append(f"  {var}: [{np.nanmin(vals):.6g}, {np.nanmax(vals):.6g}]"
+                             f"{_units(ds[var])}")
+    lines.extend(_boundary_lines(ds))
+    lines.append("  attributes:")
+    for key in ("method", "tol", "max_steps", "max_periods", "dt", "graze",
+                "Conventions", "source", "history"):
+        if key in ds.attrs:
+            text = str(ds.attrs[key]).replace("\n", "\n" + " " * 16)
+            lines.append(f"    {key:12s}{text}")
+    return "\n".join(lines)
+
+
+def _boundary_lines(ds) -> list[str]:
+    if "v_hopf_measured" not in ds or "v_star" not in ds:
+        return []
+    measured = ds["v_hopf_measured"]
+    ok = np.isfinite(measured.values)
+    if not ok.any():
+        return ["  measured Hopf boundary: no switch from a cycle to equilibrium"]
+    vs = ds["v_star"]
+    vs = vs.isel(v=0) if "v" in vs.dims else vs
+    diff = (measured - vs).values
+    sel = ok & np.isfinite(diff)
+    res = ds["v_hopf_resolution"].values[sel] if "v_hopf_resolution" in ds else None
+    text = (f"  measured Hopf boundary: {int(ok.sum())} of {ok.size} rows switch; "
+            f"|v_measured - v*| <= {np.max(np.abs(diff[sel])):.3g} cm s-1"
+            if sel.any() else "")
+    if res is not None and res.size:
+        text += f" (grid resolution +-{np.max(res):.3g})"
+    return [text] if text else []
+
+
+def _describe_simulation(ds) -> str:
+    a = ds.attrs
+    t = ds.time.values
+    lines = [f"  simulation: {t.size} samples over t in [{t[0]:.6g}, {t[-1]:.6g}] s",
+             "  slider: " + ", ".join(f"{n} = {parameter(ds, n):.6g}{_units(ds[n])}"
+                                      if n in ds.coords else f"{n} = {parameter(ds, n):.6g}"
+                                      for n in ("m", "k", "r_y", "v", "alpha1", "alpha2")
+                                      if np.isfinite(parameter(ds, n))),
+             f"  start: x0 = {parameter(ds, 'x0'):.6g} cm, "
+             f"xdot0 = {parameter(ds, 'xdot0'):.6g} cm s-1",
+             f"  method: {a.get('method', '?')}, status: {a.get('status', '?')}, "
+             f"steps: {a.get('n_steps', '?')}"]
+    if "event_kind" in ds:
+        counts = [(n, c) for n, c in _flag_counts(ds["event_kind"]) if c]
+        lines.append("  events: " + (", ".join(f"{n} {c}" for n, c in counts)
+                                     if counts else "none"))
+    x = ds.x.values
+    tail = (t >= t[-1] - 0.2 * (t[-1] - t[0])) & np.isfinite(x)
+    if tail.any():
+        lines.append(f"  x over the last 20 % of the run: [{x[tail].min():.6g}, "
+                     f"{x[tail].max():.6g}] cm")
+    else:
+        lines.append("  x over the last 20 % of the run: no valid sample (the run "
+                     "stopped early)")
+    if "history" in a:
+        lines.append(f"  history: {a['history']}")
+    return "\n".join(lines)
+
+
+def simulation_summary(ds, p) -> str:
+    """Summary of a fresh simulation with the slider's analytic quantities."""
+    return (_describe_simulation(ds) + "\n"
+            f"  analytic: omega = {p.omega:.6g} s-1, q = {p.q:.6g} s-1 (eq. 46), "
+            f"v* = {p.v_star:.6g} cm s-1, x_eq = {p.x_eq:.6g} cm (eq. 43)")
+
+
+def describe_boundaries(ds) -> str:
+    """``sweepcore info`` of a boundaries or bifurcation-diagram result."""
+    kind = ds.attrs["sweepcore_kind"].replace("_", " ")
+    shape = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items())
+    lines = [f"  {kind} ({shape})"]
+    for d in ds.dims:
+        if ds[d].dtype.kind == "f":
+            v = ds[d].values
+            lines.append(f"    {d:8s} {ds[d].attrs.get('long_name', '')} "
+                         f"[{ds[d].attrs.get('units', '')}]: {v.size} values in "
+                         f"[{v.min():.6g}, {v.max():.6g}]")
+    fixed = [n for n in ds.coords if ds[n].ndim == 0]
+    if fixed:
+        lines.append("  fixed: " + ", ".join(f"{n} = {float(ds[n]):.6g}{_units(ds[n])}"
+                                             for n in fixed))
+    lines.extend(boundary_lines(ds))
+    for key in ("tol", "history"):
+        if key in ds.attrs:
+            text = str(ds.attrs[key]).replace("\n", "\n" + " " * 12)
+            lines.append(f"  {key:9s} {text}")
+    return "\n".join(lines)
+
+
+def boundary_lines(ds) -> list[str]:
+    """Summary of a boundaries or diagram result: what was located, against v*."""
+    if ds.attrs.get("sweepcore_kind") == "bifurcation_diagram":
+        lines = ["  " + regime_line(ds)]
+        for name in ("v_hopf", "v_stick_onset", "v_star"):
+            if name in ds:
+                lines.append(f"  {name} = {float(ds[name]):.10g} cm s-1")
+        return lines
+    lines = []
+    for name, status, width in (("v_hopf", "hopf_status", "v_hopf_error"),
+                                ("v_stick_onset", "stick_status",
+                                 "v_stick_onset_width")):
+        ok = ds[status].values == LOCATED
+        line = f"  {name}: located at {int(ok.sum())} of {ok.size} points"
+        if ok.any():
+            line += f", {width} <= {np.nanmax(ds[width].values[ok]):.2g}"
+        lines.append(line)
+    if "v_star" not in ds:      # searched along another parameter than v
+        lines.append(f"  attractors computed: {int(ds['evaluations'].sum())}")
+        return lines
+    hopf = ds["hopf_status"].values == LOCATED
+    if hopf.any():
+        dv = np.abs(ds["v_hopf"] - ds["v_star"]).values[hopf]
+        lines.append(f"  |v_hopf - v*| <= {dv.max():.3g} cm s-1")
+    stick = ds["stick_status"].values == LOCATED
+    if stick.any():
+        r = (ds["v_stick_onset"] / ds["v_star"]).values[stick]
+        line = f"  v_stick_onset / v* in [{r.min():.10f}, {r.max():.10f}]"
+        if "v_stick_onset_estimate" in ds:     # the file's own averaging estimate
+            est = (ds["v_stick_onset_estimate"] / ds["v_star"]).values[stick]
+            line += f" (averaging sqrt(4/5) = {np.max(est):.10f})"
+        lines.append(line)
+    lines.append(f"  attractors computed: {int(ds['evaluations'].sum())}")
+    return lines

@@ -1,0 +1,186 @@
+"""Where the kernels run: one executor for sweeps, boundary searches and diagrams.
+
+A caller cuts its work into independent tasks, each ``function(*args)`` returning
+one chunk's result, and hands them to :func:`run`, which runs them
+
+* directly in this process (no ``client``, no ``scheduler``): one after the other,
+  each called with ``parallel=True``, so that it may use numba's threads;
+* as one dask task per chunk with a local scheduler (``"threads"``, ``"processes"``,
+  ``"synchronous"``): each called serially (the kernels release the GIL), so dask
+  alone provides the parallelism, never nested numba threads;
+* as one future per chunk on a distributed cluster (a ``distributed.Client`` or a
+  scheduler address ``"tcp://host:port"``).
+
+Every point is computed independently (fastmath off), so results do not depend on
+the executor, the chunk size or the worker count. Results are handed back as each
+task finishes (``handle(i, result)``), so a caller can store them and hold no more
+than it needs.
+
+:func:`attractors` is the one call of the attractor kernel on a batch of rows, for
+callers that batch their own requests (the boundary solvers, the diagrams).
+"""
+from __future__ import annotations
+
+import itertools
+import uuid
+from concurrent.futures import ThreadPoolExecutor
+
+import numba
+import numpy as np
+
+from ._kernels.attractor import _LANES, attractor_rows, attractor_rows_parallel
+
+LOCAL_SCHEDULERS = {"threads": "threads", "processes": "processes",
+                    "synchronous": "synchronous", "sync": "synchronous",
+                    "single-threaded": "synchronous"}
+
+
+def chunk_bounds(size: int, chunk: int) -> list[tuple[int, int]]:
+    """Flat ranges ``[start, stop)`` of ``chunk`` consecutive points (the last may be
+    shorter) covering ``size`` points."""
+    return [(a, min(a + chunk, size)) for a in range(0, size, chunk)]
+
+
+def check_chunks(chunks, what: str = "") -> None:
+    """Refuse a chunk size that is not an integer >= 1 (None: the default)."""
+    if chunks is not None and (isinstance(chunks, bool) or not isinstance(
+            chunks, (int, np.integer)) or chunks < 1):
+        raise ValueError(f"chunks must be an integer >= 1{what}, got {chunks!r}")
+
+
+# ------------------------------------------------------------------ executors
+def resolve(client, scheduler):
+    """("direct", None) | ("local", name) | ("distributed", Client or address)."""
+    if client is not None and scheduler is not None:
+        raise ValueError("give client or scheduler, not both")
+    target = scheduler if client is None else client
+    if target is None:
+        return "direct", None
+    if isinstance(target, str):
+        if client is None and target in LOCAL_SCHEDULERS:
+            return "local", LOCAL_SCHEDULERS[target]
+        if ":" in target:
+            return "distributed", target
+        raise ValueError(f"scheduler must be one of {sorted(LOCAL_SCHEDULERS)} or a "
+                         f"scheduler address 'tcp://host:port', got {target!r}")
+    from distributed import Client
+    if isinstance(target, Client):
+        return "distributed", target
+    raise TypeError("client must be a distributed.Client or a scheduler address, got "
+                    f"{target!r} of type {type(target).__name__}")
+
+
+def run(kind: str, target, todo, task, handle) -> None:
+    """Run the tasks ``todo`` with the executor ``(kind, target)`` of :func:`resolve`.
+
+    Parameters
+    ----------
+    kind, target
+        From :func:`resolve`.
+    todo : iterable of int
+        Indices of the tasks to run.
+    task : callable
+        ``task(i) -> (function, args)``; ``args`` are shipped to a worker as they
+        are (keep them small: a grid block, not the grid's rows). The direct path
+        builds each task only when it runs.
+    handle : callable
+        ``handle(i, result)``, called in this process as each task finishes (in
+        any order).
+    """
+    if kind == "direct":
+        for i in todo:
+            function, args = task(i)
+            handle(i, function(*args, parallel=True))
+    elif kind == "local":
+        _run_dask_local(target, todo, task, handle)
+    elif isinstance(target, str):
+        from distributed import Client
+        with Client(target, set_as_default=False) as client:
+            _run_distributed(client, todo, task, handle)
+    else:
+        _run_distributed(target, todo, task, handle)
+
+
+def _run_dask_local(scheduler, todo, task, handle):
+    """One dask task per chunk; results are handled as they finish (posttask).
+
+    dask returns all results at the end as well, so this path holds the output
+    twice at its peak; the direct path and distributed do not.
+    """
+    import dask
+    from dask.callbacks import Callback
+
+    token = uuid.uuid4().hex
+    keys = {}
+    tasks = []
+    for i in todo:
+        function, args = task(i)
+        key = f"sweepcore-chunk-{i}-{token}"
+        keys[key] = i
+        # each argument as it is: dask would otherwise walk into a Grid (a dataclass)
+        args = [dask.delayed(a, name=f"sweepcore-arg-{i}-{j}-{token}", traverse=False)
+                for j, a in enumerate(args)]
+        tasks.append(dask.delayed(function, pure=True)(*args, dask_key_name=key))
+
+    def posttask(key, result, dsk, state, worker_id):
+        if key in keys:
+            handle(keys[key], result)
+
+    with Callback(posttask=posttask):
+        dask.compute(*tasks, scheduler=scheduler)
+
+
+def _run_distributed(client, todo, task, handle):
+    """One future per chunk, each carrying its own (small) arguments: data scattered
+    to a worker would be lost with it, a task's arguments are not."""
+    from distributed import as_completed
+
+    token = uuid.uuid4().hex
+    futures = {}
+    for i in todo:
+        function, args = task(i)
+        futures[client.submit(function, *args, pure=False,
+                              key=f"sweepcore-chunk-{i}-{token}")] = i
+    pending = set(futures)
+    try:
+        for fut in as_completed(futures, loop=client.loop):
+            handle(futures[fut], fut.result())
+            pending.discard(fut)
+            fut.release()
+    finally:
+        if pending:
+            client.cancel(list(pending))
+
+
+# ------------------------------------------------------- one batch of attractors
+_POOL = []
+
+
+def attractors(P: np.ndarray, o: np.ndarray, out: np.ndarray, parallel: bool) -> None:
+    """``attractor_rows`` over the rows of P, on every numba thread if ``parallel``.
+
+    Waking numba's thread pool costs ~2 ms a call, more than a small batch of
+    attractors, and the parallel kernel deals its ``_LANES`` lanes to the threads
+    in contiguous blocks, so a batch of fewer rows than lanes runs on one thread
+    only: batches below ``threads * _LANES`` rows are shared by Python threads
+    instead, row by row (the kernel releases the GIL).
+    """
+    n = P.shape[0]
+    threads = numba.get_num_threads() if parallel else 1
+    if threads == 1 or n == 1:
+        attractor_rows(P, o, out)
+    elif n >= threads * _LANES:
+        attractor_rows_parallel(P, o, out)
+    else:
+        if not _POOL:
+            _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="sweepcore"))
+        # each thread takes the next row when done (their costs differ ~10x)
+        P = np.ascontiguousarray(P)
+        rows = itertools.count()
+
+        def work(_):
+            for i in rows:
+                if i >= n:
+                    return
+                attractor_rows(P[i:i + 1], o, out[i:i + 1])
+        list(_POOL[0].map(work, range(min(threads, n))))

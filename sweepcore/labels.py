@@ -1,0 +1,101 @@
+"""What a result file says about itself: the CF labels of every result.
+
+The global attributes of provenance (:func:`provenance`), variable and flag
+attributes (:func:`attrs`, :func:`flag_attrs`, :func:`flags`), and the analytic
+variables read from :mod:`sweepcore.law` over a result's coordinates
+(:func:`analytic`, :func:`stick_onset_estimate`). Used by sweep, simulate, the
+boundary searches and the diagrams; the metadata of each variable is declared once,
+in :mod:`sweepcore.variables`.
+"""
+from __future__ import annotations
+
+import datetime
+from importlib.metadata import PackageNotFoundError, version as _installed
+
+import numpy as np
+import xarray as xr
+
+from . import law, variables
+
+REFERENCE = ('C.-S. Liu, "Coulomb friction applied to analyze the cutting vibration '
+             'of tool on workpiece"')
+
+
+def version() -> str:
+    """sweepcore's version (installed metadata; "0.1.0" in a source tree)."""
+    try:
+        return _installed("sweepcore")
+    except PackageNotFoundError:   # source tree without install
+        return "0.1.0"
+
+
+def provenance(title: str, call: str, source: str, comment: str) -> dict:
+    """CF global attributes (section 2.6): Conventions, title, history (the time, the
+    version and ``call``), source (the version and ``source``), references, comment."""
+    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    return {
+        "Conventions": "CF-1.11",
+        "title": title,
+        "history": f"{now} sweepcore {version()}: {call}",
+        "source": f"sweepcore {version()}: {source}",
+        "references": REFERENCE,
+        "comment": comment,
+    }
+
+
+def attrs(units: str, long_name: str, comment: str = "") -> dict:
+    """``units``, ``long_name`` and, if any, ``comment`` of a variable."""
+    out = {"units": units, "long_name": long_name}
+    return {**out, "comment": comment} if comment else out
+
+
+def flag_attrs(meta: dict) -> dict:
+    """A flag variable's attributes (``variables.REGIME``, ...) with int8 values."""
+    return {**meta, "flag_values": np.array(meta["flag_values"], dtype=np.int8)}
+
+
+def flags(meanings: dict, long_name: str) -> dict:
+    """Flag attributes of the codes ``meanings`` (``{code: name}``)."""
+    keys = sorted(meanings)
+    return {"units": "1", "long_name": long_name,
+            "flag_values": np.array(keys, np.int8),
+            "flag_meanings": " ".join(meanings[k] for k in keys)}
+
+
+def parameter(ds: xr.Dataset, name: str) -> float:
+    """A simulation's parameter: its scalar coordinate (files of older versions: the
+    global attribute), NaN when absent."""
+    if name in ds.coords and ds[name].ndim == 0:
+        return float(ds[name])
+    return float(ds.attrs.get(name, np.nan))
+
+
+# ------------------------------------------------------------ analytic variables
+def _over(coords, name: str, formula) -> xr.DataArray:
+    """``formula(source)`` over the coordinates that ``law.derived(name)`` takes,
+    broadcast by dimension name (dask arrays stay lazy)."""
+    _column, names = law.DERIVED[name]
+    given = [n for n in names if n in coords]      # absent: the law's default
+    return xr.apply_ufunc(lambda *vals: formula(dict(zip(given, vals))),
+                          *(coords[n] for n in given), keep_attrs=False,
+                          dask="parallelized", output_dtypes=[np.float64])
+
+
+def analytic(name: str, coords, dims=None) -> xr.DataArray:
+    """Analytic variable ``name`` (a key of ``variables.ANALYTIC``) of
+    :mod:`sweepcore.law` over ``coords`` (a Dataset, or a mapping of DataArrays or
+    Variables: then a Variable), labelled from ``variables.ANALYTIC``; its
+    dimensions in the order of ``dims``."""
+    da = _over(coords, name, lambda src: law.derived(name, src))
+    if dims is not None:
+        da = da.transpose(*(d for d in dims if d in da.dims))
+    da.attrs = attrs(*variables.ANALYTIC[name])
+    return da
+
+
+def stick_onset_estimate(coords) -> xr.DataArray:
+    """The averaging estimate of the stick onset (:func:`sweepcore.law.
+    stick_onset_estimate`) over ``coords``, on the dimensions of ``v_star``."""
+    da = _over(coords, "v_star", law.stick_onset_estimate)
+    da.attrs = attrs(*variables.STICK_ONSET_ESTIMATE)
+    return da

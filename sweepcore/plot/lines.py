@@ -1,0 +1,136 @@
+"""1-D sweeps: observables against the swept parameter, points coloured by regime,
+with the paper's reference curves."""
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+from matplotlib.lines import Line2D
+
+from .. import labels
+from .._kernels import codes
+from .style import (REGIME_COLOURS, axis_scale, flag_axis, fmt, label, regime_codes,
+                    sweep_title)
+
+
+def _observable_reference(ds: xr.Dataset, dim: str, name: str):
+    """Paper's reference curve for ``name`` along ``dim``: (values, label) or None."""
+    if name == "amplitude" and "v" in ds and "omega" in ds:
+        ref = np.abs(ds["v"]) / ds["omega"]
+        return ref, r"$v/\omega$ (paper, eq. 39)"
+    if name == "mean" and "x_eq" in ds:
+        return ds["x_eq"], r"equilibrium $x_{eq}$ (eq. 43)"
+    return None
+
+
+_MARKERS = "osD^vP"
+
+
+def plot_lines(ds: xr.Dataset, dim: str, variables=("amplitude", "mean"),
+               title: str | None = None, series: str | None = None) -> Figure:
+    """Observables of a 1-D sweep against ``dim``, points coloured by regime.
+
+    The paper's reference curves are drawn beside the measurement: v/omega for the
+    amplitude (eq. 39), x_eq for the mean (eq. 43); v* as a vertical line when ``dim``
+    is v and alpha1, alpha2 are fixed. ``series``: a second dimension (e.g. several
+    starts), one marker per value (at most six; further dimensions at their first
+    value).
+    """
+    variables = [v for v in variables if v in ds]
+    if not variables:
+        raise ValueError(f"none of the variables {variables} is in the result")
+    keep = (dim, series) if series else (dim,)
+    ds = ds.isel({d: 0 for d in ds.dims if d not in keep and ds.sizes[d] > 1})
+    ds = ds.isel({series: slice(0, len(_MARKERS))}) if series else ds
+    fig = Figure(figsize=(8, 2.9 * len(variables) + 0.8), layout="constrained")
+    axs = np.atleast_1d(fig.subplots(len(variables), 1, sharex=True))
+    x = ds[dim].values
+    order = np.argsort(x)
+    handles = {}
+    for ax, name in zip(axs, variables):
+        for k, sub in enumerate(_series(ds, series)):
+            _regime_points(ax, sub, dim, name, x, order, _MARKERS[k], handles)
+            if series:
+                handles[f"s{k}"] = Line2D([], [], color="0.35", marker=_MARKERS[k],
+                                          ls="-", mfc="none",
+                                          label=f"{series} = {fmt(sub[series])}")
+        ref = _observable_reference(ds, dim, name)
+        if ref is not None and series in ref[0].dims:
+            same = (ref[0] == ref[0].isel({series: 0})).all()
+            # drawn only when it is the same for every series
+            ref = (ref[0].isel({series: 0}), ref[1]) if bool(same) else None
+        if ref is not None:
+            ref_vals = np.broadcast_to(ref[0].values, x.shape) if ref[0].ndim else \
+                np.full(x.shape, float(ref[0]))
+            style = dict(ls="--", color="#0072B2") if name == "amplitude" else \
+                dict(ls="-.", color="#009E73")
+            handles[ref[1]] = ax.plot(x[order], ref_vals[order], lw=1.1, zorder=1,
+                                      label=ref[1], **style)[0]
+        _vstar_line(ax, ds, dim, handles)
+        if name == "amplitude":
+            _small_cycle(ax, ds, dim, handles)
+        ax.set_ylabel(label(ds[name], name))
+        flag_axis(ax, ds[name])
+        ax.grid(alpha=0.3)
+        ax.set_xscale(axis_scale(ds, dim))
+    axs[-1].set_xlabel(label(ds[dim], dim))
+    regimes = [h for k, h in handles.items() if k in codes.REGIME_NAMES.values()]
+    rest = [h for k, h in handles.items() if k not in codes.REGIME_NAMES.values()]
+    # beside the panels, never over the data
+    fig.legend(handles=regimes + rest, fontsize=8, loc="outside lower center",
+               ncol=3)
+    fig.suptitle(title or sweep_title(ds), fontsize=10)
+    return fig
+
+
+def _series(ds, series):
+    if series is None:
+        return [ds]
+    return [ds.isel({series: i}) for i in range(ds.sizes[series])]
+
+
+def _regime_points(ax, ds, dim, name, x, order, marker, handles):
+    """One series: a grey line through the points, each point coloured by regime."""
+    y = ds[name].values
+    ax.plot(x[order], y[order], color="0.35", lw=1, zorder=1)
+    if "regime" not in ds:
+        return
+    regime = ds["regime"].values
+    values, names = regime_codes(ds)
+    for val, rname in zip(values, names):
+        sel = regime == val
+        if sel.any():
+            handles[rname] = ax.scatter(x[sel], y[sel], s=14, zorder=2, marker=marker,
+                                        color=REGIME_COLOURS.get(val, "k"),
+                                        label=rname.replace("_", " "))
+
+
+def _vstar_line(ax, ds, dim, handles):
+    if dim != "v" or "v_star" not in ds:
+        return
+    vs = np.unique(ds["v_star"].values)
+    if vs.size == 1 and np.isfinite(vs[0]):
+        handles["v*"] = ax.axvline(vs[0], color="#D55E00", ls=":", lw=1.2,
+                                   label=f"analytic $v^*$ = {vs[0]:.3g}")
+
+
+def _small_cycle(ax, ds, dim, handles):
+    """Averaging estimate A = 2 sqrt(v*^2 - v^2)/omega between the estimated stick
+    onset (2 v*/sqrt(5), :func:`sweepcore.law.stick_onset_estimate`) and v*.
+
+    First-order averaging of eq. (41) about x_eq gives the velocity amplitude
+    2 sqrt(v*^2 - v^2) of the small slip cycle; it reaches the belt speed (and the
+    cycle starts to stick) at v = 2 v*/sqrt(5). See docs/studies.md.
+    """
+    if dim != "v" or "v_star" not in ds or "omega" not in ds:
+        return
+    vs, om = np.unique(ds["v_star"].values), np.unique(ds["omega"].values)
+    onset = np.unique(labels.stick_onset_estimate(ds).values)
+    if vs.size != 1 or om.size != 1 or onset.size != 1 or not np.isfinite(vs[0]):
+        return
+    v = np.linspace(onset[0], vs[0], 200)
+    v = v[(v >= ds.v.values.min()) & (v <= ds.v.values.max())]
+    if v.size:
+        handles["small"] = ax.plot(v, 2 * np.sqrt(vs[0] ** 2 - v ** 2) / om[0],
+                                   color="k", lw=1.2, ls=":", zorder=3,
+                                   label=r"averaging: $2\sqrt{v^{*2} - v^2}/\omega$")[0]

@@ -1,0 +1,79 @@
+"""The natural picture of any result file: :func:`plot_result` picks it."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+from matplotlib.figure import Figure
+
+from .boundaries import plot_boundaries, plot_diagram
+from .lines import plot_lines
+from .maps import plot_map
+from .style import SYMBOLS, flag_axis, fmt, label
+from .trajectories import plot_cases, plot_trajectory
+
+
+def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
+    """The natural picture of a result Dataset (simulation, 1-D or 2-D sweep).
+
+    Keyword arguments go to :func:`plot_trajectory`, :func:`plot_lines` or
+    :func:`plot_map`.
+    """
+    kind = ds.attrs.get("sweepcore_kind")
+    if kind == "bifurcation_diagram":
+        return plot_diagram(ds)
+    if kind == "boundaries":
+        # drawn over the map named by the study ([boundary] over), when it exists
+        over = ds.attrs.get("over")
+        return plot_boundaries(ds, over=xr.open_dataset(over)
+                               if over and Path(over).is_file() else None)
+    if "time" in ds.dims:
+        if ds.attrs.get("status", "ok") != "ok":
+            raise ValueError(f"a failed simulation (status {ds.attrs['status']}): its "
+                             "samples after the failure are NaN, nothing to draw")
+        extra = [d for d in ds.dims if d not in ("time", "event") and ds.sizes[d] > 1]
+        if extra:          # several runs stacked along a parameter: one row each
+            d = extra[0]
+            runs = [ds.isel({d: i}) for i in range(ds.sizes[d])]
+            return plot_cases(runs, [f"${SYMBOLS.get(d, d)}$ = {fmt(r[d])}"
+                                     for r in runs], title=ds.attrs.get("title"))
+        return plot_trajectory(ds, **kwargs)
+    dims = [d for d in ds.dims if ds.sizes[d] > 1]
+    if not dims:
+        raise ValueError("the result has a single point: nothing to plot against")
+    if "amplitude" not in ds and "regime" not in ds:
+        return _plot_variables(ds)
+    numeric = [d for d in dims if ds[d].dtype.kind in "iuf"]
+    few = [d for d in numeric if ds.sizes[d] <= 4]
+    if len(numeric) == 2 and len(few) == 1 and not ("x" in kwargs or "y" in kwargs):
+        numeric.remove(few[0])   # a map 2-4 cells wide reads better as a few lines
+    if len(numeric) == 1:
+        kwargs = {k: v for k, v in kwargs.items() if k not in ("x", "y")}
+        series = [d for d in dims if d != numeric[0]]
+        return plot_lines(ds, numeric[0], series=series[0] if series else None,
+                          **kwargs)
+    return plot_map(ds, **kwargs)
+
+
+def _plot_variables(ds: xr.Dataset, max_panels: int = 6) -> Figure:
+    """Every numeric 1-D data variable against the result's one dimension."""
+    dims = [d for d in ds.dims if ds.sizes[d] > 1]
+    if len(dims) != 1:
+        raise ValueError("no picture for this result: it is neither a simulation nor "
+                         "a sweep, and it has more than one dimension")
+    dim = dims[0]
+    names = [n for n, v in ds.data_vars.items()
+             if v.dims == (dim,) and v.dtype.kind in "iuf"][:max_panels]
+    if not names:
+        raise ValueError(f"no numeric variable along {dim!r} to draw")
+    fig = Figure(figsize=(8, 2.9 * len(names) + 0.8), layout="constrained")
+    axs = np.atleast_1d(fig.subplots(len(names), 1, sharex=True))
+    for ax, name in zip(axs, names):
+        ax.plot(ds[dim].values, ds[name].values, ".", ms=3, color="#0072B2")
+        ax.set_ylabel(label(ds[name], name))
+        flag_axis(ax, ds[name])
+        ax.grid(alpha=0.3)
+    axs[-1].set_xlabel(label(ds[dim], dim))
+    fig.suptitle(ds.attrs.get("title", ""), fontsize=10)
+    return fig
