@@ -197,7 +197,7 @@ def cmd_simulate(args) -> int:
     from ..simulate import simulate
 
     p = Params(m=args.m, k=args.k, r_y=args.r_y, v=args.v, alpha1=args.alpha1,
-               alpha2=args.alpha2)
+               alpha2=args.alpha2, c=args.c, r_k=args.r_k, v_s=args.v_s)
     for path, suffix in ((args.output, ".nc"), (args.png, ".png")):
         if path is not None and Path(path).suffix.lower() != suffix:
             raise UsageError(f"{path!r} must end in {suffix}")

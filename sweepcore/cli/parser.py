@@ -61,7 +61,8 @@ def build_parser() -> argparse.ArgumentParser:
         prog="sweepcore",
         description="Parameter sweeps of the stick-slip friction oscillator (Liu): a "
                     "slider of mass m on a belt of speed v, spring k, friction "
-                    "r_a = r_y sgn(zdot) - alpha1 zdot + alpha2 zdot^3. " + UNITS_HELP
+                    "r_a = sgn(zdot) (r_k + (r_y - r_k) exp(-|zdot|/v_s)) - alpha1 zdot "
+                    "+ alpha2 zdot^3, damping c (r_k = r_y: eq. 40). " + UNITS_HELP
                     + ".",
         epilog="Examples: sweepcore run studies/hopf_map.toml; sweepcore info "
                "out/hopf_map.nc; sweepcore export out/hopf_map.nc --csv map.csv; "
@@ -133,6 +134,13 @@ def _simulate_options(p):
     p.add_argument("--alpha2", type=float, default=0.0,
                    help="cubic friction-speed coefficient [kN s^3/cm^3], >= 0 "
                         "(default 0)")
+    p.add_argument("--c", type=float, default=0.0,
+                   help="viscous damping on the slider [kN s/cm], >= 0 (default 0)")
+    p.add_argument("--r-k", dest="r_k", type=float, default=None,
+                   help="kinetic friction level of the Stribeck law [kN], >= 0 "
+                        "(default r_y: no Stribeck term)")
+    p.add_argument("--v-s", dest="v_s", type=float, default=None,
+                   help="Stribeck speed [cm/s], > 0 (needed with --r-k)")
     p.add_argument("--x0", type=float, default=0.0, help="initial position [cm] "
                                                          "(default 0)")
     p.add_argument("--xdot0", type=float, default=None,
@@ -142,7 +150,8 @@ def _simulate_options(p):
     p.add_argument("--output-dt", dest="output_dt", type=float, default=None,
                    help="sampling interval [s] (default a hundredth of 2 pi/omega)")
     p.add_argument("--method", default="auto", choices=METHODS,
-                   help="stepper (default auto: exact for alpha2 = 0, else dopri5)")
+                   help="stepper (default auto: exact for a piecewise-linear law, "
+                        "else dopri5)")
     p.add_argument("--tol", type=float, default=1e-10,
                    help="tolerance of dopri5 (default 1e-10)")
     p.add_argument("--dt", type=float, default=None,

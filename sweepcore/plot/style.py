@@ -30,7 +30,7 @@ SYMBOLS = {
     "xdot": r"\dot{x}", "z": "z", "zdot": r"\dot{z}", "time": "t", "r_a": "r_a",
     "amplitude": "A", "mean": r"\bar{x}", "velocity_amplitude": r"A_{\dot{x}}",
     "cycle_size": "R", "period": "T", "q": "q", "v_star": "v^*", "x_eq": "x_{eq}",
-    "omega": r"\omega",
+    "omega": r"\omega", "c": "c", "r_k": "r_k", "v_s": "v_s",
 }
 
 DPI = 150
@@ -112,8 +112,14 @@ def axis_scale(ds: xr.Dataset, dim: str) -> str:
 def fixed_parameters(ds: xr.Dataset) -> str:
     """``m = 5, k = 50, ...`` for the 0-d coordinates (the fixed parameters)."""
     parts = []
-    for name in ("m", "k", "r_y", "v", "alpha1", "alpha2", "x0", "xdot0"):
+    for name in ("m", "k", "r_y", "v", "alpha1", "alpha2", "c", "r_k", "v_s", "x0",
+                 "xdot0"):
         if name in ds.coords and ds[name].ndim == 0:
+            if name == "c" and float(ds[name]) == 0.0:
+                continue                      # no damping: the paper's slider
+            if name == "r_k" and "r_y" in ds.coords and ds["r_y"].ndim == 0 \
+                    and float(ds["r_k"]) == float(ds["r_y"]):
+                continue                      # no Stribeck term: eq. (40)
             parts.append(f"${SYMBOLS[name]}$ = {float(ds[name]):.4g}")
     if "xdot0" not in ds.coords and "x0" in ds.coords:
         parts.append("start stuck")
