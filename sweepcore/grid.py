@@ -26,6 +26,8 @@ COLUMNS = {**law.COLUMNS, "x0": layout.X0, "xdot0": layout.XD0}
 # term) and v_s (not used without a Stribeck term: NaN in the kernel rows)
 OPTIONAL = ("xdot0", "r_k", "v_s")
 POINT_DIM = "point"
+# flat indices (len, rows, chunk bounds) are numpy intp: a larger grid has none
+MAX_SIZE = int(np.iinfo(np.intp).max)
 
 
 def _check_scalar(name: str, value) -> float:
@@ -58,8 +60,16 @@ def _check_array(name: str, value: np.ndarray, unique: bool) -> np.ndarray:
         bad = value[i].item() if isinstance(value[i], np.generic) else value[i]
         raise TypeError(f"{name} must hold real numbers, got {bad!r} of type "
                         f"{type(bad).__name__} (array dtype {value.dtype})")
-    a = np.array(value, dtype=np.float64)
     rule = RULES[name]
+    try:
+        a = np.array(value, dtype=np.float64)
+    except OverflowError:           # a Python integer beyond float64
+        for i, x in enumerate(value):
+            try:
+                check_real(name, x, **rule)
+            except ValueError as err:
+                raise ValueError(f"{err} (element {i} of the {name} axis)") from None
+        raise
     ok = np.isfinite(a)
     if rule.get("positive"):
         ok &= a > 0.0
@@ -177,6 +187,11 @@ class Grid:
                 shown = ", ".join(f"{n}: {n_}" for n, n_ in lengths.items())
                 raise ValueError("the array axes of Grid.points must have equal "
                                  f"lengths, got {shown}")
+        if self.size > MAX_SIZE:
+            shown = " x ".join(f"{n}: {k}" for n, k in zip(self.dims, self.shape))
+            raise ValueError(f"Grid of {self.size:.3g} points ({shown}): more than a "
+                             f"flat index counts ({MAX_SIZE:.3g}, numpy's intp); sweep "
+                             "fewer values per axis")
         if self.v_s is None and self.r_k is not None and not (
                 isinstance(self.r_k, float) and self.r_k == self.r_y):
             raise ValueError("v_s (Stribeck speed [cm s-1]) is required when r_k is "

@@ -49,7 +49,11 @@ def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, got {value!r} "
                         f"of type {type(value).__name__}")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:       # an integer beyond float64 (10**400)
+        raise ValueError(f"{name} must be finite, got {_short(value)}, beyond the "
+                         "largest float64 (1.8e308)") from None
     if not math.isfinite(x):
         raise ValueError(f"{name} must be finite, got {value!r}")
     units = UNITS.get(name) or SETTING_UNITS.get(name)
@@ -61,6 +65,15 @@ def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
                 "at high sliding speed)") if name == "alpha2" else ""
         raise ValueError(f"{name} must be >= 0{units}, got {value!r}{hint}")
     return x
+
+
+def _short(value) -> str:
+    """``repr`` of a number, or the size of a huge integer (a 400-digit repr says
+    nothing, and beyond 4300 digits Python refuses to print one)."""
+    if isinstance(value, numbers.Integral) and abs(int(value)).bit_length() > 64:
+        exponent = int(abs(int(value)).bit_length() * math.log10(2))
+        return f"an integer of about {'-' if value < 0 else ''}1e{exponent}"
+    return repr(value)
 
 
 DERIVED = {

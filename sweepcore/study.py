@@ -301,12 +301,20 @@ def _axes(ck: _Checker, doc: dict) -> dict:
                 f"missing axis {name!r} ({LONG_NAMES[name]} [{UNITS[name]}]); "
                 f"[axes] needs {', '.join(REQUIRED_AXES)}", key=f"axes.{name}",
                 line=key_line(ck.text, ("axes",)), path=ck.path)
-    axes = {name: _axis(ck, name, val) for name, val in table.items()}
-    size = math.prod(a.values.size for a in axes.values())
+    # sized from the raw table first: no axis is built for a grid refused anyway
+    size = math.prod(_raw_size(val) for val in table.values())
     if size > MAX_POINTS:
         ck.fail(("axes",), f"the grid has {size} points, more than {MAX_POINTS}; "
                            "split the study")
-    return axes
+    return {name: _axis(ck, name, val) for name, val in table.items()}
+
+
+def _raw_size(val) -> int:
+    """Values of an axis as written (1 where ``_axis`` will refuse it anyway)."""
+    if isinstance(val, list):
+        return len(val)
+    num = val.get("num") if isinstance(val, dict) else None
+    return num if isinstance(num, int) and not isinstance(num, bool) and num > 0 else 1
 
 
 def _solver(ck: _Checker, doc: dict) -> dict:
