@@ -21,6 +21,7 @@ callers that batch their own requests (the boundary solvers, the diagrams).
 """
 from __future__ import annotations
 
+import contextlib
 import itertools
 import uuid
 from concurrent.futures import ThreadPoolExecutor
@@ -50,24 +51,60 @@ def check_chunks(chunks, what: str = "") -> None:
 
 # ------------------------------------------------------------------ executors
 def resolve(client, scheduler):
-    """("direct", None) | ("local", name) | ("distributed", Client or address)."""
+    """("direct", None) | ("local", name) | ("distributed", Client or address).
+
+    A refusal names the argument given (``client`` or ``scheduler``) and its value."""
     if client is not None and scheduler is not None:
         raise ValueError("give client or scheduler, not both")
-    target = scheduler if client is None else client
+    name, target = ("scheduler", scheduler) if client is None else ("client", client)
     if target is None:
         return "direct", None
     if isinstance(target, str):
-        if client is None and target in LOCAL_SCHEDULERS:
+        if name == "scheduler" and target in LOCAL_SCHEDULERS:
             return "local", LOCAL_SCHEDULERS[target]
         if ":" in target:
             return "distributed", target
-        raise ValueError(f"scheduler must be one of {sorted(LOCAL_SCHEDULERS)} or a "
-                         f"scheduler address 'tcp://host:port', got {target!r}")
+    else:
+        from distributed import Client
+        if isinstance(target, Client):
+            return "distributed", target
+    if name == "scheduler":
+        raise _refused(name, target, f"one of {sorted(LOCAL_SCHEDULERS)} or a "
+                                     "scheduler address 'tcp://host:port'")
+    hint = " (a local scheduler goes in scheduler=)" if isinstance(target, str) and \
+        target in LOCAL_SCHEDULERS else ""
+    raise _refused(name, target, "a distributed.Client or a scheduler address "
+                                 "'tcp://host:port'", hint)
+
+
+def _refused(name: str, value, what: str, hint: str = "") -> Exception:
+    if isinstance(value, str):
+        return ValueError(f"{name} must be {what}, got {value!r}{hint}")
+    return TypeError(f"{name} must be {what}, got {value!r} of type "
+                     f"{type(value).__name__}{hint}")
+
+
+CONNECT_TIMEOUT = 10.0    # seconds a scheduler address has to answer (dask's: 30)
+
+
+@contextlib.contextmanager
+def connected(kind: str, target):
+    """``(kind, target)`` with a scheduler address replaced by a Client connected to
+    it (closed on exit), so that a wrong address is refused before any work, after
+    :data:`CONNECT_TIMEOUT` seconds at most, naming the address."""
+    if kind != "distributed" or not isinstance(target, str):
+        yield kind, target
+        return
     from distributed import Client
-    if isinstance(target, Client):
-        return "distributed", target
-    raise TypeError("client must be a distributed.Client or a scheduler address, got "
-                    f"{target!r} of type {type(target).__name__}")
+    try:
+        client = Client(target, set_as_default=False, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError) as err:
+        raise ConnectionError(
+            f"no dask scheduler answered at {target!r} within {CONNECT_TIMEOUT:g} s "
+            f"(sweepcore's connect timeout; {err}): start one (`dask scheduler`) or "
+            "check the address") from None
+    with client:
+        yield kind, client
 
 
 def run(kind: str, target, todo, task, handle) -> None:
@@ -94,8 +131,7 @@ def run(kind: str, target, todo, task, handle) -> None:
     elif kind == "local":
         _run_dask_local(target, todo, task, handle)
     elif isinstance(target, str):
-        from distributed import Client
-        with Client(target, set_as_default=False) as client:
+        with connected(kind, target) as (_kind, client):
             _run_distributed(client, todo, task, handle)
     else:
         _run_distributed(target, todo, task, handle)

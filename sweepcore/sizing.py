@@ -18,7 +18,8 @@ from . import law
 from . import variables
 from ._kernels import layout
 from .grid import Grid
-from .io import WorkingStore, chunk_shape, free_bytes
+from .execute import check_chunks
+from .io import WorkingStore, chunk_shape, free_bytes, path_text
 
 CHUNK_MAX = 50_000        # default chunks hold 20 000 - 50 000 points,
 CHUNK_MIN = 20_000        # or the whole grid when it is smaller,
@@ -67,8 +68,19 @@ def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
         bytes per point for the Hopf boundary with ``path``); ``disk_bytes`` (with
         ``path``: the working store plus the output's upper bound, else 0);
         ``stored_bytes`` (chunks already in the working store of ``path``);
-        ``memory_available`` and ``disk_free`` [bytes] (None when unknown).
+        ``memory_available`` and ``disk_free`` [bytes] (None when unknown);
+        ``directory``, where the file and its store go (None without ``path``).
+
+    Raises
+    ------
+    TypeError, ValueError
+        As :func:`sweepcore.sweep` for the same ``grid``, ``chunks`` and ``path``.
     """
+    if not isinstance(grid, Grid):
+        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
+    check_chunks(chunks, " (points per chunk)")        # sweep's own rule
+    if path is not None:
+        path = path_text(path)
     n = grid.size
     chunk = default_chunk(n) if chunks is None else min(int(chunks), n)
     n_obs = len(variables.OBSERVABLES)
@@ -91,7 +103,8 @@ def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
             "memory_bytes": int(memory), "disk_bytes": int(disk),
             "stored_bytes": 0 if path is None else _stored_bytes(path),
             "memory_available": available_memory(),
-            "disk_free": None if path is None else free_bytes(Path(path).parent)}
+            "disk_free": None if path is None else free_bytes(Path(path).parent),
+            "directory": None if path is None else str(Path(path).parent)}
 
 
 def _stored_bytes(path) -> int:
@@ -160,5 +173,7 @@ def refuse_if_too_large(est: dict) -> None:
     if free is not None and store > free:
         raise SweepTooLarge(f"{text} and {size_text(store)} of disk for its working "
                             f"store (plus up to {output} for the file), but "
-                            f"{size_text(free)} is free there; choose a path on a larger "
-                            "disk or sweep a smaller grid")
+                            f"{size_text(free)} is free in {est['directory']} (the "
+                            "directory of the path; 0 B: a full disk, or a file system "
+                            "that holds no files, such as /proc); choose a path on a "
+                            "larger disk or sweep a smaller grid")

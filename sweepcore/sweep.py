@@ -73,7 +73,7 @@ from ._kernels import codes, layout
 from ._kernels.attractor import attractor_rows, attractor_rows_parallel
 from .boundary import BOUNDARY_VARIABLES, hopf_boundary
 from .grid import Grid
-from .io import WorkingStore, chunk_shape, result_path, write_netcdf
+from .io import WorkingStore, check_flag, chunk_shape, result_path, write_netcdf
 from .options import make_options
 from .sizing import (SweepTooLarge, default_chunk, estimate, refuse_if_too_large,
                      size_text)
@@ -177,7 +177,7 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
         the memory available (or, with ``path``, the working store exceeds the
         free disk space); nothing is written.
     """
-    o = _checked_arguments(grid, method, tol, chunks, options)
+    o = _checked_arguments(grid, method, tol, chunks, options, overwrite, progress)
     target_path = None if path is None else result_path(path, overwrite=overwrite)
     kind, target = execute.resolve(client, scheduler)
     call = _call_repr(grid, method, tol, chunks, client, path, scheduler, options)
@@ -189,10 +189,20 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
               size_text(est["memory_bytes"]), "unknown" if est["memory_available"] is None
               else size_text(est["memory_available"]))
     refuse_if_too_large(est)
-    if target_path is None:
-        cols = _compute(grid, o, kind, target, chunk, progress)
-        return _dataset(grid, lambda col: cols[col].reshape(grid.shape), o, method,
-                        call)
+    with execute.connected(kind, target) as (kind, target):
+        if target_path is None:
+            cols = _compute(grid, o, kind, target, chunk, progress)
+            return _dataset(grid, lambda col: cols[col].reshape(grid.shape), o,
+                            method, call)
+        _streamed(grid, o, kind, target, progress, target_path, method, tol, options,
+                  requested, call)
+    return xr.open_dataset(target_path, engine="netcdf4", chunks={},
+                           decode_times=False, decode_timedelta=False)
+
+
+def _streamed(grid, o, kind, target, progress, target_path, method, tol, options,
+              requested, call) -> None:
+    """The sweep with a path: chunks into the working store, then the file."""
     with _working_store(target_path, grid, o, method, tol, options, requested) as store:
         _compute_to_store(grid, o, kind, target, store, progress)
         # checked again before use: a chunk damaged meanwhile is computed again
@@ -205,8 +215,6 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
                           f"{store.directory} is kept: free space and rerun the same "
                           "call to finish.") from err
         store.remove()
-    return xr.open_dataset(target_path, engine="netcdf4", chunks={},
-                           decode_times=False, decode_timedelta=False)
 
 
 def _progress_bar(size, initial, progress):
@@ -300,11 +308,15 @@ def _read_column(store, col: int, start: int, stop: int, extent) -> np.ndarray:
     return out.reshape(extent)
 
 
-def _checked_arguments(grid, method, tol, chunks, options) -> np.ndarray:
+def _checked_arguments(grid, method, tol, chunks, options, overwrite,
+                       progress) -> np.ndarray:
     """Validate everything but the path before work starts; return the kernel
     option row."""
     if not isinstance(grid, Grid):
         raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
+    # a string would count as true: overwrite="no" would replace a read-only file
+    check_flag("overwrite", overwrite)
+    check_flag("progress", progress, none=True)
     o = make_options(method, tol=tol, **options)
     alpha2 = np.atleast_1d(grid.alpha2)
     if method == "exact" and (alpha2 != 0.0).any():

@@ -56,3 +56,104 @@ def test_study_range_too_large_is_refused_before_it_is_built(num):
     # refused from the table, not after building 8 TB of linspace: no MemoryError,
     # no numpy "Maximum allowed size exceeded" (the clock only guards a hang)
     assert time.perf_counter() - t0 < 60
+
+
+# ------------------------------------------------------------ estimate and sweep
+@pytest.mark.parametrize("chunks", [0, -5, 2.5, True])
+def test_estimate_refuses_the_chunks_that_sweep_refuses(chunks):
+    with pytest.raises(ValueError, match=rf"chunks must be an integer >= 1 \(points "
+                                         rf"per chunk\), got {chunks!r}"):
+        sc.sweep(small_grid(), chunks=chunks)
+    with pytest.raises(ValueError, match=rf"chunks must be an integer >= 1 \(points "
+                                         rf"per chunk\), got {chunks!r}"):
+        sc.estimate(small_grid(), chunks=chunks)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: sc.estimate("x"), "grid must be a sweepcore.Grid, got str"),
+    (lambda: sc.estimate(small_grid(), path=5),
+     "path must be a str or os.PathLike naming the result file .*got 5 of type int"),
+    (lambda: sc.sweep(small_grid(), client="foo"),
+     "client must be a distributed.Client or a scheduler address 'tcp://host:port', "
+     "got 'foo'$"),
+    (lambda: sc.sweep(small_grid(), client="threads"),
+     r"client must be .*got 'threads' \(a local scheduler goes in scheduler=\)"),
+    (lambda: sc.sweep(small_grid(), scheduler=5),
+     r"scheduler must be one of \[.*'threads'\] or a scheduler address "
+     r"'tcp://host:port', got 5 of type int"),
+    (lambda: sc.sweep(small_grid(), scheduler="foo"), "scheduler must be one of"),
+    (lambda: sc.sweep(small_grid(), progress="no"),
+     "progress must be True or False \\(or None\\), got 'no' of type str"),
+])
+def test_arguments_of_estimate_and_sweep_are_named(call, message):
+    with pytest.raises((TypeError, ValueError), match=message):
+        call()
+
+
+def test_overwrite_must_be_a_bool_so_a_read_only_file_is_kept(tmp_path):
+    path = tmp_path / "map.nc"
+    path.write_text("an earlier result")
+    path.chmod(0o444)
+    with pytest.raises(TypeError, match="overwrite must be True or False, got 'no'"):
+        sc.sweep(small_grid(), path=path, overwrite="no", progress=False)
+    assert path.read_text() == "an earlier result"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["map.nc"]
+
+
+@pytest.mark.parametrize("name, message", [
+    ("a\x00b.nc", "holds a NUL byte"),
+    ("caf\udce9.nc", r"holds bytes that are not UTF-8 \(position \d+\); netCDF opens "
+                     "files by UTF-8 names only"),
+])
+def test_unusable_file_names_are_refused_before_any_work(tmp_path, name, message):
+    with pytest.raises(ValueError, match=message):
+        sc.sweep(small_grid(), path=tmp_path / name, progress=False)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_path_where_nothing_can_be_stored_names_its_directory():
+    if sc.estimate(small_grid(), path="/proc/x.nc")["disk_free"] != 0:
+        pytest.skip("/proc reports free space here")
+    with pytest.raises(sc.SweepTooLarge, match=r"0 B is free in /proc \(the directory "
+                                               r"of the path"):
+        sc.sweep(small_grid(), path="/proc/x.nc", progress=False)
+
+
+def test_unreachable_scheduler_is_refused_after_a_short_timeout_naming_it(
+        tmp_path, monkeypatch):
+    from sweepcore import execute
+    monkeypatch.setattr(execute, "CONNECT_TIMEOUT", 0.5)
+    with pytest.raises(ConnectionError, match=r"no dask scheduler answered at "
+                                              r"'tcp://127.0.0.1:1' within 0.5 s"):
+        sc.sweep(small_grid(), scheduler="tcp://127.0.0.1:1", path=tmp_path / "m.nc",
+                 progress=False)
+    assert list(tmp_path.iterdir()) == []       # refused before the working store
+
+
+# ------------------------------------------------------------- boundary searches
+@pytest.mark.parametrize("kwargs, exc, message", [
+    (dict(grid={"m": 5.0}), TypeError, "grid must be a sweepcore.Grid, got dict"),
+    (dict(bracket=(None, 5)), TypeError,
+     r"bracket\[0\] \(along v\) must be a real number, got None"),
+    (dict(bracket=("a", "b")), TypeError,
+     r"bracket\[0\] \(along v\) must be a real number, got 'a'"),
+    (dict(bracket=(1.0, float("nan"))), ValueError, r"bracket\[1\] .*must be finite"),
+])
+def test_locate_boundaries_names_a_bad_grid_or_bracket(kwargs, exc, message):
+    kwargs = {"grid": small_grid(), **kwargs}
+    with pytest.raises(exc, match=message):
+        sc.locate_boundaries(**kwargs)
+
+
+def test_hopf_point_inside_a_bracket_of_nine_decades_is_located():
+    """A linear scan of (1e-3, 1e6) has no point below 3e4 cm/s, so v* = 5.77 was
+    never bracketed; the scan is geometric over wide brackets. The stiff equilibria
+    at high v exhaust the step budget: a warning says where and why."""
+    grid = sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, alpha2=0.01, v=5.0)
+    with pytest.warns(RuntimeWarning, match=r"attractors of the coarse scan failed "
+                                            r"\(step_budget_exceeded\) at v in "):
+        ds = sc.locate_boundaries(grid, bracket=(1e-3, 1e6), max_steps=100_000)
+    assert int(ds.hopf_status) == sc.boundaries.LOCATED
+    assert float(ds.v_hopf) == pytest.approx(sc.Params(m=5.0, k=50.0, r_y=10.0, v=5.0,
+                                                       alpha1=1.0, alpha2=0.01).v_star,
+                                             abs=1e-6)

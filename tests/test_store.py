@@ -412,7 +412,7 @@ def test_streamed_sweep_too_large_for_the_disk_is_refused_before_work(tmp_path,
     axis = np.linspace(1.0, 2.0, 10_000)
     grid = Grid(m=axis, k=axis + 10.0, r_y=axis, v=1.0)      # 1e12 points, v fixed
     with pytest.raises(SweepTooLarge, match=r"of disk for its working store .* is "
-                       "free there"):
+                       rf"free in {tmp_path} \(the directory of the path"):
         sweep(grid, path=tmp_path / "map.nc", progress=False)
     assert leftovers(tmp_path) == []
 

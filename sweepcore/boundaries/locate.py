@@ -9,6 +9,7 @@ bisected on the regime labels; the Hopf point (:mod:`.hopf`) and the grazings
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import xarray as xr
@@ -17,7 +18,7 @@ from .. import execute
 from .._kernels import codes, layout
 from ..grid import AXES, COLUMNS, Grid
 from ..options import make_options
-from ..params import UNITS
+from ..params import UNITS, check_real
 from .dataset import _dataset
 from .drive import _drive, _together
 from .graze import _graze
@@ -26,6 +27,9 @@ from .point import (ABSENT, FAILED, INCONSISTENT, LOCATED, PROPER, STUCK, _ok, _
                     _regime)
 
 MAX_TRANSITIONS = 8     # regime changes kept per point (the first ones along the axis)
+# what the scan can read: ok, and unresolved cycles next to the Hopf point (_changes)
+SEEN = (codes.OK, codes.UNRESOLVED)
+GEOMETRIC_SCAN = 100.0  # a positive bracket wider than this ratio is scanned geometrically
 
 
 # ---------------------------------------------------------------- label changes
@@ -112,6 +116,8 @@ def _locate_point(pt: _Point, values: np.ndarray, xtol: float, offset: float, st
     rows = yield [(u, *start) for u in values]
     us, rows = list(values), list(rows)
     res = _empty()
+    res["scan_failures"] = [(float(u), int(r[layout.OB_STATUS])) for u, r in
+                            zip(values, rows) if int(r[layout.OB_STATUS]) not in SEEN]
     for _round in range(max_rounds):
         reg, changes = _changes(us, rows)
         # label changes to xtol; Hopf brackets down to the sample spacing
@@ -179,17 +185,20 @@ def _locate_point(pt: _Point, values: np.ndarray, xtol: float, offset: float, st
 
 # ------------------------------------------------------------------ arguments
 def _scan_values(grid: Grid, along: str, bracket, scan: int) -> np.ndarray:
+    if not isinstance(grid, Grid):
+        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
     ax = grid.axis(along)
     if bracket is None:
         if not isinstance(ax, np.ndarray):
             raise ValueError(f"bracket is needed when {along!r} is not swept in the "
                              f"grid (got {along}={ax!r})")
         bracket = (float(ax.min()), float(ax.max()))
-    if not (isinstance(bracket, (tuple, list)) and len(bracket) == 2):
+    if not (isinstance(bracket, (tuple, list, np.ndarray)) and len(bracket) == 2):
         raise ValueError(f"bracket must be a pair (lo, hi) [{UNITS[along]}], got "
                          f"{bracket!r}")
-    lo, hi = (float(x) for x in bracket)
-    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+    lo, hi = (check_real(f"bracket[{i}] (along {along})", x) for i, x in
+              enumerate(bracket))
+    if not lo < hi:
         raise ValueError(f"bracket must be finite with lo < hi, got {bracket!r}")
     if along == "v" and lo <= 0.0:
         raise ValueError(f"bracket along v must lie in v > 0 (the motion is mirror "
@@ -197,6 +206,10 @@ def _scan_values(grid: Grid, along: str, bracket, scan: int) -> np.ndarray:
     if isinstance(scan, bool) or not isinstance(scan, (int, np.integer)) or scan < 3:
         raise ValueError(f"scan must be an integer >= 3 (coarse scan points), got "
                          f"{scan!r}")
+    if lo > 0.0 and hi / lo > GEOMETRIC_SCAN:
+        # linear points over decades would all sit in the top one (a bracket
+        # (1e-3, 1e6) has none between 1e-3 and 3e4, where v* = 5.77 is)
+        return np.geomspace(lo, hi, int(scan))
     return np.linspace(lo, hi, int(scan))
 
 
@@ -229,6 +242,24 @@ def _start(grid: Grid):
     if isinstance(x0, np.ndarray) or isinstance(xd0, np.ndarray):
         raise ValueError("x0 and xdot0 must be scalars (one start for every search)")
     return (x0, STUCK if xd0 is None else xd0)
+
+
+def _warn_scan_failures(results, along: str, values) -> None:
+    """One warning saying where the coarse scan's attractors failed and why (the
+    searches there end ``attractor_failed``); removes the record from ``results``."""
+    failed = [f for r in results for f in r.pop("scan_failures", ())]
+    if not failed:
+        return
+    where = [u for u, _ in failed]
+    names = sorted({codes.STATUS_NAMES[s] for _, s in failed})
+    warnings.warn(
+        f"locate_boundaries: {len(failed)} of {len(values) * len(results)} attractors "
+        f"of the coarse scan failed ({', '.join(names)}) at {along} in "
+        f"[{min(where):.6g}, {max(where):.6g}] {UNITS[along]}: no regime change is "
+        "seen there, and a search that needs one of them ends attractor_failed. "
+        "step_budget_exceeded far from the boundaries is usually a stiff equilibrium "
+        "(|q| >> omega): narrow the bracket, or raise max_steps",
+        RuntimeWarning, stacklevel=3)
 
 
 # ------------------------------------------------------------------- executors
@@ -311,6 +342,7 @@ def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 
         return locate_chunk, (rows, along, values, xtol, offset, start, o)
     execute.run(kind, target, range(len(bounds)), task, parts.__setitem__)
     results = [r for part in parts for r in part]
+    _warn_scan_failures(results, along, values)
     call = (f"sweepcore.locate_boundaries({grid!r}, along={along!r}, "
             f"bracket={(float(values[0]), float(values[-1]))!r}, xtol={xtol!r}, "
             f"scan={scan!r}, offset={offset!r}, tol={tol!r}, method={method!r})")

@@ -9,11 +9,13 @@
   (:func:`result_path`, decided before any work), temporary names beside a target,
   and write errors that name what was being written, where, and the space it needed.
 """
-from .files import free_bytes, result_path, temporary_name, write_failed
+from .files import (check_flag, free_bytes, path_text, result_path, temporary_name,
+                    write_failed)
 from .netcdf import (check_cf, chunk_shape, estimated_bytes, netcdf_encoding,
                      open_result, write_netcdf)
 from .store import DamagedChunkWarning, StoreBusy, StoreDamaged, WorkingStore
 
 __all__ = ["check_cf", "chunk_shape", "estimated_bytes", "netcdf_encoding", "open_result",
-           "write_netcdf", "free_bytes", "result_path", "temporary_name", "write_failed",
+           "write_netcdf", "check_flag", "free_bytes", "path_text", "result_path",
+           "temporary_name", "write_failed",
            "DamagedChunkWarning", "StoreBusy", "StoreDamaged", "WorkingStore"]

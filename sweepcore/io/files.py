@@ -54,6 +54,41 @@ def write_failed(what: str, where: Path, nbytes: int, err: BaseException,
                            f"system. {after}")
 
 
+def check_flag(name: str, value, none: bool = False) -> None:
+    """Refuse anything but True or False (and None if ``none``): a string such as
+    "no" would count as true."""
+    if (value is None and none) or isinstance(value, bool) or \
+            type(value).__name__ == "bool_":        # numpy's bool
+        return
+    raise TypeError(f"{name} must be True or False{' (or None)' if none else ''}, "
+                    f"got {value!r} of type {type(value).__name__}")
+
+
+def path_text(path, what: str = "path") -> str:
+    """``path`` as a str that can name a netCDF file, or raise naming ``what``.
+
+    A str or ``os.PathLike`` of str, not empty, without NUL bytes, and encodable as
+    UTF-8 (netCDF opens files by UTF-8 names: a name holding bytes undecodable in
+    this locale would be refused by netCDF only after the work).
+    """
+    raw = os.fspath(path) if isinstance(path, os.PathLike) else path
+    if not isinstance(raw, str):
+        raise TypeError(f"{what} must be a str or os.PathLike naming the result file "
+                        f"(e.g. 'map.nc'), got {path!r} of type {type(path).__name__}")
+    if raw == "":
+        raise ValueError(f"{what} is empty; give the name of a result file (e.g. "
+                         "'map.nc')")
+    if "\x00" in raw:
+        raise ValueError(f"{what}={raw!r} holds a NUL byte, which no file name can")
+    try:
+        raw.encode("utf-8")
+    except UnicodeEncodeError as err:
+        raise ValueError(f"{what}={raw!r} holds bytes that are not UTF-8 (position "
+                         f"{err.start}); netCDF opens files by UTF-8 names only: "
+                         "rename it") from None
+    return raw
+
+
 def result_path(path, overwrite: bool = False) -> Path:
     """Check a result file name before any work; return it as a Path.
 
@@ -68,12 +103,10 @@ def result_path(path, overwrite: bool = False) -> Path:
     TypeError, ValueError, FileNotFoundError
         Naming ``path`` and its value.
     """
-    raw = os.fspath(path) if isinstance(path, os.PathLike) else path
-    if not isinstance(raw, str):
-        raise TypeError(f"path must be a str or os.PathLike naming the result file "
-                        f"(e.g. 'map.nc'), got {path!r} of type {type(path).__name__}")
+    check_flag("overwrite", overwrite)
+    raw = path_text(path)
     target = Path(raw)
-    if raw == "" or raw.endswith(("/", os.sep)) or target.name in ("", ".", ".."):
+    if raw.endswith(("/", os.sep)) or target.name in ("", ".", ".."):
         raise ValueError(f"path={raw!r} is a directory; give the name of the result "
                          "file (e.g. 'map.nc')")
     try:
