@@ -517,6 +517,10 @@ def parse_study(text: str, path: str | Path | None = None) -> Study:
 def load_study(path: str | Path) -> Study:
     """Read and validate the study file at ``path`` (see :func:`parse_study`)."""
     path = Path(path)
+    if path.exists() and not path.is_file():   # a FIFO would block the read forever
+        kind = ("a directory" if path.is_dir() else "a FIFO" if path.is_fifo()
+                else "a device or socket")
+        raise StudyError(f"not a regular file ({kind})", path=path)
     try:
         text = path.read_text(encoding="utf-8")
     except FileNotFoundError:

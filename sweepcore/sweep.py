@@ -74,6 +74,7 @@ from ._kernels.attractor import attractor_rows, attractor_rows_parallel
 from .boundary import BOUNDARY_VARIABLES, hopf_boundary
 from .grid import Grid
 from .io import WorkingStore, check_flag, chunk_shape, result_path, write_netcdf
+from .io.files import stale_temporaries
 from .options import make_options
 from .sizing import (SweepTooLarge, default_chunk, estimate, refuse_if_too_large,
                      size_text)
@@ -208,6 +209,9 @@ def _streamed(grid, o, kind, target, progress, target_path, method, tol, options
         # checked again before use: a chunk damaged meanwhile is computed again
         _compute_to_store(grid, o, kind, target, store, False)
         ds = _dataset(grid, _stored_columns(grid, store), o, method, call)
+        # the lock is ours: a temporary beside the file is a killed write's leftover
+        for tmp in stale_temporaries(target_path):
+            tmp.unlink(missing_ok=True)
         try:
             write_netcdf(ds, target_path)
         except OSError as err:

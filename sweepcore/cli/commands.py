@@ -172,6 +172,9 @@ def cmd_plot(args) -> int:
                                  f"(swept: {', '.join(swept)})")
         if len(swept) < 2 and kwargs:
             raise UsageError("--x/--y apply to maps; this result has one swept axis")
+        if kwargs.get("x") and kwargs.get("x") == kwargs.get("y"):
+            raise UsageError(f"--x and --y are both {args.x}: give two different swept "
+                             f"axes (swept: {', '.join(swept)})")
         if args.variables:
             names = [s.strip() for s in args.variables.split(",") if s.strip()]
             missing = [n for n in names if n not in ds]
@@ -202,6 +205,9 @@ def cmd_simulate(args) -> int:
         if path is not None and Path(path).suffix.lower() != suffix:
             raise UsageError(f"{path!r} must end in {suffix}")
     _check_directories(args.output, args.png)
+    if args.output:     # sweep's rules: no symbolic link, FIFO, read-only file, ...
+        from ..io import result_path
+        result_path(args.output)
     extra = {"dt": args.dt} if args.dt is not None else {}
     announce_compile("simulate", False, False)
     ds = simulate(p, t_end=args.t_end, x0=args.x0, xdot0=args.xdot0, method=args.method,
@@ -308,7 +314,11 @@ def csv_tables(ds) -> dict:
 
 
 def _frame(ds):
-    frame = ds.to_dataframe().reset_index()
+    if not ds.dims:             # a one-point sweep: one row (pandas needs an index)
+        ds = ds.expand_dims("row")
+        frame = ds.to_dataframe().reset_index(drop=True)
+    else:
+        frame = ds.to_dataframe().reset_index()
     columns = {}
     for name in frame.columns:
         attrs = ds[name].attrs if name in ds.variables else {}
@@ -324,12 +334,10 @@ def _frame(ds):
 
 def _open(path):
     from ..io import open_result
-    if not Path(path).is_file():
-        raise UsageError(f"no such result file: {path}")
     try:
         return open_result(path)
-    except (OSError, ValueError) as err:
-        raise UsageError(f"cannot read {path} as netCDF: {err}") from None
+    except (OSError, ValueError) as err:    # each names the file and what is wrong
+        raise UsageError(str(err)) from None
 
 
 def cmd_boundary(args) -> int:
@@ -350,6 +358,15 @@ def cmd_boundary(args) -> int:
         raise UsageError("--scheduler and --chunks apply to located boundaries, not to "
                          "a continuation or a diagram (sequential by nature)")
     _check_directories(out, png)
+    from ..io import result_path
+    result_path(out)    # sweep's rules: no symbolic link, FIFO, read-only file, ...
+    why = _no_curves(grid, b)
+    if why and png is not None:
+        if args.png is not None:
+            raise UsageError(f"--png {args.png}: {why}; nothing written")
+        if not args.quiet:
+            print(f"(no picture: {why})")
+        png = None
     t0 = time.perf_counter()
     ds = _boundary_result(grid, study, b, args)
     elapsed = time.perf_counter() - t0
@@ -361,17 +378,26 @@ def cmd_boundary(args) -> int:
         print(f"wrote {out} ({elapsed:.1f} s)")
         for line in boundary_lines(ds):
             print(line)
-    if png is not None and ds.attrs.get("sweepcore_kind") == "boundaries" and \
-            "v_star" not in ds:
-        print(f"(no picture: boundary curves are drawn for searches along v, this "
-              f"one is along {b['along']})")
-        png = None
     if png is not None:
         from ..plot import plot_result, save
         save(plot_result(ds), png)
         if not args.quiet:
             print(f"wrote {png}")
     return 0
+
+
+def _no_curves(grid, b) -> str | None:
+    """Why located boundaries of ``grid`` cannot be drawn as curves (None: they can;
+    decided before any work)."""
+    if b["diagram"] or b["continuation"]:
+        return None
+    if b["along"] != "v":
+        return (f"boundary curves are drawn for searches along v, this one is along "
+                f"{b['along']}")
+    if not any(d != "v" and n > 1 for d, n in zip(grid.dims, grid.shape)):
+        return ("boundary curves are drawn over a second swept parameter, and this "
+                "study sweeps v only (its one point per boundary is in the summary)")
+    return None
 
 
 def _boundary_result(grid, study, b, args):

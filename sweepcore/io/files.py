@@ -4,6 +4,7 @@ write errors that name what was written, where, and the space it needed."""
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import stat
 import uuid
@@ -27,6 +28,16 @@ def temporary_name(path: Path, suffix: str) -> Path:
     if len(os.fsencode(name)) > name_max(path.parent):
         name = f".sweepcore-{tag}{suffix}"
     return path.parent / name
+
+
+def stale_temporaries(path: Path, suffix: str = ".tmp") -> list[Path]:
+    """The temporaries :func:`temporary_name` made beside ``path`` (a write killed
+    before its rename leaves one behind). Only the caller knows none is in use."""
+    pattern = re.compile(rf"^\.{re.escape(path.name)}\.[0-9a-f]{{32}}{re.escape(suffix)}$")
+    try:
+        return [path.parent / n for n in os.listdir(path.parent) if pattern.match(n)]
+    except OSError:
+        return []
 
 
 def describe_oserror(err: OSError) -> str:

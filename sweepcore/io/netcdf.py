@@ -11,12 +11,13 @@ import contextlib
 import math
 import os
 import re
+import stat
 from pathlib import Path
 
 import numpy as np
 import xarray as xr
 
-from .files import temporary_name, write_failed
+from .files import describe_oserror, path_text, temporary_name, write_failed
 
 COMPLEVEL = 4
 CHUNK_BYTES = 4 * 2**20          # HDF5 chunks of about 4 MiB compress well
@@ -42,14 +43,18 @@ def chunk_shape(shape: tuple[int, ...], itemsize: int,
 
 
 def netcdf_encoding(ds: xr.Dataset, complevel: int = COMPLEVEL) -> dict:
-    """Explicit netCDF4 encoding: zlib + shuffle, ~MiB chunks, no fill on coordinates.
+    """Explicit netCDF4 encoding: zlib + shuffle, ~MiB chunks, no fill on coordinates,
+    a Fletcher-32 checksum on every array.
 
     Coordinates (CF section 2.5.1: no missing data) and integer flag variables get
-    no ``_FillValue``; float data variables keep xarray's NaN fill.
+    no ``_FillValue``; float data variables keep xarray's NaN fill. Every variable
+    with a dimension, coordinates included, carries HDF5's Fletcher-32 checksum of
+    each chunk, checked by HDF5 whenever the chunk is read (:func:`open_result`
+    reads them all): a flipped bit is an error, never a value.
     """
     enc = {}
     for name, var in ds.variables.items():
-        e = {}
+        e = {"fletcher32": True} if var.ndim > 0 else {}
         if name in ds.coords or var.dtype.kind in "iub":
             e["_FillValue"] = None
         if var.ndim > 0 and name not in ds.coords:
@@ -173,11 +178,43 @@ def open_result(path) -> xr.Dataset:
     """Read a result file into memory (the file is closed on return).
 
     Nothing is decoded as time: variables in seconds stay float64, flag variables
-    keep their integer type.
+    keep their integer type. Every value is read, so every Fletcher-32 checksum of
+    the file is verified (:func:`write_netcdf` puts one on every array).
+
+    Raises
+    ------
+    TypeError, ValueError
+        ``path`` is not a usable file name (empty, NUL byte, ...).
+    FileNotFoundError
+        No such file.
+    ValueError
+        ``path`` is a directory, a FIFO (it would block) or another non-file; or
+        the file is not netCDF, is truncated, or fails a checksum (damaged): the
+        message names the file.
     """
-    with xr.open_dataset(path, engine="netcdf4", decode_times=False,
-                         decode_timedelta=False) as ds:
-        return ds.load()
+    raw = path_text(path)
+    try:
+        mode = os.stat(raw).st_mode
+    except FileNotFoundError:
+        raise FileNotFoundError(f"no such result file: {raw}") from None
+    except OSError as err:
+        raise ValueError(f"cannot read {raw}: {describe_oserror(err)}") from None
+    if not stat.S_ISREG(mode):
+        kind = ("a directory" if stat.S_ISDIR(mode) else "a FIFO" if
+                stat.S_ISFIFO(mode) else "not a regular file")
+        raise ValueError(f"{raw} is {kind}, not a result file")
+    try:
+        with xr.open_dataset(raw, engine="netcdf4", decode_times=False,
+                             decode_timedelta=False) as ds:
+            return ds.load()
+    except (OSError, RuntimeError) as err:
+        # netCDF4 says "NetCDF: HDF error" for a failed checksum or a cut file
+        size = os.stat(raw).st_size
+        raise ValueError(
+            f"{raw} ({size:,} bytes) cannot be read as a netCDF result: "
+            f"{describe_oserror(err) if isinstance(err, OSError) else err} (the file "
+            "is truncated, damaged - a chunk failed its Fletcher-32 checksum - or not "
+            "netCDF); write it again") from None
 
 
 # ---------------------------------------------------------------- CF check

@@ -43,6 +43,15 @@ def _lock(directory: Path):
     The kernel drops the lock when its process dies, even by SIGKILL, so a killed
     sweep never blocks its resume. (No locking where ``fcntl`` is missing.)
     """
+    if os.path.islink(directory):
+        # its removal at the end would rename the link and fail on its target
+        raise StoreDamaged(f"working store {directory} is a symbolic link (to "
+                           f"{os.readlink(directory)}), not a directory made by "
+                           "sweepcore; remove the link or choose another path")
+    if os.path.isdir(directory / "lock") or os.path.islink(directory / "lock"):
+        raise StoreDamaged(f"the lock file {directory / 'lock'} of the working store "
+                           "is not a regular file; remove it (the store's chunks are "
+                           "kept) or choose another path")
     try:
         handle = open(directory / "lock", "a")
     except (NotADirectoryError, IsADirectoryError, PermissionError) as err:
@@ -70,7 +79,8 @@ class WorkingStore:
     One file per finished chunk, ``chunk-NNNNNN.START-STOP.SHA256.npy``: an ``.npy``
     array ``(ncols, STOP - START)`` (one contiguous row per observable, so a column
     is read without the others) of the flat grid points ``START <= i < STOP``,
-    whose SHA-256 (of the whole file) is part of its name. Each file is written to a
+    whose SHA-256 (of the store's configuration digest followed by the whole file)
+    is part of its name: a chunk copied from a store of other settings fails it. Each file is written to a
     temporary name and renamed into place, so one that exists was complete when
     written; on resume (:meth:`verified`) every file is read back and its name, range
     and checksum checked, and one that fails (damaged bytes, a value changed, a file
@@ -86,10 +96,12 @@ class WorkingStore:
     ``sweepcore-<hash of the name>.partial``, beside it (:meth:`location`).
     """
 
-    FORMAT = 2
+    FORMAT = 3          # 3: chunk hashes include the configuration digest
 
-    def __init__(self, directory: Path, chunk: int, n_points: int, ncols: int, lock):
+    def __init__(self, directory: Path, chunk: int, n_points: int, ncols: int, lock,
+                 digest: str):
         self.directory = directory
+        self._salt = digest.encode("ascii")
         self.chunk = chunk
         self.n_points = n_points
         self.ncols = ncols
@@ -165,7 +177,8 @@ class WorkingStore:
             lock.close()
             shutil.rmtree(tmp)
             return None
-        return cls(directory, meta["chunk"], meta["n_points"], meta["ncols"], lock)
+        return cls(directory, meta["chunk"], meta["n_points"], meta["ncols"], lock,
+                   meta["sha256"])
 
     @classmethod
     def _resume(cls, directory, lock, digest, n_points, ncols, chunk) -> WorkingStore:
@@ -192,7 +205,7 @@ class WorkingStore:
             raise ValueError(f"working store {directory} holds chunks of "
                              f"{meta['chunk']} points, got chunks={chunk}; pass "
                              f"chunks={meta['chunk']} (or None) to resume")
-        return cls(directory, meta["chunk"], n_points, ncols, lock)
+        return cls(directory, meta["chunk"], n_points, ncols, lock, digest)
 
     # ---------------------------------------------------------------- chunks
     def bounds(self, i: int) -> tuple[int, int]:
@@ -203,6 +216,10 @@ class WorkingStore:
     @property
     def n_chunks(self) -> int:
         return -(-self.n_points // self.chunk)
+
+    def _hash(self, data: bytes) -> str:
+        """A chunk file's checksum: SHA-256 of the configuration digest and the bytes."""
+        return hashlib.sha256(self._salt + data).hexdigest()
 
     def _discard(self, entry: Path, reason: str) -> None:
         warnings.warn(f"working store: {entry.name} {reason}; it is discarded and its "
@@ -229,8 +246,9 @@ class WorkingStore:
             data = entry.read_bytes()
         except OSError as err:
             return f"cannot be read ({describe_oserror(err)})"
-        if hashlib.sha256(data).hexdigest() != m.group(4):
-            return f"fails its SHA-256 checksum ({len(data)} bytes)"
+        if self._hash(data) != m.group(4):
+            return (f"fails its SHA-256 checksum ({len(data)} bytes; damaged, or "
+                    "copied from a sweep of other settings)")
         try:
             arr = np.load(io.BytesIO(data), allow_pickle=False)
         except Exception as err:  # noqa: BLE001 - any parse failure means unusable
@@ -329,7 +347,7 @@ class WorkingStore:
                 allow_pickle=False)
         data = buf.getvalue()
         final = self.directory / (f"chunk-{i:06d}.{start}-{stop}."
-                                  f"{hashlib.sha256(data).hexdigest()}.npy")
+                                  f"{self._hash(data)}.npy")
         tmp = self.directory / f".chunk-{i:06d}.{uuid.uuid4().hex}.tmp"
         try:
             with open(tmp, "wb") as f:
