@@ -29,6 +29,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numba
 import numpy as np
 
+from . import law
 from ._kernels.attractor import _LANES, attractor_rows, attractor_rows_parallel
 
 LOCAL_SCHEDULERS = {"threads": "threads", "processes": "processes",
@@ -201,6 +202,11 @@ def attractors(P: np.ndarray, o: np.ndarray, out: np.ndarray, parallel: bool) ->
     only: batches below ``threads * _LANES`` rows are shared by Python threads
     instead, row by row (the kernel releases the GIL).
     """
+    _attractors(P, o, out, parallel)
+    law.flag_unresolvable(P, o, out)
+
+
+def _attractors(P: np.ndarray, o: np.ndarray, out: np.ndarray, parallel: bool) -> None:
     n = P.shape[0]
     threads = numba.get_num_threads() if parallel else 1
     if threads == 1 or n == 1:

@@ -164,3 +164,69 @@ def stick_onset_estimate(source):
     if hasattr(est, "where"):
         return est.where(polynomial)
     return np.where(polynomial, est, np.nan)
+
+
+# ------------------------------------------------------- resolvable magnitudes
+# The natural time 1/omega [s] beyond which a point is not trusted: changes of units
+# of the paper's slider (m = 5, k = 50, r_y = 10, alpha1 = 1, alpha2 = 0.01, v = 2
+# and 5; time unit 1e-10 .. 1e100 s, length and force units 1e-100 .. 1e100) give
+# the same period and amplitude to 1e-15 up to 1/omega = 3.2e80 s, and a wrong
+# regime (slip_cycle for stick_slip, period off by 2e-4) from 3.2e81 s on.
+TIME_SCALE_MAX = 1e78
+# pi zeta at most this many touch tolerances: too weak a law to resolve. Measured on
+# the paper's slider with m raised (v = 7, where the equilibrium is the attractor):
+# tol 1e-8 (touch tolerance 2e-7) right at pi zeta = 4.4e-7 (m = 1e12), a touching
+# circle of amplitude v/omega reported as a slip cycle at 1.4e-7 (m = 1e13); tol
+# 1e-10 right at 4.4e-8 (m = 1e14).
+WEAK = 2.0
+
+
+def unresolvable(P: np.ndarray, o: np.ndarray) -> np.ndarray:
+    """Rows of the parameter rows ``P`` (layout ``_kernels.layout``) whose attractor
+    the kernels cannot resolve with the option row ``o``, as a bool array.
+
+    Two magnitudes: (1) the friction law changes a motion by less per natural
+    period than the driver's touch tolerance ``g`` (``driver.touch_tol``: 20 tol
+    for dopri5, ``graze`` for the others), so a slowly growing or decaying motion
+    that touches the belt is taken for a reset cycle: ``0 < pi zeta <= WEAK g``
+    with ``zeta = max(|c|, |alpha1|, 3 alpha2 v^2, |r_y - r_k|/v_s) / (m omega)``,
+    an upper bound of the law's slope per ``m omega`` (``|q|/omega`` is one value
+    of it). ``zeta = 0`` (constant friction, no damping: neutral circles) is
+    resolved exactly. (2) ``1/omega > TIME_SCALE_MAX``.
+    """
+    from ._kernels.stepper import TOUCH_FACTOR
+    from ._kernels import codes
+
+    P = np.atleast_2d(np.asarray(P, np.float64))
+    m, k, v = P[:, layout.M], P[:, layout.K], P[:, layout.V]
+    with np.errstate(all="ignore"):
+        root_m, root_k = np.sqrt(m), np.sqrt(k)
+        d = P[:, layout.RY] - P[:, layout.RK]
+        slope = np.maximum.reduce([
+            np.abs(P[:, layout.C]), np.abs(P[:, layout.A1]),
+            3.0 * np.abs(P[:, layout.A2]) * v * v,
+            np.where(d != 0.0, np.abs(d) / P[:, layout.VS], 0.0)])
+        zeta = slope / (root_m * root_k)                   # m omega = sqrt(k m)
+        method = int(o[layout.O_METHOD])
+        linear = (P[:, layout.A2] == 0.0) & (d == 0.0)     # kernel's piecewise_linear
+        if method < 0:                                      # auto
+            factor = np.where(linear, TOUCH_FACTOR[codes.EXACT],
+                              TOUCH_FACTOR[codes.DOPRI5])
+        else:
+            factor = TOUCH_FACTOR[method]
+        g = np.maximum(o[layout.O_GRAZE], factor * o[layout.O_RTOL])
+        weak = (zeta > 0.0) & (np.pi * zeta <= WEAK * g)
+        slow = root_m / root_k > TIME_SCALE_MAX
+    return weak | slow
+
+
+def flag_unresolvable(P: np.ndarray, o: np.ndarray, out: np.ndarray) -> None:
+    """Give the observable rows ``out`` of :func:`unresolvable` points the status
+    ``unresolvable_scale`` and the regime ``failed`` (their numbers are kept, as
+    the search returned them: estimates without digits to trust)."""
+    from ._kernels import codes
+
+    bad = unresolvable(P, o)
+    if bad.any():
+        out[bad, layout.OB_STATUS] = codes.SCALE
+        out[bad, layout.OB_REGIME] = codes.R_FAILED

@@ -68,7 +68,7 @@ import numpy as np
 import xarray as xr
 from tqdm.auto import tqdm
 
-from . import execute, labels, variables
+from . import execute, labels, law, variables
 from ._kernels import codes, layout
 from ._kernels.attractor import attractor_rows, attractor_rows_parallel
 from .boundary import BOUNDARY_VARIABLES, hopf_boundary
@@ -87,7 +87,9 @@ _log = logging.getLogger(__name__)
 # ----------------------------------------------------------------- one chunk
 def _observables(kernel, grid: Grid, start: int, stop: int, o: np.ndarray) -> np.ndarray:
     out = np.empty((stop - start, layout.NOBS))
-    kernel(grid.rows(start, stop), o, out)
+    rows = grid.rows(start, stop)
+    kernel(rows, o, out)
+    law.flag_unresolvable(rows, o, out)
     return out
 
 

@@ -55,6 +55,9 @@ UNRESOLVED = 9        # a cycle next to the Hopf point that neither the shooting
 BELOW_RESOLUTION = 10  # the attractor's size is below float64 resolution at the
                        # point's length scale: its observables carry no digits
 BAD_ROW = 11          # a parameter or option row of the wrong length (layout.NP, NO)
+SCALE = 12            # friction too weak per natural period to tell attractors apart,
+                      # or a time scale 1/omega beyond the kernels' range (set by
+                      # sweepcore.law.flag_unresolvable, not by a kernel)
 
 STATUS_NAMES = {
     OK: "ok",
@@ -69,6 +72,7 @@ STATUS_NAMES = {
     UNRESOLVED: "unresolved",
     BELOW_RESOLUTION: "below_resolution",
     BAD_ROW: "bad_kernel_row",
+    SCALE: "unresolvable_scale",
 }
 
 # --- regimes of an attractor -------------------------------------------------
