@@ -409,6 +409,18 @@ def test_compile_notice_only_on_a_cold_cache(tmp_path):
     assert cold.stderr == COMPILE_MESSAGE + "\n"
     assert warm.stderr == ""
     assert list(tmp_path.glob("numba-*/*/*.nbi"))           # the cache it checked
+    # the same sources at another location (a new install) find the cache cold, as
+    # the message says: numba keys it on each file's location
+    import shutil
+    shutil.copytree(ROOT / "sweepcore", tmp_path / "elsewhere" / "sweepcore",
+                    ignore=shutil.ignore_patterns("__pycache__"))
+    probe = ("from sweepcore.cli.commands import kernels_cold; "
+             "print(kernels_cold('simulate'))")
+    for where, cold_there in ((tmp_path / "elsewhere", "True"), (ROOT, "False")):
+        got = subprocess.run([sys.executable, "-c", probe], cwd=tmp_path, env={
+            **env, "PYTHONPATH": str(where)}, capture_output=True, text=True,
+            timeout=300)
+        assert got.stdout.strip() == cold_there, (where, got.stderr)
 
 
 def test_export_csv_holds_the_file_values(small_run, tmp_path):

@@ -1,7 +1,7 @@
 """Damaged and hostile files: refused or repaired, never read back as plausible data
 and never a hang.
 
-What is proven, one probe of the issue-23 battery each: a bit flipped in a finished
+What is proven, one hostile probe each: a bit flipped in a finished
 file's coordinate fails its Fletcher-32 checksum on ``open_result`` (the same flip
 in a file written without checksums is read back silently, so the test can fail);
 ``open_result`` and ``sweepcore info`` name an empty name, a directory, a FIFO

@@ -138,7 +138,7 @@ def test_license_is_mit_as_pyproject_says():
     text = (ROOT / "LICENSE").read_text()
     assert text.startswith("MIT License")
     assert "Copyright (c)" in text and "sweepcore developers" in text
-    assert 'license = { text = "MIT" }' in (ROOT / "pyproject.toml").read_text()
+    assert '\nlicense = "MIT"\n' in (ROOT / "pyproject.toml").read_text()
 
 
 def test_only_a_full_run_rewrites_the_tracked_tables():

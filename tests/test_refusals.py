@@ -1,7 +1,7 @@
 """Hostile input to the Python API is refused before any work, naming the parameter
 and the value, never as a raw TypeError/OverflowError from deep inside.
 
-What is proven, one probe of the issue-23 battery each: integers beyond float64, a
+What is proven, one hostile probe each: integers beyond float64, a
 grid too large for a flat index, a study range too large to build, the arguments of
 ``estimate``, ``sweep`` and ``locate_boundaries`` (types, chunks, overwrite, client
 and scheduler each blamed by name).

@@ -3,8 +3,8 @@ returned as plausible numbers (``sweepcore.law.flag_unresolvable``).
 
 What is proven: a change of units leaves the paper's slider unchanged (period and
 amplitude to 1e-12, same regime) while its time scale 1/omega stays below
-``TIME_SCALE_MAX``, and beyond it (the battery's m = 5e200, alpha2 = 1e298,
-v = 5e-100) the point is flagged; the battery's m = 1e300 points (q < 0: the
+``TIME_SCALE_MAX``, and beyond it (m = 5e200, alpha2 = 1e298,
+v = 5e-100) the point is flagged; m = 1e300 points (q < 0: the
 equilibrium is the attractor, by linear stability) are flagged, not reported as
 slip cycles of amplitude v/omega; a law too weak per period for the touch tolerance
 is flagged at tol 1e-8 while at m 10x lighter the search finds the equilibrium that
@@ -52,7 +52,7 @@ def test_a_change_of_units_changes_nothing_inside_the_range(paper, tau, lam):
 
 
 def test_a_time_scale_beyond_the_range_is_flagged():
-    """The battery's probe: stick-slip of period 1.98786e100 s was reported as an ok
+    """m = 5e200, alpha2 = 1e298, v = 5e-100: stick-slip of period 1.98786e100 s was reported as an ok
     slip cycle of period 1.98747e100 s."""
     p = units(1e100)
     assert (p["m"], p["alpha2"], p["v"]) == pytest.approx((5e200, 1e298, 5e-100))

@@ -20,7 +20,10 @@ class UsageError(ValueError):
 
 
 # ----------------------------------------------------------- compilation
-COMPILE_MESSAGE = "sweepcore: compiling kernels, first run only, ~25 s"
+# numba keys its cache on each source file's path and modification time: a new
+# install location or a fresh checkout compiles again, not only the first run
+COMPILE_MESSAGE = ("sweepcore: compiling kernels, ~25 s (once per install location "
+                   "and kernel source: numba's cache is empty for these files)")
 
 
 def kernels_cold(command: str, dask: bool = False) -> bool:
@@ -256,7 +259,8 @@ def failure_reason(ds, p, args) -> str:
         return "the state left the finite range (|x| or |zdot| > 1e150, or NaN)"
     if status == "event_location_failed":
         return "a stick/slip event could not be located inside a step"
-    return "see docs/variables.md (status codes)"
+    from .parser import doc
+    return f"see {doc('variables.md')} (status codes)"
 
 
 def cmd_info(args) -> int:

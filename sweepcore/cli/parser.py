@@ -4,6 +4,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+from pathlib import Path
 
 from ..labels import version
 from ..options import METHODS
@@ -54,6 +55,13 @@ def _thread_count(text: str) -> int:
     return n
 
 
+def doc(name: str) -> str:
+    """The page ``docs/<name>`` where it is on this machine: the copy installed with
+    the package (``sweepcore/docs``, in the wheel), else its source-tree name."""
+    page = Path(__file__).resolve().parents[1] / "docs" / name
+    return str(page) if page.is_file() else f"docs/{name}"
+
+
 # ------------------------------------------------------------------- parser
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``sweepcore`` (the subcommands of :data:`SUBCOMMANDS`)."""
@@ -67,7 +75,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="Examples: sweepcore run studies/hopf_map.toml; sweepcore info "
                "out/hopf_map.nc; sweepcore export out/hopf_map.nc --csv map.csv; "
                "sweepcore simulate --m 5 --k 50 --r-y 10 --v 5 --png fig3.png. "
-               "Output variables and codes: docs/variables.md. "
+               f"Output variables and codes: {doc('variables.md')}. "
                "Exit codes: 0 ok, 1 failure, 2 refused input.")
     parser.add_argument("--threads", type=_thread_count, metavar="N",
                         help="numba threads (sets NUMBA_NUM_THREADS and friends); "
@@ -186,7 +194,7 @@ def _boundary_options(p):
 SUBCOMMANDS = {
     "run": (
         "run the sweep of a TOML study file, write netCDF and its picture",
-        "Run the sweep described by a TOML study file (format: docs/studies.md), "
+        f"Run the sweep described by a TOML study file (format: {doc('studies.md')}), "
         "write the result as netCDF and draw it. The study file is validated first: "
         "on any error nothing is written. An interrupted run resumes when rerun with "
         "the same output. " + UNITS_HELP + ".",
@@ -214,7 +222,7 @@ SUBCOMMANDS = {
         "parameters, then every variable), a simulation as one row per time sample "
         "(its event log goes to <OUT stem>_events.csv). Column headers carry the "
         "units, e.g. 'amplitude [cm]'; regime, status and other flag variables are "
-        "written as names. Meanings: docs/variables.md.",
+        f"written as names. Meanings: {doc('variables.md')}.",
         _export_options),
     "boundary": (
         "locate the Hopf point and the stick onset to full precision, or draw a "
@@ -224,6 +232,6 @@ SUBCOMMANDS = {
         "belt, every other change from the labels) to xtol, for every point of the "
         "other axes, or follow them along one parameter by continuation, or scan a "
         "bifurcation diagram up and down; settings in the study's [boundary] table "
-        "(docs/studies.md). " + UNITS_HELP + ".",
+        f"({doc('studies.md')}). " + UNITS_HELP + ".",
         _boundary_options),
 }
