@@ -32,7 +32,8 @@ def temporary_name(path: Path, suffix: str) -> Path:
 
 def stale_temporaries(path: Path, suffix: str = ".tmp") -> list[Path]:
     """The temporaries :func:`temporary_name` made beside ``path`` (a write killed
-    before its rename leaves one behind). Only the caller knows none is in use."""
+    before its rename leaves one behind); not the shortened ``.sweepcore-<uuid>``
+    names, which do not say whose they are. Only the caller knows none is in use."""
     pattern = re.compile(rf"^\.{re.escape(path.name)}\.[0-9a-f]{{32}}{re.escape(suffix)}$")
     try:
         return [path.parent / n for n in os.listdir(path.parent) if pattern.match(n)]

@@ -207,6 +207,8 @@ def open_result(path) -> xr.Dataset:
         with xr.open_dataset(raw, engine="netcdf4", decode_times=False,
                              decode_timedelta=False) as ds:
             return ds.load()
+    except PermissionError:
+        raise PermissionError(f"cannot read {raw}: permission denied") from None
     except (OSError, RuntimeError) as err:
         # netCDF4 says "NetCDF: HDF error" for a failed checksum or a cut file
         size = os.stat(raw).st_size
