@@ -8,7 +8,8 @@ in a file written without checksums is read back silently, so the test can fail)
 (without blocking) and a truncated file; ``sweepcore run`` on a FIFO study returns;
 a temporary left by a write killed before its rename is removed by the next sweep
 on that path (another file's is kept); a store directory replaced by a symbolic
-link, and a lock file replaced by a directory, are refused before any work, naming
+link (before the sweep: refused before any work; during it: only the link is
+removed), and a lock file replaced by a directory are refused, naming
 what is wrong; a chunk copied from another sweep's store (same index and range, its
 own valid file) is discarded; ``simulate -o`` and ``boundary -o`` refuse what
 ``sweep`` refuses; ``boundary`` of a study sweeping v only refuses a picture
@@ -142,6 +143,19 @@ def test_a_store_replaced_by_a_symlink_is_refused_before_work(tmp_path):
     with pytest.raises(StoreDamaged, match=r"map\.nc\.partial is a symbolic link"):
         sc.sweep(small_grid(), path=tmp_path / "map.nc", progress=False)
     assert not (tmp_path / "map.nc").exists() and os.listdir(elsewhere) == []
+
+
+def test_a_store_replaced_by_a_symlink_during_the_sweep_is_unlinked_only(tmp_path):
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (elsewhere / "keep").write_text("x")
+    store = WorkingStore.open(tmp_path / "map.nc", "0" * 64, {}, 2, 3, 1, 1)
+    os.rename(store.directory, tmp_path / "moved")
+    os.symlink(elsewhere, store.directory)
+    with pytest.warns(RuntimeWarning, match="replaced by a symbolic link"):
+        store.remove()
+    assert not os.path.lexists(store.directory)
+    assert (elsewhere / "keep").read_text() == "x"
 
 
 def test_a_lock_file_replaced_by_a_directory_is_named(tmp_path):

@@ -367,5 +367,12 @@ class WorkingStore:
         then release the lock."""
         doomed = temporary_name(self.directory, ".del")
         os.rename(self.directory, doomed)
-        shutil.rmtree(doomed)
+        if doomed.is_symlink():     # replaced during the sweep: the link only goes
+            warnings.warn(f"working store {self.directory} was replaced by a symbolic "
+                          f"link during the sweep; the link is removed, its target "
+                          f"{os.readlink(doomed)} is left as it is", RuntimeWarning,
+                          stacklevel=2)
+            doomed.unlink()
+        else:
+            shutil.rmtree(doomed)
         self.close()
