@@ -192,7 +192,8 @@ def unresolvable(P: np.ndarray, o: np.ndarray) -> np.ndarray:
     with ``zeta = max(|c|, |alpha1|, 3 alpha2 v^2, |r_y - r_k|/v_s) / (m omega)``,
     an upper bound of the law's slope per ``m omega`` (``|q|/omega`` is one value
     of it). ``zeta = 0`` (constant friction, no damping: neutral circles) is
-    resolved exactly. (2) ``1/omega > TIME_SCALE_MAX``.
+    resolved exactly, and a static belt (``v = 0``) has no cycle through the
+    breakaway point to mistake. (2) ``1/omega > TIME_SCALE_MAX``.
     """
     from ._kernels.stepper import TOUCH_FACTOR
     from ._kernels import codes
@@ -215,7 +216,7 @@ def unresolvable(P: np.ndarray, o: np.ndarray) -> np.ndarray:
         else:
             factor = TOUCH_FACTOR[method]
         g = np.maximum(o[layout.O_GRAZE], factor * o[layout.O_RTOL])
-        weak = (zeta > 0.0) & (np.pi * zeta <= WEAK * g)
+        weak = (zeta > 0.0) & (v != 0.0) & (np.pi * zeta <= WEAK * g)
         slow = root_m / root_k > TIME_SCALE_MAX
     return weak | slow
 

@@ -89,6 +89,12 @@ def test_constant_friction_keeps_its_closed_form_at_any_mass():
     assert got["amplitude"] == pytest.approx(5.0 / np.sqrt(50.0 / 1e20), rel=1e-9)
 
 
+def test_a_static_belt_is_not_flagged_however_weak_the_law():
+    """v = 0, started stuck inside the stick band: stuck for ever (|k x0| < r_y)."""
+    got = one(**{**PAPER, "m": 1e20, "v": 0.0, "x0": 0.1})
+    assert (got["status"], got["regime"]) == (codes.OK, codes.R_STUCK)
+
+
 def test_the_boundary_searches_batches_are_flagged_too():
     g = sc.Grid(**{**PAPER, "m": 1e300, "v": 7.0})
     P = g.rows(0, 1)
