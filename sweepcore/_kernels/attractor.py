@@ -274,6 +274,10 @@ def on_event(ev, st, p, o, w, acc, out):
     if not ((ev == codes.EV_XMAX and v > 0.0) or (ev == codes.EV_XMIN and v < 0.0)
             or (v == 0.0 and ev == codes.EV_NORMAL_STOP and st[S_X] > 0.0)):
         note_event(w, p, ev, st[S_X], w[W_MODE0], st[S_MODE])
+        if (ev == codes.EV_XMIN or ev == codes.EV_XMAX) and _at_rest(st, p, w):
+            # the other extremum: half a period sooner for a fast decay
+            answer_rest(out, x_eq(p), w[W_T_OFF] + t, codes.R_EQUILIBRIUM, False, st[S_N])
+            return True
         return False
     if _at_rest(st, p, w):
         answer_rest(out, x_eq(p), w[W_T_OFF] + t, codes.R_EQUILIBRIUM, False, st[S_N])
