@@ -59,6 +59,18 @@ def test_acceptance_waits_for_returns_computed_finely_enough():
     assert rtol == pytest.approx(0.9 * 0.5 * TOL * (1 - lam))
 
 
+def test_newton_iterates_keep_the_users_tolerance_until_the_last_two_returns():
+    """Far from the fixed point a Newton jump keeps the tolerance in force; once the
+    iterate after next is predicted within the acceptance bound (Newton's error
+    squares), the returns from here on are computed at 90 % of tol (1 - P')/2."""
+    a_star, lam = 0.8, 0.5
+    for a0, lowered in ((1.0, False), (a_star + 1e-6, True)):
+        action, _v, rtol, *_ = decide(a0, linear_return(a0, a_star, lam), lam,
+                                      rtol_h1=1e-8, rtol=1e-8)
+        assert action == S.NEWTON_JUMP
+        assert rtol == (pytest.approx(0.9 * 0.5 * TOL * (1 - lam)) if lowered else 1e-8)
+
+
 def test_an_expanding_return_is_followed():
     action, *_ = decide(1.0, 1.1, 1.5)
     assert action == S.EXPAND

@@ -208,12 +208,11 @@ def newton_decision(a0, a1, dP, xe, e1, e2, rtol_h0, rtol_h1, rtol_int, tol, lx,
         accept = max(accept, 4.0 * RTOL_FLOOR * lx / gap)
     if err0 <= accept and fine:
         return (ACCEPT_FLOOR if floor else ACCEPT), dP, rtol_int, newton_rest, err0
-    if not fine and (err0 <= 4.0 * rtol_h1 * lx / gap or need >= 0.1 * tol):
-        # (a tolerance within 10x of the user's costs < 1.6x the steps: take it at
-        # once rather than pay the two returns that a late switch needs). 10 %
-        # below the bound: the slope moves in its last digits from one iterate to
-        # the next, and the bound must still hold for the accepted return.
-        rtol_int = max(0.9 * need, RTOL_FLOOR)
+    # 10 % below the bound: the slope moves in its last digits from one iterate to
+    # the next, and the bound must still hold for the accepted return
+    tight = max(0.9 * need, RTOL_FLOOR)
+    if not fine and err0 <= 4.0 * rtol_h1 * lx / gap:
+        rtol_int = tight          # the tolerance's noise is reached: lower it
     if newton_rest > 0:
         return FOLLOW, 0.0, rtol_int, newton_rest - 1, err0
     if after_jump and err0 >= 0.5 * err_jump and rtol_h1 == rtol_h0 \
@@ -233,6 +232,15 @@ def newton_decision(a0, a1, dP, xe, e1, e2, rtol_h0, rtol_h1, rtol_int, tol, lx,
         elif r > 2.0:
             a_new = xe + 2.0 * (a1 - xe)
         if abs(a_new - a1) > 0.1 * tol * lx:
+            e_next = 4.0 * err0 * err0 / abs(a1 - xe)
+            if not fine and need >= 0.1 * tol and 4.0 * e_next * e_next <= \
+                    accept * abs(a1 - xe):
+                # Newton's error squares (relative to the cycle's size, within a
+                # factor 4): the iterate after next is likely accepted. Its residual
+                # and the jump to it both need the lowered tolerance (within 10x of
+                # the user's), so the return from a_new is computed at it; the
+                # earlier ones keep the user's tolerance.
+                rtol_int = tight
             return NEWTON_JUMP, a_new, rtol_int, newton_rest, err0
     return FOLLOW, 0.0, rtol_int, newton_rest, err0
 
