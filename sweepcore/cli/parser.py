@@ -151,9 +151,9 @@ def _simulate_options(p):
                    help="sampling interval [s] (default a hundredth of 2 pi/omega)")
     p.add_argument("--method", default="auto", choices=METHODS,
                    help="stepper (default auto: exact for a piecewise-linear law, "
-                        "else dopri5)")
+                        "else dop853 below tol 1e-7, dopri5 above)")
     p.add_argument("--tol", type=float, default=1e-10,
-                   help="tolerance of dopri5 (default 1e-10)")
+                   help="tolerance of the adaptive steppers (default 1e-10)")
     p.add_argument("--dt", type=float, default=None,
                    help="fixed step of gps and rk4 [s] (default 2 pi/omega/50)")
     p.add_argument("-o", "--output", metavar="RUN.nc", help="write the run as netCDF")
