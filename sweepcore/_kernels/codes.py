@@ -5,7 +5,7 @@ Kernels return these integers; ``sweepcore`` turns them into names (and CF
 """
 
 # --- methods: the table lives with the dispatch (stepper.py) -----------------
-from .stepper import (DOP853, DOPRI5, EXACT, GPS, METHOD_CODES, METHOD_NAMES,  # noqa: E402,F401
+from .stepper import (DOPRI5, EXACT, GPS, METHOD_CODES, METHOD_NAMES,  # noqa: E402,F401
                       METHOD_ORDER, RK4)
 
 # --- phases (modes of the hybrid automaton) --------------------------------
