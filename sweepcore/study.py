@@ -398,7 +398,7 @@ def _plot(ck: _Checker, doc: dict, axes: dict) -> dict:
 
 
 BOUNDARY_KEYS = ("along", "bracket", "xtol", "scan", "offset", "tol", "continuation",
-                 "diagram", "over", "path", "png")
+                 "diagram", "sweep", "over", "path", "png")
 BOUNDARY_ALONG = law.PARAMETERS
 
 
@@ -412,7 +412,7 @@ def _boundary(ck: _Checker, doc: dict, axes: dict) -> dict:
     kp = lambda key: ("boundary", key)   # noqa: E731
     out = {"along": "v", "xtol": 1e-9, "scan": 32, "offset": 5e-3, "tol": 1e-10,
            "continuation": None, "diagram": False, "over": None, "path": None,
-           "png": None, "bracket": None}
+           "png": None, "bracket": None, "sweep": "both"}
     if "along" in table:
         out["along"] = ck.string(kp("along"), table["along"], BOUNDARY_ALONG)
     along = out["along"]
@@ -463,6 +463,11 @@ def _boundary(ck: _Checker, doc: dict, axes: dict) -> dict:
         if val and out["continuation"]:
             ck.fail(kp("diagram"), "choose a diagram or a continuation, not both")
         out["diagram"] = val
+    if "sweep" in table:
+        out["sweep"] = ck.string(kp("sweep"), table["sweep"], ("up", "down", "both"))
+        if not out["diagram"]:
+            ck.fail(kp("sweep"), "the scan direction applies to a diagram "
+                                 "(diagram = true)")
     for key, suffix in (("over", ".nc"), ("path", ".nc"), ("png", ".png")):
         if key in table:
             name = ck.string(kp(key), table[key])

@@ -380,7 +380,8 @@ def _boundary_result(grid, study, b, args):
 
     common = dict(tol=b["tol"], method=study.method, **study.options)
     if b["diagram"]:
-        return bifurcation_diagram(grid, along=b["along"], **common)
+        sweep = getattr(args, "sweep", None) or b.get("sweep", "both")
+        return bifurcation_diagram(grid, along=b["along"], sweep=sweep, **common)
     search = dict(along=b["along"], bracket=b["bracket"], xtol=b["xtol"],
                   scan=b["scan"], offset=b["offset"], **common)
     if b["continuation"]:

@@ -179,6 +179,9 @@ def _boundary_options(p):
         scheduler="as for run (not for continuation or diagrams)",
         chunks="points per task (not for continuation or diagrams)",
         quiet="no summary")
+    p.add_argument("--sweep", choices=("up", "down", "both"),
+                   help="direction of a diagram's scan (default [boundary] sweep, "
+                        "else both: up, then down)")
 
 
 # name -> (one-line help, description, the function adding its options); the

@@ -7,6 +7,7 @@ from collections import Counter
 
 import numpy as np
 
+from .._kernels import codes
 from ..boundaries import LOCATED
 from ..labels import parameter
 
@@ -167,10 +168,11 @@ def boundary_lines(ds) -> list[str]:
     """Summary of a boundaries or diagram result: what was located, against v*."""
     if ds.attrs.get("sweepcore_kind") == "bifurcation_diagram":
         lines = ["  " + regime_line(ds)]
-        for name in ("v_hopf", "v_stick_onset", "v_star"):
+        for name in ("v_hopf", "v_stick_onset", "v_hopf_subcritical", "v_fold",
+                     "v_star"):
             if name in ds:
                 lines.append(f"  {name} = {float(ds[name]):.10g} cm s-1")
-        return lines
+        return lines + jump_lines(ds)
     lines = []
     for name, status, width in (("v_hopf", "hopf_status", "v_hopf_error"),
                                 ("v_stick_onset", "stick_status",
@@ -195,5 +197,41 @@ def boundary_lines(ds) -> list[str]:
             est = (ds["v_stick_onset_estimate"] / ds["v_star"]).values[stick]
             line += f" (averaging sqrt(4/5) = {np.max(est):.10f})"
         lines.append(line)
+    lines.extend(coexistence_lines(ds))
     lines.append(f"  attractors computed: {int(ds['evaluations'].sum())}")
+    return lines
+
+
+def coexistence_lines(ds) -> list[str]:
+    """The ends of the unstable slip cycle of a boundaries result, where located."""
+    lines = []
+    for name, status, width in (("v_hopf_subcritical", "subcritical_status",
+                                 "v_hopf_subcritical_error"),
+                                ("v_fold", "fold_status", "v_fold_width")):
+        if status not in ds:
+            continue
+        ok = ds[status].values == LOCATED
+        if ok.any():
+            vals = ds[name].values[ok]
+            lines.append(f"  {name}: located at {int(ok.sum())} of {ok.size} points, "
+                         f"in [{vals.min():.10g}, {vals.max():.10g}] cm s-1, {width} "
+                         f"<= {np.nanmax(ds[width].values[ok]):.2g}")
+    return lines
+
+
+def jump_lines(ds) -> list[str]:
+    """The regime changes of each scan of a diagram, in the scan's direction."""
+    along = ds.attrs.get("along", "v")
+    x = ds[along].values
+    names = {int(k): n for k, n in codes.REGIME_NAMES.items()}
+    lines = []
+    for branch in ds.branch.values:
+        reg = ds.regime.sel(branch=branch).values.astype(int)
+        idx = range(len(x) - 1) if branch != "down" else range(len(x) - 2, -1, -1)
+        for i in idx:
+            a, b = (i, i + 1) if branch != "down" else (i + 1, i)
+            if reg[a] != reg[b]:
+                lines.append(f"  {branch} scan: {names.get(reg[a])} -> "
+                             f"{names.get(reg[b])} between {along} = {x[a]:.6g} and "
+                             f"{x[b]:.6g}")
     return lines

@@ -8,6 +8,7 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from .boundaries import plot_boundaries, plot_diagram
+from .branches import plot_hysteresis
 from .lines import plot_lines
 from .maps import plot_map
 from .style import SYMBOLS, flag_axis, fmt, label
@@ -22,6 +23,8 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
     """
     kind = ds.attrs.get("sweepcore_kind")
     if kind == "bifurcation_diagram":
+        if "unstable_amplitude" in ds and np.isfinite(ds.unstable_amplitude).any():
+            return plot_hysteresis(ds)     # coexisting attractors
         return plot_diagram(ds)
     if kind == "boundaries":
         # drawn over the map named by the study ([boundary] over), when it exists
