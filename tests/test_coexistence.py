@@ -193,3 +193,28 @@ def test_study_sweep_key_is_checked(edit, message):
     assert parse_study(text).boundary["sweep"] == "both"
     with pytest.raises(ValueError, match=message):
         parse_study(text.replace(*edit))
+
+
+def test_physics_section_quotes_the_results_file():
+    """docs/physics.md, "Coexistence and hysteresis", carries the numbers of
+    studies/results/bstab_boundaries.json (written by studies/bstab_boundaries.py),
+    and they meet the references."""
+    res = json.loads((ROOT / "studies" / "results" / "bstab_boundaries.json")
+                     .read_text())
+    text = (ROOT / "docs" / "physics.md").read_text()
+    section = text.split("## Coexistence and hysteresis", 1)[1]
+    assert res["reference"]["fold"] == FOLD and res["reference"]["hopf"] == HOPF
+    for tol, r in res["located"].items():
+        for key, err in (("v_hopf_subcritical", "v_hopf_subcritical_error"),
+                         ("v_fold", "v_fold_width")):
+            assert f"{r[key]:.10f} | {r[err]:.1e}" in section, (tol, key)
+            ref = HOPF if key == "v_hopf_subcritical" else FOLD
+            assert abs(r[key] - ref) <= r[err] + REF["bstab"]["fold_spread"]
+    s = res["scans"]
+    for branch, ref in (("up", FOLD), ("down", HOPF)):
+        lo, hi = sorted((s[branch]["last"], s[branch]["first"]))
+        assert lo < ref < hi
+        assert f"v = {s[branch]['last']:.3f}" in section
+        assert f"v = {s[branch]['first']:.3f}" in section
+    assert f"q = {s['q_at_down_jump']:.1e} /s" in section
+    assert f"{s['unstable_cycles']['points']} speeds" in section
