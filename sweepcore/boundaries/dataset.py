@@ -57,7 +57,9 @@ def _dataset(other: Grid, along: str, results, o, method, call,
             "comment": "difference between the roots of the cubics through samples "
                        "1-4 and 2-5"}),
         "subcritical_status": (field("subcritical_status", np.int8), {
-            **status, "long_name": "outcome of the subcritical Hopf point search"}),
+            **status, "long_name": "outcome of the subcritical Hopf point search",
+            "comment": "searched where hopf_criticality is subcritical or "
+                       "degenerate, absent elsewhere"}),
         "v_fold": (field("v_fold"), {
             "units": units, "long_name": "fold of cycles at grazing (end of the "
                                          "stick-slip attractor)",

@@ -26,7 +26,10 @@ the searched parameter the unstable cycle exists on a band with two ends:
   which is why the indicator, not existence, decides.
 
 Each point costs one coarse scan (``scan`` cycle scans, ~2,000 steps each) and
-~20 more near the two ends.
+~20 more near the two ends, ten times the attractor searches of a supercritical
+point: the search runs only where the Hopf point v* is subcritical or degenerate
+(first Lyapunov coefficient >= 0, :func:`may_coexist`); elsewhere both ends are
+reported absent without a search (the paper's cubic law: always supercritical).
 """
 from __future__ import annotations
 
@@ -160,6 +163,13 @@ def _subcritical_hopf(pt, ue, un, offset, o):
     return {"value": math.nan, "error": math.nan, "status": INCONSISTENT}
 
 
+def may_coexist(pt: _Point) -> bool:
+    """Whether the Hopf point v* of the point's law is subcritical or degenerate
+    (first Lyapunov coefficient >= 0): where an unstable slip cycle is searched."""
+    l1 = float(law.derived("first_lyapunov", pt.source(pt.row[pt.col])))
+    return l1 >= 0.0
+
+
 def cycle_boundaries(pt: _Point, values: np.ndarray, xtol: float, offset: float,
                      o: np.ndarray) -> dict:
     """Both ends of the unstable slip cycle inside ``values`` (a coarse scan): keys
@@ -167,6 +177,8 @@ def cycle_boundaries(pt: _Point, values: np.ndarray, xtol: float, offset: float,
     side is a subcritical Hopf point; an end where it stays stable, a fold at
     grazing. The first of each along ``values`` is kept."""
     res = _empty()
+    if not may_coexist(pt):
+        return res
     rows = unstable_cycles(pt, values, o)
     have = _exists(rows)
     for j in range(len(values) - 1):
