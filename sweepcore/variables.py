@@ -95,3 +95,17 @@ N_CYCLES = ("1", "number of slip cycles found",
             "stop-free slip cycles bracketed by the scan of the return map, stable "
             "and unstable")
 CYCLE_STABILITY = "stability of the slip cycle (Floquet multiplier below or above 1)"
+
+# basin stability (sweepcore.basins), over the grid's dimensions and ``attractor``
+BASIN_FRACTION = ("1", "basin fraction of the attractor",
+                  "share of the box of start states (x0, xdot0) that ends on it")
+BASIN_FRACTION_ERROR = ("1", "error of the basin fraction",
+                        "exact route: bound from the polygon's discretisation and the "
+                        "cycle's tolerance; sampled route: binomial standard error "
+                        "sqrt(f (1 - f) / N)")
+N_ATTRACTORS = ("1", "number of attractors found in the box",
+                "distinct attractors the starts of the point end on (unconverged and "
+                "failed runs not counted)")
+SAMPLES = ("1", "starts run for the point",
+           "sampled route: the Monte-Carlo starts; exact route: the checks of its "
+           "premise")
