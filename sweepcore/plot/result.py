@@ -7,6 +7,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
 from .lines import plot_lines
 from .maps import plot_map
@@ -21,6 +22,8 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
     :func:`plot_map`.
     """
     kind = ds.attrs.get("sweepcore_kind")
+    if kind == "basins":
+        return plot_basins(ds, **kwargs)
     if kind == "bifurcation_diagram":
         return plot_diagram(ds)
     if kind == "boundaries":
