@@ -189,3 +189,65 @@ def test_file_round_trip(tmp_path, exact_band):
         back.basin_fraction.values,
         ds.basin_fraction.sel(v=[1.3, 1.5]).values)
     assert sc.check_cf(back) == []
+
+
+# ------------------------------------------------------------------ CLI and study
+STUDY = """\
+title = "bSTAB case, three speeds"
+[axes]
+m = 1.0
+k = 1.0
+r_y = 1.0
+r_k = 0.5
+v_s = 0.5
+c = 0.1
+v = [1.1, 1.5, 1.9]
+[basins]
+x0 = [-2.0, 2.0]
+xdot0 = [0.0, 2.0]
+route = "exact"
+path = "b.nc"
+"""
+
+
+def cli(argv, tmp_path, monkeypatch, capsys):
+    from sweepcore.cli import main
+    monkeypatch.chdir(tmp_path)
+    code = main(argv)
+    return code, capsys.readouterr()
+
+
+def test_cli_basins_info_and_plot(tmp_path, monkeypatch, capsys, exact_band):
+    """``sweepcore basins`` writes the file the API gives, its picture; ``info``
+    tabulates the fractions; ``plot`` redraws it."""
+    (tmp_path / "s.toml").write_text(STUDY)
+    code, out = cli(["basins", "s.toml", "--png", "b.png"], tmp_path, monkeypatch, capsys)
+    assert code == 0, out.err
+    ds = sc.open_result(tmp_path / "b.nc")
+    want = sc.basin_stability(grid(1.1, 1.5, 1.9), **BOX, route="exact",
+                              progress=False)
+    np.testing.assert_array_equal(ds.basin_fraction.values, want.basin_fraction.values)
+    assert ds.attrs["study"] == STUDY
+    assert (tmp_path / "b.png").read_bytes()[:4] == b"\x89PNG"
+    code, out = cli(["info", "b.nc"], tmp_path, monkeypatch, capsys)
+    assert code == 0 and "basin stability (v: 3)" in out.out
+    f15 = float(want.basin_fraction.sel(v=1.5, attractor="equilibrium"))
+    assert f"{f15:.6f}" in out.out
+    code, out = cli(["plot", "b.nc", "-o", "c.png"], tmp_path, monkeypatch, capsys)
+    assert code == 0 and (tmp_path / "c.png").is_file()
+
+
+@pytest.mark.parametrize("old, new, key, line", [
+    ('x0 = [-2.0, 2.0]', 'x0 = [2.0, -2.0]', "basins.x0", 11),
+    ('route = "exact"', 'route = "quick"', "basins.route", 13),
+    ('route = "exact"', 'samples = 0', "basins.samples", 13),
+    ('path = "b.nc"', 'path = "b.csv"', "basins.path", 14),
+    ('c = 0.1', 'c = 0.1\nx0 = [0.0, 1.0]', "axes.x0", 9),
+])
+def test_bad_basins_table_is_refused_with_key_and_line(old, new, key, line, tmp_path,
+                                                       monkeypatch, capsys):
+    (tmp_path / "s.toml").write_text(STUDY.replace(old, new))
+    code, out = cli(["basins", "s.toml"], tmp_path, monkeypatch, capsys)
+    assert code == 2
+    assert f"s.toml:{line}: {key}:" in out.err, out.err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
