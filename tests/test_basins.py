@@ -251,3 +251,29 @@ def test_bad_basins_table_is_refused_with_key_and_line(old, new, key, line, tmp_
     assert code == 2
     assert f"s.toml:{line}: {key}:" in out.err, out.err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]
+
+
+# ------------------------------------------------------------------ docs
+def test_basin_and_cycle_files_are_documented(exact_band):
+    """docs/variables.md lists every variable of a basin and a slip-cycle file with
+    the units the file carries, and the three code tables as the code has them."""
+    import re
+    from sweepcore import basins, cycles
+    from test_docs import DOC, _sections, _unit_rows
+
+    doc = _sections(DOC.read_text())
+    units = {}
+    for heading, body in doc.items():
+        if not heading.endswith("codes"):
+            for name, u in _unit_rows(body).items():
+                units.setdefault(name, set()).add(u)
+    _rows, ds = exact_band
+    for name, var in {**ds.variables, **sc.slip_cycles(grid(1.5)).variables}.items():
+        assert var.attrs["units"] in units.get(name, ()), name
+
+    def code_rows(body):
+        return {int(c): n for c, n in re.findall(r"^\| (-?\d+) \| `([a-z_]+)` \|", body,
+                                                 flags=re.M)}
+    assert code_rows(doc["Cycle stability codes"]) == cycles.STABILITY_NAMES
+    assert code_rows(doc["Basin route codes"]) == basins.ROUTE_NAMES
+    assert code_rows(doc["Basin status codes"]) == basins.STATUS_NAMES
