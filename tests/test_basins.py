@@ -54,6 +54,18 @@ def test_exact_fractions_against_the_scipy_reference(exact_band):
     assert (ds.n_attractors.values == 2).all()
 
 
+def test_exact_fraction_with_every_term_of_the_law():
+    """Stribeck, damping and cubic terms together (m = 2, k = 3, ...), v = 1.3: the
+    reference's fraction (studies/bstab_reference.py, family rows)."""
+    family = json.loads(REFERENCE.read_text())["family"]
+    row = next(r for r in family["rows"] if r["v"] == 1.3)
+    g = sc.Grid(**family["params"], v=np.array([1.3]))
+    ds = sc.basin_stability(g, **BOX, route="exact", progress=False)
+    assert int(ds.basin_status[0]) == 0
+    assert float(ds.basin_fraction.sel(attractor="equilibrium")[0]) == pytest.approx(
+        row["basin_fraction"], abs=1e-6)
+
+
 def test_exact_fraction_against_a_live_scipy_polygon():
     """One point recomputed here by scipy (not read from a file)."""
     v = 1.6
