@@ -289,3 +289,29 @@ def test_basin_and_cycle_files_are_documented(exact_band):
     assert code_rows(doc["Cycle stability codes"]) == cycles.STABILITY_NAMES
     assert code_rows(doc["Basin route codes"]) == basins.ROUTE_NAMES
     assert code_rows(doc["Basin status codes"]) == basins.STATUS_NAMES
+
+
+def test_physics_page_quotes_the_study_results():
+    """docs/physics.md's table is the one studies/bstab_basins.py prints from its
+    results file, and its numbers are the file's."""
+    import importlib.util
+    root = REFERENCE.parent.parent.parent
+    spec = importlib.util.spec_from_file_location("bstab_basins",
+                                                  root / "studies" / "bstab_basins.py")
+    study = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(study)
+    res = json.loads(study.OUT.read_text())
+    page = (root / "docs" / "physics.md").read_text()
+    assert study.table(res) in page
+    rows, c = res["rows"], res["curve"]
+    quoted = [f"{max(abs(r['exact_minus_scipy']) for r in rows):.1e}",
+              f"within {max(abs(r['sampled_in_errors']) for r in rows if 'sampled' in r):.1f}",
+              f"{100 * rows[0]['classifier_share_inside']:.1f} %",
+              f"reports {rows[0]['classifier_expected']:.4f}",
+              f"largest error\n  {c['largest_error']:.1e}",
+              f"({c['first_bistable']:.4f})", f"{c['last_fraction']:.4f} at "
+              f"{c['last_bistable']:.4f}"]
+    for text in quoted:
+        assert text in page, text
+    # the exact fractions of the file are the code's (1e-6: the stated ftol)
+    assert all(abs(r["exact_minus_scipy"]) <= 1e-6 for r in rows)
