@@ -37,6 +37,7 @@ import numpy as np
 from .options import METHODS
 from . import law
 from .params import LONG_NAMES, RULES, UNITS, check_real
+from .study_basins import basins_table
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -50,7 +51,8 @@ SPACINGS = ("linear", "geometric")
 RANGE_KEYS = ("start", "stop", "num", "spacing")
 MAX_POINTS = 50_000_000
 
-TOP_KEYS = ("title", "description", "axes", "solver", "output", "plot", "boundary")
+TOP_KEYS = ("title", "description", "axes", "solver", "output", "plot", "boundary",
+            "basins")
 SOLVER_KEYS = ("method", "tol", "chunks", "dt", "max_steps", "max_periods", "gps_a",
                "graze")
 OUTPUT_KEYS = ("path", "png")
@@ -121,6 +123,7 @@ class Study:
     png: str | bool | None = None
     plot: dict = field(default_factory=dict)
     boundary: dict = field(default_factory=dict)
+    basins: dict = field(default_factory=dict)
 
     @property
     def stem(self) -> str:
@@ -504,11 +507,12 @@ def parse_study(text: str, path: str | Path | None = None) -> Study:
     output = _output(ck, doc)
     plot = _plot(ck, doc, axes)
     boundary = _boundary(ck, doc, axes)
+    basins = basins_table(ck, doc, axes)
     return Study(path=Path(path) if path is not None else None, text=text, title=title,
                  description=description, axes=axes, method=solver["method"],
                  tol=solver["tol"], chunks=solver["chunks"], options=solver["options"],
                  output_path=output["path"], png=output["png"], plot=plot,
-                 boundary=boundary)
+                 boundary=boundary, basins=basins)
 
 
 def load_study(path: str | Path) -> Study:

@@ -37,9 +37,9 @@ import math
 
 import numpy as np
 
-from .. import law
+from .. import execute, law
 from .._kernels import codes, layout
-from .._kernels.cycles import MAX_CYCLES, slip_cycles_rows
+from .._kernels.cycles import MAX_CYCLES
 from .graze import _slip_root
 from .hopf import N_SAMPLES, _fit_root
 from .point import ABSENT, FAILED, INCONSISTENT, LOCATED, _Point
@@ -64,7 +64,7 @@ def unstable_cycles(pt: _Point, values, o: np.ndarray) -> np.ndarray:
     P = np.array([pt.at(u) for u in values])
     out = np.empty((len(values), MAX_CYCLES, layout.NOBS))
     found = np.zeros(len(values), np.int64)
-    slip_cycles_rows(P, o, out, found)
+    execute.cycles(P, o, out, found, parallel=False)
     rows = np.full((len(values), layout.NOBS), np.nan)
     for i in range(len(values)):
         cyc = out[i, :found[i]]

@@ -235,3 +235,54 @@ def jump_lines(ds) -> list[str]:
                              f"{names.get(reg[b])} between {along} = {x[a]:.6g} and "
                              f"{x[b]:.6g}")
     return lines
+
+
+def describe_basins(ds) -> str:
+    """``sweepcore info`` of a basin-stability result."""
+    shape = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items() if d != "attractor")
+    lines = [f"  basin stability ({shape or 'one point'})"]
+    for d in ds.dims:
+        if d != "attractor" and ds[d].dtype.kind == "f":
+            v = ds[d].values
+            lines.append(f"    {d:8s} {ds[d].attrs.get('long_name', '')} "
+                         f"[{ds[d].attrs.get('units', '')}]: {v.size} values in "
+                         f"[{v.min():.6g}, {v.max():.6g}]")
+    fixed = [n for n in ds.coords if ds[n].ndim == 0]
+    if fixed:
+        lines.append("  fixed: " + ", ".join(f"{n} = {float(ds[n]):.6g}{_units(ds[n])}"
+                                             for n in fixed))
+    lines.extend(basin_lines(ds))
+    if "history" in ds.attrs:
+        text = str(ds.attrs["history"]).replace("\n", "\n" + " " * 12)
+        lines.append(f"  history   {text}")
+    return "\n".join(lines)
+
+
+def basin_lines(ds, table_rows: int = 12) -> list[str]:
+    """The box, the routes and statuses, each attractor's range of fractions, and
+    (one swept axis of at most ``table_rows`` values) the fractions point by point."""
+    x0, xd0 = (np.atleast_1d(ds.attrs.get(k, [np.nan, np.nan]))
+               for k in ("x0_range", "xdot0_range"))
+    lines = [f"  box: x0 in [{x0[0]:.6g}, {x0[1]:.6g}] cm, xdot0 in [{xd0[0]:.6g}, "
+             f"{xd0[1]:.6g}] cm s-1; route {ds.attrs.get('route', '?')}, samples "
+             f"{ds.attrs.get('samples_requested', '?')} ({ds.attrs.get('sampling', '?')})"]
+    for var in ("basin_route", "basin_status"):
+        counts = [f"{n} {c}" for n, c in _flag_counts(ds[var]) if c]
+        lines.append(f"  {var.split('_')[1]}: " + ", ".join(counts))
+    names = [str(n) for n in ds["attractor"].values]
+    f, e = ds["basin_fraction"], ds["basin_fraction_error"]
+    for name in names:
+        vals = f.sel(attractor=name).values
+        if np.isfinite(vals).any():
+            lines.append(f"  {name}: fraction in [{np.nanmin(vals):.6g}, "
+                         f"{np.nanmax(vals):.6g}], error <= "
+                         f"{np.nanmax(e.sel(attractor=name).values):.2g}")
+    dims = [d for d in f.dims if d != "attractor"]
+    if len(dims) == 1 and ds.sizes[dims[0]] <= table_rows:
+        d = dims[0]
+        lines.append(f"  {d:>10s} " + " ".join(f"{n:>22s}" for n in names))
+        for i, x in enumerate(ds[d].values):
+            cells = [f"{float(f.isel({d: i}).sel(attractor=n)):.6f} +- "
+                     f"{float(e.isel({d: i}).sel(attractor=n)):.1e}" for n in names]
+            lines.append(f"  {x:10.6g} " + " ".join(f"{c:>22s}" for c in cells))
+    return lines

@@ -7,6 +7,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
 from .branches import plot_hysteresis
 from .lines import plot_lines
@@ -22,6 +23,8 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
     :func:`plot_map`.
     """
     kind = ds.attrs.get("sweepcore_kind")
+    if kind == "basins":
+        return plot_basins(ds, **kwargs)
     if kind == "bifurcation_diagram":
         if "unstable_amplitude" in ds and np.isfinite(ds.unstable_amplitude).any():
             return plot_hysteresis(ds)     # coexisting attractors
