@@ -64,17 +64,20 @@ def jumps(num: int = 201) -> dict:
                            regime_before=codes.REGIME_NAMES[int(reg[a])],
                            regime_after=codes.REGIME_NAMES[int(reg[b])])
     inside = np.isfinite(ds.unstable_amplitude.values)
-    out["unstable_cycles"] = dict(points=int(inside.sum()), lowest=float(v[inside].min()),
+    out["unstable_cycles"] = dict(points=int(inside.sum()),
+                                  lowest=float(v[inside].min()),
                                   highest=float(v[inside].max()))
     # growth rate of the focus where the down scan leaves it (eq. 46)
-    out["q_at_down_jump"] = float(sc.law.derived("q", dict(BSTAB, v=out["down"]["first"])))
+    out["q_at_down_jump"] = float(sc.law.derived("q", dict(BSTAB,
+                                                           v=out["down"]["first"])))
     out["points"], out["seconds"] = num, time.perf_counter() - t0
     return out
 
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--write", action="store_true", help=f"write {OUT.relative_to(ROOT)}")
+    ap.add_argument("--write", action="store_true",
+                    help=f"write {OUT.relative_to(ROOT)}")
     args = ap.parse_args(argv)
     ref = json.loads(REFERENCE.read_text())["bstab"]
     ref_hopf = math.log(10.0) / 2.0

@@ -68,7 +68,8 @@ def test_continued_along_damping_against_closed_form_and_attractors():
     c = np.array([0.08, 0.1, 0.12])
     ds = sc.continue_boundary(sc.Grid(**{**BSTAB, "c": c}, v=np.linspace(0.8, 2.5, 6)),
                               over="c", xtol=1e-9)
-    assert (ds.subcritical_status == LOCATED).all() and (ds.fold_status == LOCATED).all()
+    assert (ds.subcritical_status == LOCATED).all()
+    assert (ds.fold_status == LOCATED).all()
     for ci, h, f in zip(c, ds.v_hopf_subcritical.values, ds.v_fold.values):
         assert h == pytest.approx(hopf_closed_form(ci), rel=1e-6)
         p = {**BSTAB, "c": float(ci)}

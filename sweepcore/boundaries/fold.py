@@ -68,7 +68,8 @@ def unstable_cycles(pt: _Point, values, o: np.ndarray) -> np.ndarray:
     rows = np.full((len(values), layout.NOBS), np.nan)
     for i in range(len(values)):
         cyc = out[i, :found[i]]
-        ok = np.isin(cyc[:, layout.OB_STATUS], RESOLVED) & (cyc[:, layout.OB_FLOQUET] > 1.0)
+        ok = np.isin(cyc[:, layout.OB_STATUS], RESOLVED) & \
+            (cyc[:, layout.OB_FLOQUET] > 1.0)
         if ok.any():
             rows[i] = cyc[ok][-1]         # increasing amplitude: the largest
     return rows
