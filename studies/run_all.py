@@ -19,7 +19,8 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 TOML = ("hopf_map", "belt_speed")
-BOUNDARY = ("boundaries",)         # `sweepcore boundary`, after hopf_map (drawn over it)
+BOUNDARY = ("boundaries", "bstab_hysteresis")  # `sweepcore boundary` (boundaries after
+                                                # hopf_map: drawn over it)
 SCRIPTS = ("paper_fig3", "paper_fig4", "paper_fig5", "design_map", "initial_conditions")
 TABLES = ("paper_claims", "method_orders")      # print markdown tables, write no files
 
