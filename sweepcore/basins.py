@@ -248,8 +248,14 @@ def _plan(row, cycles, n_found, o, spec, flat):
     if not _inside(x, y, np.array([xe]), np.array([0.0]))[0]:
         return None
     px, py = _uniform(spec, flat, 50 * spec.checks, 1)     # starts outside the cycle
-    out = ~_inside(x, y, px, py)
-    outside = (px[out][:spec.checks], py[out][:spec.checks])
+    outside = ([], [])
+    for lo in range(0, px.size, 4 * spec.checks):      # in rounds: the test costs
+        cut = slice(lo, lo + 4 * spec.checks)           # (starts x vertices)
+        out = ~_inside(x, y, px[cut], py[cut])
+        outside = tuple(np.concatenate([a, b[cut][out]])[:spec.checks]
+                        for a, b in zip(outside, (px, py)))
+        if outside[0].size == spec.checks:
+            break
     if fraction < 1.0 - 1e-12 and outside[0].size == 0:
         return None                      # an outside too thin to check: sample
     return fraction, error, inside, outside, error <= spec.ftol
