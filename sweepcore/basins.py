@@ -287,13 +287,14 @@ def _verdict(plan, out_in, out_out, lx, spec):
 
 # ------------------------------------------------------------------ one chunk
 def basin_chunk(grid: Grid, start: int, stop: int, o: np.ndarray, spec: Spec,
-                parallel: bool = False) -> list:
-    """The task of one chunk: the answer of each flat point in [start, stop), a dict
-    with route, status, samples and the attractors ``(name, regime, fraction,
-    error, observables row)``."""
+                first: int, parallel: bool = False) -> list:
+    """The task of one chunk: the answer of each point in [start, stop) of ``grid``
+    (a block of the whole grid whose flat index ``first`` is ``start``, which seeds
+    the starts), a dict with route, status, samples and the attractors ``(name,
+    regime, fraction, error, observables row)``."""
     rows = grid.rows(start, stop)
     n = stop - start
-    flats = range(start, stop) if grid.mode == "product" else range(n)
+    flats = range(first, first + n)
     results = [None] * n
     if spec.route != "sampled":
         cyc = np.empty((n, MAX_CYCLES, layout.NOBS))
@@ -444,7 +445,8 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
             bar.update(b - a)
 
         execute.run(kind, target, range(len(bounds)),
-                    lambda i: (basin_chunk, (*grid.block(*bounds[i]), o, spec)), handle)
+                    lambda i: (basin_chunk, (*grid.block(*bounds[i]), o, spec,
+                                                bounds[i][0])), handle)
     call = (f"sweepcore.basin_stability({grid!r}, x0={spec.box[0]!r}, "
             f"xdot0={spec.box[1]!r}, samples={spec.samples}, method={method!r}, "
             f"tol={tol!r}, route={route!r}, sampling={sampling!r}, seed={seed!r})")

@@ -131,12 +131,28 @@ def test_auto_route_samples_where_the_exact_one_does_not_apply():
     assert float(auto.basin_fraction.sel(attractor="slip_cycle")[0]) == 1.0
 
 
-def test_results_do_not_depend_on_the_chunks():
-    g = grid(1.3, 1.45, 1.6)
+@pytest.mark.parametrize("points", [False, True])
+def test_results_do_not_depend_on_the_chunks(points):
+    """The starts are seeded by (seed, flat index): the same whatever the chunks and
+    the executor, for a product grid and for scattered points."""
+    g = grid(1.3, 1.45, 1.6) if not points else sc.Grid.points(
+        **{k: v for k, v in BSTAB.items()}, v=np.array([1.3, 1.45, 1.6]))
     a = sc.basin_stability(g, **BOX, samples=60, route="sampled", progress=False)
     b = sc.basin_stability(g, **BOX, samples=60, route="sampled", chunks=1,
                            scheduler="synchronous", progress=False)
     np.testing.assert_array_equal(a.basin_fraction.values, b.basin_fraction.values)
+
+
+def test_starts_that_do_not_settle_are_data_not_an_attractor():
+    """With a time budget too short to recognise anything, the starts are counted
+    under 'unconverged', the point says so, and no attractor is claimed."""
+    ds = sc.basin_stability(grid(1.5), **BOX, samples=20, route="sampled",
+                            max_periods=0.5, progress=False)
+    names = ds.basin_status.attrs["flag_meanings"].split()
+    assert names[int(ds.basin_status[0])] == "unclassified_starts"
+    assert "unconverged" in list(ds.attractor.values)
+    assert int(ds.n_attractors[0]) < 2
+    assert float(ds.basin_fraction.sum("attractor")[0]) == pytest.approx(1.0)
 
 
 # ------------------------------------------------------------------ geometry
