@@ -10,7 +10,7 @@ attractor, with an error, by one of two routes:
   the area of that interior inside the box over the box's area. The cycle comes
   from the return-map scan (:mod:`sweepcore.cycles`), its polygon is sampled
   finely enough that the area's error is below ``ftol``, and the polygon is clipped
-  to the box (:func:`clipped_area`). Where the scan finds no slip cycle, the box is
+  to the box (:func:`sweepcore.cycles.clipped_area`). Where the scan finds no slip cycle, the box is
   one basin. Either way a few starts (``checks``) are run on the attractor kernel
   to verify the premise: those inside the cycle end on the equilibrium, those
   outside (in the box) on one other attractor.
@@ -32,13 +32,14 @@ import xarray as xr
 from . import execute, labels, law, variables
 from ._kernels import codes, layout
 from ._kernels.cycles import LOWEST, MAX_CYCLES
-from .cycles import STABLE, UNSTABLE, _check_no_start, cycle_polygon, stability
+from .cycles import (UNSTABLE, _check_no_start, clipped_area, cycle_polygon, inside,
+                     stability)
 from .grid import Grid
 from .io import result_path, write_netcdf
 from .options import make_options
 from .sweep import _progress_bar
 
-__all__ = ["basin_stability", "clipped_area", "ROUTE_NAMES", "STATUS_NAMES"]
+__all__ = ["basin_stability", "clusters", "ROUTE_NAMES", "STATUS_NAMES"]
 
 ROUTES = ("auto", "exact", "sampled")
 SAMPLINGS = ("uniform", "grid")
@@ -74,46 +75,6 @@ class Spec:
     def area(self) -> float:
         (xl, xh), (yl, yh) = self.box
         return (xh - xl) * (yh - yl)
-
-
-# ------------------------------------------------------------------ geometry
-def _clip(x, y, d):
-    """Sutherland-Hodgman step: the part of the closed polygon (x, y) where the
-    linear function with vertex values ``d`` is >= 0. Each edge i -> i+1 gives its
-    crossing of d = 0 (if it crosses) and then its end vertex (if kept); a concave
-    polygon may come out with zero-width bridges along the line, which add no area."""
-    xn, yn, dn = np.roll(x, -1), np.roll(y, -1), np.roll(d, -1)
-    keep_end = dn >= 0.0
-    cross = (d >= 0.0) != keep_end
-    t = d / np.where(cross, d - dn, 1.0)
-    px = np.stack([x + t * (xn - x), xn], axis=1)
-    py = np.stack([y + t * (yn - y), yn], axis=1)
-    keep = np.stack([cross, keep_end], axis=1)
-    return px[keep], py[keep]                 # C order: edge by edge
-
-
-def clipped_area(x, y, box):
-    """``(area, perimeter)`` of the closed polygon (x, y) inside the rectangle
-    ``box = ((xl, xh), (yl, yh))``: clipped at the four sides in turn (a convex
-    window), area by the shoelace formula."""
-    (xl, xh), (yl, yh) = box
-    x, y = np.asarray(x, float), np.asarray(y, float)
-    for side in (lambda x, y: x - xl, lambda x, y: xh - x,
-                 lambda x, y: y - yl, lambda x, y: yh - y):
-        if x.size == 0:
-            return 0.0, 0.0
-        x, y = _clip(x, y, side(x, y))
-    if x.size < 3:
-        return 0.0, 0.0
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    return (0.5 * abs(float(np.sum(x * yn - xn * y))),
-            float(np.sum(np.hypot(xn - x, yn - y))))
-
-
-def _inside(x, y, px, py):
-    """Starts (px, py) inside the closed polygon (x, y) (even-odd rule)."""
-    from matplotlib.path import Path
-    return Path(np.column_stack([x, y])).contains_points(np.column_stack([px, py]))
 
 
 # ------------------------------------------------------------------ starts
@@ -244,21 +205,21 @@ def _plan(row, cycles, n_found, o, spec, flat):
     fraction, error, x, y = drawn
     xe = law.derived("x_eq", law.from_row(row))
     a = cycles[0, layout.OB_X_MAX if row[layout.V] > 0 else layout.OB_X_MIN]
-    inside = (xe + np.array([0.25, 0.5, 0.75]) * (a - xe), np.zeros(3))
-    if not _inside(x, y, np.array([xe]), np.array([0.0]))[0]:
+    within = (xe + np.array([0.25, 0.5, 0.75]) * (a - xe), np.zeros(3))
+    if not inside(x, y, np.array([xe]), np.array([0.0]))[0]:
         return None
     px, py = _uniform(spec, flat, 50 * spec.checks, 1)     # starts outside the cycle
     outside = ([], [])
     for lo in range(0, px.size, 4 * spec.checks):      # in rounds: the test costs
         cut = slice(lo, lo + 4 * spec.checks)           # (starts x vertices)
-        out = ~_inside(x, y, px[cut], py[cut])
-        outside = tuple(np.concatenate([a, b[cut][out]])[:spec.checks]
-                        for a, b in zip(outside, (px, py)))
+        out = ~inside(x, y, px[cut], py[cut])
+        outside = tuple(np.concatenate([got, new[cut][out]])[:spec.checks]
+                        for got, new in zip(outside, (px, py)))
         if outside[0].size == spec.checks:
             break
     if fraction < 1.0 - 1e-12 and outside[0].size == 0:
         return None                      # an outside too thin to check: sample
-    return fraction, error, inside, outside, error <= spec.ftol
+    return fraction, error, within, outside, error <= spec.ftol
 
 
 def _verdict(plan, out_in, out_out, lx, spec):

@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 
 import sweepcore as sc
-from sweepcore.basins import clipped_area
-from sweepcore.cycles import cycle_polygon
+from sweepcore.cycles import clipped_area, cycle_polygon
 from sweepcore._kernels import layout as L
 from sweepcore._kernels.cycles import MAX_CYCLES, slip_cycles
 from sweepcore.options import make_options
@@ -115,6 +114,18 @@ def test_one_attractor_outside_the_bistable_band():
         assert float(ds["mean"].sel(attractor="equilibrium", v=1.9)) == pytest.approx(
             float(ds.x_eq.sel(v=1.9)), abs=1e-9)
         assert (ds.basin_fraction_error.values < 1e-7).all()
+
+
+def test_mirror_symmetry_of_a_negative_belt_speed():
+    """(x, xdot, v) -> (-x, -xdot, -v) maps the motion onto itself: the mirrored box
+    at -v has the same fractions (the scan then follows the x minima)."""
+    a = sc.basin_stability(grid(1.5), x0=(-2.0, 2.0), xdot0=(0.0, 2.0), route="exact",
+                           progress=False)
+    b = sc.basin_stability(grid(-1.5), x0=(-2.0, 2.0), xdot0=(-2.0, 0.0),
+                           route="exact", progress=False)
+    assert int(b.basin_status[0]) == 0
+    np.testing.assert_allclose(b.basin_fraction.values, a.basin_fraction.values,
+                               atol=1e-9)
 
 
 def test_auto_route_samples_where_the_exact_one_does_not_apply():
