@@ -10,8 +10,8 @@ attractor, with an error, by one of two routes:
   the area of that interior inside the box over the box's area. The cycle comes
   from the return-map scan (:mod:`sweepcore.cycles`), its polygon is sampled
   finely enough that the area's error is below ``ftol``, and the polygon is clipped
-  to the box (:func:`sweepcore.cycles.clipped_area`). Where the scan finds no slip cycle, the box is
-  one basin. Either way a few starts (``checks``) are run on the attractor kernel
+  to the box (:func:`sweepcore.cycles.clipped_area`). Where the scan finds no slip
+  cycle, the box is one basin. Either way a few starts (``checks``) are run on the attractor kernel
   to verify the premise: those inside the cycle end on the equilibrium, those
   outside (in the box) on one other attractor.
 * **sampled** (Monte-Carlo): ``samples`` starts per point on the attractor kernel,
@@ -168,11 +168,11 @@ def _tally(out, lx, spec):
 # ------------------------------------------------------------------ exact route
 def _polygon(row, cycle, o, spec):
     """``(fraction, error, x, y)`` of the cycle's interior in the box, or None when
-    the polygon cannot be drawn; the polygon is doubled until the fraction moves
-    less than ``ftol`` (``error`` then bounds it: shoelace areas of a smooth curve
-    converge as h^2, so the change from n/2 to n samples exceeds the error of n
-    three times over), plus the cycle's own error (tol L and the closing gap, over
-    the perimeter)."""
+    the polygon cannot be drawn. ``error``: the change of the clipped area from n/2
+    to n samples (shoelace areas of a smooth curve converge as h^2, so that change
+    is three times the error of n samples), plus the cycle's own error (tol L and
+    the closing gap, over the perimeter); the samples are quadrupled until it is
+    below ``ftol`` (or ``MAX_POINTS`` is reached)."""
     n = FIRST_POINTS
     while True:
         x, y, gap, ok = cycle_polygon(row, cycle, o, n)
@@ -269,6 +269,9 @@ def basin_chunk(grid: Grid, start: int, stop: int, o: np.ndarray, spec: Spec,
         for j, i in enumerate(todo):
             results[i] = _verdict(plans[i], runs[2 * j], runs[2 * j + 1],
                                   _length_scale(rows[i]), spec)
+            if spec.route == "auto" and results[i] and \
+                    results[i]["status"] == NOT_RESOLVED:
+                results[i] = None                     # sampled instead
     if spec.route == "exact":
         return [r if r is not None else {"route": EXACT, "status": NOT_APPLICABLE,
                                          "samples": 0, "attractors": []}

@@ -128,6 +128,17 @@ def test_mirror_symmetry_of_a_negative_belt_speed():
                                atol=1e-9)
 
 
+def test_a_tolerance_the_polygon_cannot_reach_is_said():
+    """ftol below the cycle's own accuracy (tol L times the perimeter): 'exact' says
+    polygon_not_resolved with NaN fractions, 'auto' samples instead."""
+    ex = sc.basin_stability(grid(1.5), **BOX, route="exact", ftol=1e-14, progress=False)
+    names = ex.basin_status.attrs["flag_meanings"].split()
+    assert names[int(ex.basin_status[0])] == "polygon_not_resolved"
+    assert np.isnan(ex.basin_fraction.values).all()
+    auto = sc.basin_stability(grid(1.5), **BOX, ftol=1e-14, samples=40, progress=False)
+    assert int(auto.basin_route[0]) == 1 and int(auto.basin_status[0]) == 0
+
+
 def test_auto_route_samples_where_the_exact_one_does_not_apply():
     """A supercritical law's stable slip cycle is no basin boundary: route='exact'
     says so (NaN fractions, a status); 'auto' samples there."""
