@@ -32,8 +32,8 @@ import xarray as xr
 from . import execute, labels, law, variables
 from ._kernels import codes, layout
 from ._kernels.cycles import LOWEST, MAX_CYCLES
-from .cycles import (UNSTABLE, _check_no_start, clipped_area, cycle_polygon, inside,
-                     stability)
+from .cycles import (UNSTABLE, _check_no_start, clipped_area, cycle_polygon,
+                     cycle_variables, inside, stability)
 from .grid import Grid
 from .io import result_path, write_netcdf
 from .options import make_options
@@ -266,6 +266,7 @@ def basin_chunk(grid: Grid, start: int, stop: int, o: np.ndarray, spec: Spec,
         todo = [i for i in range(n) if plans[i] is not None]
         runs = _run(np.repeat(rows[todo], 2, axis=0),
                     [plans[i][k] for i in todo for k in (2, 3)], o, parallel)
+        cycles = [{"cycles": cyc[i], "n_cycles": int(found[i])} for i in range(n)]
         for j, i in enumerate(todo):
             results[i] = _verdict(plans[i], runs[2 * j], runs[2 * j + 1],
                                   _length_scale(rows[i]), spec)
@@ -273,14 +274,17 @@ def basin_chunk(grid: Grid, start: int, stop: int, o: np.ndarray, spec: Spec,
                     results[i]["status"] == NOT_RESOLVED:
                 results[i] = None                     # sampled instead
     if spec.route == "exact":
-        return [r if r is not None else {"route": EXACT, "status": NOT_APPLICABLE,
-                                         "samples": 0, "attractors": []}
-                for r in results]
+        results = [r if r is not None else {"route": EXACT, "status": NOT_APPLICABLE,
+                                            "samples": 0, "attractors": []}
+                   for r in results]
     todo = [i for i in range(n) if results[i] is None]
     if todo:
         runs = _run(rows[todo], [_starts(spec, flats[i]) for i in todo], o, parallel)
         for i, out in zip(todo, runs):
             results[i] = _tally(out, _length_scale(rows[i]), spec)
+    if spec.route != "sampled":        # the scan's cycles, beside the fractions
+        for r, c in zip(results, cycles):
+            r.update(c)
     return results
 
 
@@ -383,7 +387,10 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
         ``x_min``, ``xdot_max``, ``stick_fraction``, from one start that ends on
         it), ``attractor_regime``; per point ``n_attractors``, ``samples`` (starts
         run), ``basin_route`` and ``basin_status`` (flags), and the analytic q,
-        x_eq, v_star.
+        x_eq, v_star. Unless ``route="sampled"``, also the slip cycles of the
+        return-map scan over ``cycle`` (the variables of :func:`sweepcore.
+        slip_cycles`: ``n_cycles``, ``cycle_amplitude``, ``cycle_floquet`` > 1 for
+        the unstable cycle that bounds the basins, ...).
     """
     if not isinstance(grid, Grid):
         raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
@@ -414,14 +421,14 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
     call = (f"sweepcore.basin_stability({grid!r}, x0={spec.box[0]!r}, "
             f"xdot0={spec.box[1]!r}, samples={spec.samples}, method={method!r}, "
             f"tol={tol!r}, route={route!r}, sampling={sampling!r}, seed={seed!r})")
-    ds = _dataset(grid, results, spec, method, tol, call)
+    ds = _dataset(grid, results, spec, o, method, tol, call)
     if target_path is not None:
         write_netcdf(ds, target_path)
     return ds
 
 
 # ------------------------------------------------------------------ labels
-def _dataset(grid, results, spec, method, tol, call) -> xr.Dataset:
+def _dataset(grid, results, spec, o, method, tol, call) -> xr.Dataset:
     dims, shape = grid.dims, grid.shape
     order = sorted({(r, name) for res in results for name, r, *_ in res["attractors"]})
     names = [name for _r, name in order]
@@ -467,6 +474,11 @@ def _dataset(grid, results, spec, method, tol, call) -> xr.Dataset:
     data["basin_status"] = xr.Variable(dims, status.reshape(shape), labels.flags(
         STATUS_NAMES, "status of the basin fractions of the point"))
     coords = {k: v for k, v in grid.coords().items() if k not in ("x0", "xdot0")}
+    if "cycles" in results[0]:
+        cyc = cycle_variables(np.array([r["cycles"] for r in results]),
+                              np.array([r["n_cycles"] for r in results]), dims, shape, o)
+        coords["cycle"] = cyc.pop("cycle")
+        data.update(cyc)
     coords["attractor"] = xr.Variable("attractor", np.array(names or ["none"], object), {
         "units": "1", "long_name": "attractor (regime name; _2, _3: further "
                                    "attractors of that regime at a point)"})

@@ -281,6 +281,9 @@ def test_cli_basins_info_and_plot(tmp_path, monkeypatch, capsys, exact_band):
     assert (tmp_path / "b.png").read_bytes()[:4] == b"\x89PNG"
     code, out = cli(["info", "b.nc"], tmp_path, monkeypatch, capsys)
     assert code == 0 and "basin stability (v: 3)" in out.out
+    assert "unstable slip cycles (basin boundaries) at 1 of 3 points" in out.out
+    mu = float(want.cycle_floquet.sel(v=1.5)[0])
+    assert f"Floquet multipliers in [{mu:.6g}, {mu:.6g}]" in out.out
     f15 = float(want.basin_fraction.sel(v=1.5, attractor="equilibrium"))
     assert f"{f15:.6f}" in out.out
     code, out = cli(["plot", "b.nc", "-o", "c.png"], tmp_path, monkeypatch, capsys)
