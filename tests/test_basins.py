@@ -356,3 +356,25 @@ def test_physics_page_quotes_the_study_results():
         assert text in page, text
     # the exact fractions of the file are the code's (1e-6: the stated ftol)
     assert all(abs(r["exact_minus_scipy"]) <= 1e-6 for r in rows)
+
+
+def test_plot_basins_curves_and_maps():
+    """One swept axis: one curve per attractor (and the reference points); two: one
+    map per attractor, coloured on [0, 1]."""
+    from sweepcore.plot import plot_basins, plot_result
+    ds = sc.basin_stability(grid(1.1, 1.3, 1.5, 1.9), **BOX, route="exact",
+                            progress=False)
+    fig = plot_basins(ds, reference={"published": ([1.5], [0.304], [0.0065])})
+    ax = fig.axes[0]
+    curves = [ln for ln in ax.get_lines() if ln.get_label() in ("equilibrium",
+                                                                 "stick slip")]
+    assert len(curves) == 2
+    eq = next(ln for ln in curves if ln.get_label() == "equilibrium")
+    np.testing.assert_array_equal(eq.get_ydata(),
+                                  ds.basin_fraction.sel(attractor="equilibrium").values)
+    g2 = sc.Grid(**{**BSTAB, "c": np.array([0.1, 0.12])}, v=np.array([1.3, 1.6, 1.9]))
+    two = sc.basin_stability(g2, **BOX, route="exact", progress=False)
+    maps = plot_result(two)
+    meshes = [a.collections[0] for a in maps.axes
+              if a.get_title().startswith("basin fraction:")]
+    assert len(meshes) == 2 and meshes[0].get_clim() == (0.0, 1.0)
