@@ -78,7 +78,8 @@ def main(argv=None):
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--peer-samples", type=int, default=0,
                     help="scipy samples to time in this run (0: the saved result)")
-    ap.add_argument("--write", action="store_true", help=f"write {OUT.relative_to(ROOT)}")
+    ap.add_argument("--write", action="store_true",
+                    help=f"write {OUT.relative_to(ROOT)}")
     args = ap.parse_args(argv)
     import sweepcore as sc
     from sweepcore.study import load_study
@@ -122,7 +123,8 @@ def main(argv=None):
                    largest_error=float(np.nanmax(errors))),
         sampled=dict(point_s=t_mc, times_s=mc_times,
                      fraction=float(mc.basin_fraction.sel(attractor="equilibrium")[0]),
-                     error=float(mc.basin_fraction_error.sel(attractor="equilibrium")[0])),
+                     error=float(mc.basin_fraction_error.sel(
+                         attractor="equilibrium")[0])),
         peer=dict(per_sample_s=per, point_5000_s=peer_point, **peer),
         ratios=dict(peer_point_over_exact_curve=peer_point / t_curve,
                     peer_point_over_exact_point=peer_point / (t_curve / grid.size),

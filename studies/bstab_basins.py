@@ -30,7 +30,6 @@ studies/results/bstab_basins.json)
 import argparse
 import datetime
 import json
-import math
 import platform
 import sys
 import time
@@ -125,7 +124,8 @@ def table(res) -> str:
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--write", action="store_true", help=f"write {OUT.relative_to(ROOT)}")
+    ap.add_argument("--write", action="store_true",
+                    help=f"write {OUT.relative_to(ROOT)}")
     args = ap.parse_args(argv)
     res = compute()
     print(table(res))

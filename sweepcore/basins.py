@@ -11,9 +11,9 @@ attractor, with an error, by one of two routes:
   from the return-map scan (:mod:`sweepcore.cycles`), its polygon is sampled
   finely enough that the area's error is below ``ftol``, and the polygon is clipped
   to the box (:func:`sweepcore.cycles.clipped_area`). Where the scan finds no slip
-  cycle, the box is one basin. Either way a few starts (``checks``) are run on the attractor kernel
-  to verify the premise: those inside the cycle end on the equilibrium, those
-  outside (in the box) on one other attractor.
+  cycle, the box is one basin. Either way a few starts (``checks``) are run on the
+  attractor kernel to verify the premise: those inside the cycle end on the
+  equilibrium, those outside (in the box) on one other attractor.
 * **sampled** (Monte-Carlo): ``samples`` starts per point on the attractor kernel,
   the attractors told apart by their invariants (regime, then amplitude and mean to
   ``match`` of the length scale), the fraction of each with its binomial standard
@@ -242,8 +242,8 @@ def _verdict(plan, out_in, out_out, lx, spec):
             return None
         r = outer[0][0]
         entries.append((codes.REGIME_NAMES[r], r, 1.0 - fraction, error, out_out[0]))
-    return {"route": EXACT, "status": status, "samples": out_in.shape[0] + out_out.shape[0],
-            "attractors": entries}
+    return {"route": EXACT, "status": status,
+            "samples": out_in.shape[0] + out_out.shape[0], "attractors": entries}
 
 
 # ------------------------------------------------------------------ one chunk
@@ -452,8 +452,8 @@ def _dataset(grid, results, spec, o, method, tol, call) -> xr.Dataset:
     data = {
         "basin_fraction": xr.Variable(adims, frac.reshape(ashape),
                                       labels.attrs(*variables.BASIN_FRACTION)),
-        "basin_fraction_error": xr.Variable(adims, err.reshape(ashape),
-                                            labels.attrs(*variables.BASIN_FRACTION_ERROR)),
+        "basin_fraction_error": xr.Variable(
+            adims, err.reshape(ashape), labels.attrs(*variables.BASIN_FRACTION_ERROR)),
     }
     for name in PER_ATTRACTOR:
         col, units, long_name, _comment = variables.OBSERVABLES[name]

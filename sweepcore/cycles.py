@@ -127,7 +127,8 @@ def cycle_variables(out: np.ndarray, found: np.ndarray, dims: tuple, shape: tupl
     for name, (col, *meta) in variables.CYCLE_OBSERVABLES.items():
         data[name] = xr.Variable(cdims, block[..., col], labels.attrs(*meta))
     data["cycle_stability"] = xr.Variable(
-        cdims, stability(block), labels.flags(STABILITY_NAMES, variables.CYCLE_STABILITY))
+        cdims, stability(block),
+        labels.flags(STABILITY_NAMES, variables.CYCLE_STABILITY))
     data["cycle_status"] = xr.Variable(
         cdims, block[..., layout.OB_STATUS].astype(np.int8),
         {**labels.flag_attrs(variables.STATUS),

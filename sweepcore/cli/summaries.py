@@ -228,7 +228,8 @@ def basin_lines(ds, table_rows: int = 12) -> list[str]:
                for k in ("x0_range", "xdot0_range"))
     lines = [f"  box: x0 in [{x0[0]:.6g}, {x0[1]:.6g}] cm, xdot0 in [{xd0[0]:.6g}, "
              f"{xd0[1]:.6g}] cm s-1; route {ds.attrs.get('route', '?')}, samples "
-             f"{ds.attrs.get('samples_requested', '?')} ({ds.attrs.get('sampling', '?')})"]
+             f"{ds.attrs.get('samples_requested', '?')} "
+             f"({ds.attrs.get('sampling', '?')})"]
     for var in ("basin_route", "basin_status"):
         counts = [f"{n} {c}" for n, c in _flag_counts(ds[var]) if c]
         lines.append(f"  {var.split('_')[1]}: " + ", ".join(counts))
@@ -246,7 +247,8 @@ def basin_lines(ds, table_rows: int = 12) -> list[str]:
                 f"{unstable.size} points")
         mu = ds["cycle_floquet"].where(ds["cycle_stability"] == 1).values
         if np.isfinite(mu).any():
-            line += f", Floquet multipliers in [{np.nanmin(mu):.6g}, {np.nanmax(mu):.6g}]"
+            line += (f", Floquet multipliers in [{np.nanmin(mu):.6g}, "
+                     f"{np.nanmax(mu):.6g}]")
         lines.append(line)
     dims = [d for d in f.dims if d != "attractor"]
     if len(dims) == 1 and ds.sizes[dims[0]] <= table_rows:
