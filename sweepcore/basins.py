@@ -42,7 +42,7 @@ from .sweep import _progress_bar
 __all__ = ["basin_stability", "clusters", "ROUTE_NAMES", "STATUS_NAMES"]
 
 ROUTES = ("auto", "exact", "sampled")
-SAMPLINGS = ("uniform", "grid")
+SAMPLINGS = ("uniform", "halton", "grid")
 EXACT, SAMPLED = 0, 1
 ROUTE_NAMES = {EXACT: "exact", SAMPLED: "sampled"}
 OK, UNCLASSIFIED, NOT_APPLICABLE, NOT_RESOLVED = 0, 1, 2, 3
@@ -86,12 +86,31 @@ def _uniform(spec, flat: int, n: int, stream: int):
     return xl + (xh - xl) * u[:, 0], yl + (yh - yl) * u[:, 1]
 
 
+def _radical_inverse(i: np.ndarray, base: int) -> np.ndarray:
+    """Van der Corput: the digits of i in ``base`` mirrored behind the point."""
+    out = np.zeros(i.shape)
+    scale = 1.0 / base
+    while np.any(i > 0):
+        i, digit = np.divmod(i, base)
+        out += digit * scale
+        scale /= base
+    return out
+
+
 def _starts(spec, flat: int):
-    """The sampled route's starts of one point: uniform (seeded) or the midpoints of
-    a grid of about ``samples`` cells, as square as the box allows."""
+    """The sampled route's starts of one point: uniform (seeded); ``halton``: the
+    2-D Halton sequence (bases 2 and 3, a low-discrepancy set) shifted modulo 1 by a
+    seeded uniform vector (Cranley-Patterson), so that points differ; or the
+    midpoints of a grid of about ``samples`` cells, as square as the box allows."""
+    (xl, xh), (yl, yh) = spec.box
     if spec.sampling == "uniform":
         return _uniform(spec, flat, spec.samples, 0)
-    (xl, xh), (yl, yh) = spec.box
+    if spec.sampling == "halton":
+        i = np.arange(1, spec.samples + 1)
+        shift = np.random.default_rng([spec.seed, flat, 2]).random(2)
+        u = (_radical_inverse(i, 2) + shift[0]) % 1.0
+        w = (_radical_inverse(i, 3) + shift[1]) % 1.0
+        return xl + (xh - xl) * u, yl + (yh - yl) * w
     nx = max(1, round(math.sqrt(spec.samples * (xh - xl) / (yh - yl))))
     ny = max(1, round(spec.samples / nx))
     gx = xl + (np.arange(nx) + 0.5) * (xh - xl) / nx
@@ -356,9 +375,11 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
         ``exact_route_not_applicable`` (NaN fractions). "sampled": ``samples``
         starts on the attractor kernel. "auto": exact where it applies, else
         sampled.
-    sampling : {"uniform", "grid"}
+    sampling : {"uniform", "halton", "grid"}
         Starts of the sampled route: uniform, seeded by ``(seed, flat index of the
-        point)`` (the same whatever the chunks), or the midpoints of a grid.
+        point)`` (the same whatever the chunks); a randomly shifted Halton sequence
+        (low discrepancy: the binomial error then overstates the error); or the
+        midpoints of a grid.
     seed : int
         Seed of the uniform starts and of the exact route's checks.
     checks : int

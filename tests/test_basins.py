@@ -81,7 +81,7 @@ def test_exact_fraction_against_a_live_scipy_polygon():
 
 
 @pytest.mark.parametrize("v, sampling", [(1.25, "uniform"), (1.5, "uniform"),
-                                         (1.7, "grid")])
+                                         (1.7, "grid"), (1.4, "halton")])
 def test_sampled_route_agrees_with_the_exact_one(v, sampling):
     """Starts on the attractor kernel: the share ending on steady sliding is the exact
     fraction within 4 standard errors (binomial)."""
@@ -178,6 +178,15 @@ def test_starts_that_do_not_settle_are_data_not_an_attractor():
 
 
 # ------------------------------------------------------------------ geometry
+def test_halton_points_are_the_radical_inverses():
+    from sweepcore.basins import _radical_inverse
+    i = np.arange(1, 9)
+    np.testing.assert_allclose(_radical_inverse(i, 2),
+                               [1 / 2, 1 / 4, 3 / 4, 1 / 8, 5 / 8, 3 / 8, 7 / 8, 1 / 16])
+    np.testing.assert_allclose(_radical_inverse(i, 3),
+                               [1 / 3, 2 / 3, 1 / 9, 4 / 9, 7 / 9, 2 / 9, 5 / 9, 8 / 9])
+
+
 def test_clipped_area_against_closed_forms():
     sq = (np.array([0.0, 2.0, 2.0, 0.0]), np.array([0.0, 0.0, 2.0, 2.0]))
     assert clipped_area(*sq, ((1.0, 3.0), (-1.0, 1.0))) == (1.0, 4.0)
