@@ -129,6 +129,10 @@ def main(argv=None):
         ratios=dict(peer_point_over_exact_curve=peer_point / t_curve,
                     peer_point_over_exact_point=peer_point / (t_curve / grid.size),
                     peer_point_over_sampled_point=peer_point / t_mc))
+    if args.peer_samples:          # the saved baseline too, for comparison
+        saved, _ = peer_per_sample(0)
+        res["ratios"]["saved_peer_point_over_exact_curve"] = saved * SAMPLES / t_curve
+        res["peer"]["saved_per_sample_s"] = saved
     r = res["ratios"]
     log(f"scipy's one point / sweepcore's {grid.size}-speed curve: "
         f"{r['peer_point_over_exact_curve']:.0f}x; per point: exact "
