@@ -95,6 +95,7 @@ def test_sampled_route_agrees_with_the_exact_one(v, sampling):
     assert se == pytest.approx(math.sqrt(s * (1 - s) / int(mc.samples[0])))
     assert abs(s - f) <= 4 * se
     assert int(mc.n_attractors[0]) == 2 and int(mc.basin_route[0]) == 1
+    assert float(mc.basin_fraction.sum("attractor")[0]) == pytest.approx(1.0, abs=1e-12)
     # the same attractors: stick-slip's amplitude and steady sliding's position
     for name in ("amplitude", "mean"):
         np.testing.assert_allclose(mc[name].values, exact[name].values, atol=1e-6)
