@@ -23,14 +23,14 @@ What this script computes (studies/bstab_basins.toml's grid and box):
 * the whole curve of the study (256 speeds in [1, 2]): routes, largest error, where
   the equilibrium's fraction leaves 0 and where it jumps to 1, and the time.
 
-Run:  python studies/bstab_basins.py [--write]   (about 15 s; prints the table of
-docs/physics.md, "Basins of attraction"; --write saves
-studies/results/bstab_basins.json)
+Run:  python studies/bstab_basins.py [--write] [--png FIG.png]   (about 15 s;
+prints the table of docs/physics.md, "Basins of attraction"; --write saves
+studies/results/bstab_basins.json; --png draws the curve with the published points,
+docs/img/bstab_basins.png)
 """
 import argparse
 import datetime
 import json
-import math
 import platform
 import sys
 import time
@@ -90,6 +90,7 @@ def compute():
     curve = sc.basin_stability(study.grid(), **box, route=b["route"],
                                samples=b["samples"], ftol=b["ftol"], progress=False)
     seconds = time.perf_counter() - t0
+    curve.attrs["study_title"] = study.title
     v = curve.v.values
     f = curve.basin_fraction.sel(attractor="equilibrium").values
     inside = np.flatnonzero((f > 0.0) & (f < 1.0))
@@ -101,7 +102,8 @@ def compute():
         first_bistable=float(v[inside[0]]), last_bistable=float(v[inside[-1]]),
         last_fraction=float(f[inside[-1]]),
         hopf=ref["hopf"]["closed_form"], fold=ref["fold"]["rtol=1e-12"]["v_fold"])
-    return dict(rows=rows, curve=summary, sampled_seconds=mc_seconds,
+    return dict(rows=rows, curve=summary, curve_dataset=curve,
+                sampled_seconds=mc_seconds,
                 sampled_points=len(published), box=[list(b["x0"]), list(b["xdot0"])])
 
 
@@ -125,9 +127,22 @@ def table(res) -> str:
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--write", action="store_true", help=f"write {OUT.relative_to(ROOT)}")
+    ap.add_argument("--write", action="store_true",
+                    help=f"write {OUT.relative_to(ROOT)}")
+    ap.add_argument("--png", type=Path, help="draw the curve with the published "
+                                             "points into this file")
     args = ap.parse_args(argv)
     res = compute()
+    if args.png:
+        from sweepcore.plot import plot_basins, save
+        pub = [r for r in res["rows"] if "published" in r]
+        fig = plot_basins(res.pop("curve_dataset"), reference={
+            "published, 5,000 samples (Stender et al. 2020)": (
+                [r["v"] for r in pub], [r["published"] for r in pub],
+                [r["published_error"] for r in pub])})
+        save(fig, args.png)
+        print(f"wrote {args.png}")
+    res.pop("curve_dataset", None)
     print(table(res))
     c = res["curve"]
     worst = max(abs(r["exact_minus_scipy"]) for r in res["rows"])

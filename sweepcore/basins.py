@@ -10,10 +10,10 @@ attractor, with an error, by one of two routes:
   the area of that interior inside the box over the box's area. The cycle comes
   from the return-map scan (:mod:`sweepcore.cycles`), its polygon is sampled
   finely enough that the area's error is below ``ftol``, and the polygon is clipped
-  to the box (:func:`clipped_area`). Where the scan finds no slip cycle, the box is
-  one basin. Either way a few starts (``checks``) are run on the attractor kernel
-  to verify the premise: those inside the cycle end on the equilibrium, those
-  outside (in the box) on one other attractor.
+  to the box (:func:`sweepcore.cycles.clipped_area`). Where the scan finds no slip
+  cycle, the box is one basin. Either way a few starts (``checks``) are run on the
+  attractor kernel to verify the premise: those inside the cycle end on the
+  equilibrium, those outside (in the box) on one other attractor.
 * **sampled** (Monte-Carlo): ``samples`` starts per point on the attractor kernel,
   the attractors told apart by their invariants (regime, then amplitude and mean to
   ``match`` of the length scale), the fraction of each with its binomial standard
@@ -32,16 +32,17 @@ import xarray as xr
 from . import execute, labels, law, variables
 from ._kernels import codes, layout
 from ._kernels.cycles import LOWEST, MAX_CYCLES
-from .cycles import STABLE, UNSTABLE, _check_no_start, cycle_polygon, stability
+from .cycles import (UNSTABLE, _check_no_start, clipped_area, cycle_polygon,
+                     cycle_variables, inside, stability)
 from .grid import Grid
 from .io import result_path, write_netcdf
 from .options import make_options
 from .sweep import _progress_bar
 
-__all__ = ["basin_stability", "clipped_area", "ROUTE_NAMES", "STATUS_NAMES"]
+__all__ = ["basin_stability", "clusters", "ROUTE_NAMES", "STATUS_NAMES"]
 
 ROUTES = ("auto", "exact", "sampled")
-SAMPLINGS = ("uniform", "grid")
+SAMPLINGS = ("uniform", "halton", "grid")
 EXACT, SAMPLED = 0, 1
 ROUTE_NAMES = {EXACT: "exact", SAMPLED: "sampled"}
 OK, UNCLASSIFIED, NOT_APPLICABLE, NOT_RESOLVED = 0, 1, 2, 3
@@ -76,46 +77,6 @@ class Spec:
         return (xh - xl) * (yh - yl)
 
 
-# ------------------------------------------------------------------ geometry
-def _clip(x, y, d):
-    """Sutherland-Hodgman step: the part of the closed polygon (x, y) where the
-    linear function with vertex values ``d`` is >= 0. Each edge i -> i+1 gives its
-    crossing of d = 0 (if it crosses) and then its end vertex (if kept); a concave
-    polygon may come out with zero-width bridges along the line, which add no area."""
-    xn, yn, dn = np.roll(x, -1), np.roll(y, -1), np.roll(d, -1)
-    keep_end = dn >= 0.0
-    cross = (d >= 0.0) != keep_end
-    t = d / np.where(cross, d - dn, 1.0)
-    px = np.stack([x + t * (xn - x), xn], axis=1)
-    py = np.stack([y + t * (yn - y), yn], axis=1)
-    keep = np.stack([cross, keep_end], axis=1)
-    return px[keep], py[keep]                 # C order: edge by edge
-
-
-def clipped_area(x, y, box):
-    """``(area, perimeter)`` of the closed polygon (x, y) inside the rectangle
-    ``box = ((xl, xh), (yl, yh))``: clipped at the four sides in turn (a convex
-    window), area by the shoelace formula."""
-    (xl, xh), (yl, yh) = box
-    x, y = np.asarray(x, float), np.asarray(y, float)
-    for side in (lambda x, y: x - xl, lambda x, y: xh - x,
-                 lambda x, y: y - yl, lambda x, y: yh - y):
-        if x.size == 0:
-            return 0.0, 0.0
-        x, y = _clip(x, y, side(x, y))
-    if x.size < 3:
-        return 0.0, 0.0
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    return (0.5 * abs(float(np.sum(x * yn - xn * y))),
-            float(np.sum(np.hypot(xn - x, yn - y))))
-
-
-def _inside(x, y, px, py):
-    """Starts (px, py) inside the closed polygon (x, y) (even-odd rule)."""
-    from matplotlib.path import Path
-    return Path(np.column_stack([x, y])).contains_points(np.column_stack([px, py]))
-
-
 # ------------------------------------------------------------------ starts
 def _uniform(spec, flat: int, n: int, stream: int):
     """``n`` uniform starts in the box, seeded by (seed, flat index, stream): the
@@ -125,12 +86,31 @@ def _uniform(spec, flat: int, n: int, stream: int):
     return xl + (xh - xl) * u[:, 0], yl + (yh - yl) * u[:, 1]
 
 
+def _radical_inverse(i: np.ndarray, base: int) -> np.ndarray:
+    """Van der Corput: the digits of i in ``base`` mirrored behind the point."""
+    out = np.zeros(i.shape)
+    scale = 1.0 / base
+    while np.any(i > 0):
+        i, digit = np.divmod(i, base)
+        out += digit * scale
+        scale /= base
+    return out
+
+
 def _starts(spec, flat: int):
-    """The sampled route's starts of one point: uniform (seeded) or the midpoints of
-    a grid of about ``samples`` cells, as square as the box allows."""
+    """The sampled route's starts of one point: uniform (seeded); ``halton``: the
+    2-D Halton sequence (bases 2 and 3, a low-discrepancy set) shifted modulo 1 by a
+    seeded uniform vector (Cranley-Patterson), so that points differ; or the
+    midpoints of a grid of about ``samples`` cells, as square as the box allows."""
+    (xl, xh), (yl, yh) = spec.box
     if spec.sampling == "uniform":
         return _uniform(spec, flat, spec.samples, 0)
-    (xl, xh), (yl, yh) = spec.box
+    if spec.sampling == "halton":
+        i = np.arange(1, spec.samples + 1)
+        shift = np.random.default_rng([spec.seed, flat, 2]).random(2)
+        u = (_radical_inverse(i, 2) + shift[0]) % 1.0
+        w = (_radical_inverse(i, 3) + shift[1]) % 1.0
+        return xl + (xh - xl) * u, yl + (yh - yl) * w
     nx = max(1, round(math.sqrt(spec.samples * (xh - xl) / (yh - yl))))
     ny = max(1, round(spec.samples / nx))
     gx = xl + (np.arange(nx) + 0.5) * (xh - xl) / nx
@@ -207,11 +187,11 @@ def _tally(out, lx, spec):
 # ------------------------------------------------------------------ exact route
 def _polygon(row, cycle, o, spec):
     """``(fraction, error, x, y)`` of the cycle's interior in the box, or None when
-    the polygon cannot be drawn; the polygon is doubled until the fraction moves
-    less than ``ftol`` (``error`` then bounds it: shoelace areas of a smooth curve
-    converge as h^2, so the change from n/2 to n samples exceeds the error of n
-    three times over), plus the cycle's own error (tol L and the closing gap, over
-    the perimeter)."""
+    the polygon cannot be drawn. ``error``: the change of the clipped area from n/2
+    to n samples (shoelace areas of a smooth curve converge as h^2, so that change
+    is three times the error of n samples), plus the cycle's own error (tol L and
+    the closing gap, over the perimeter); the samples are quadrupled until it is
+    below ``ftol`` (or ``MAX_POINTS`` is reached)."""
     n = FIRST_POINTS
     while True:
         x, y, gap, ok = cycle_polygon(row, cycle, o, n)
@@ -244,15 +224,21 @@ def _plan(row, cycles, n_found, o, spec, flat):
     fraction, error, x, y = drawn
     xe = law.derived("x_eq", law.from_row(row))
     a = cycles[0, layout.OB_X_MAX if row[layout.V] > 0 else layout.OB_X_MIN]
-    inside = (xe + np.array([0.25, 0.5, 0.75]) * (a - xe), np.zeros(3))
-    if not _inside(x, y, np.array([xe]), np.array([0.0]))[0]:
+    within = (xe + np.array([0.25, 0.5, 0.75]) * (a - xe), np.zeros(3))
+    if not inside(x, y, np.array([xe]), np.array([0.0]))[0]:
         return None
     px, py = _uniform(spec, flat, 50 * spec.checks, 1)     # starts outside the cycle
-    out = ~_inside(x, y, px, py)
-    outside = (px[out][:spec.checks], py[out][:spec.checks])
+    outside = ([], [])
+    for lo in range(0, px.size, 4 * spec.checks):      # in rounds: the test costs
+        cut = slice(lo, lo + 4 * spec.checks)           # (starts x vertices)
+        out = ~inside(x, y, px[cut], py[cut])
+        outside = tuple(np.concatenate([got, new[cut][out]])[:spec.checks]
+                        for got, new in zip(outside, (px, py)))
+        if outside[0].size == spec.checks:
+            break
     if fraction < 1.0 - 1e-12 and outside[0].size == 0:
         return None                      # an outside too thin to check: sample
-    return fraction, error, inside, outside, error <= spec.ftol
+    return fraction, error, within, outside, error <= spec.ftol
 
 
 def _verdict(plan, out_in, out_out, lx, spec):
@@ -275,19 +261,20 @@ def _verdict(plan, out_in, out_out, lx, spec):
             return None
         r = outer[0][0]
         entries.append((codes.REGIME_NAMES[r], r, 1.0 - fraction, error, out_out[0]))
-    return {"route": EXACT, "status": status, "samples": out_in.shape[0] + out_out.shape[0],
-            "attractors": entries}
+    return {"route": EXACT, "status": status,
+            "samples": out_in.shape[0] + out_out.shape[0], "attractors": entries}
 
 
 # ------------------------------------------------------------------ one chunk
 def basin_chunk(grid: Grid, start: int, stop: int, o: np.ndarray, spec: Spec,
-                parallel: bool = False) -> list:
-    """The task of one chunk: the answer of each flat point in [start, stop), a dict
-    with route, status, samples and the attractors ``(name, regime, fraction,
-    error, observables row)``."""
+                first: int, parallel: bool = False) -> list:
+    """The task of one chunk: the answer of each point in [start, stop) of ``grid``
+    (a block of the whole grid whose flat index ``first`` is ``start``, which seeds
+    the starts), a dict with route, status, samples and the attractors ``(name,
+    regime, fraction, error, observables row)``."""
     rows = grid.rows(start, stop)
     n = stop - start
-    flats = range(start, stop) if grid.mode == "product" else range(n)
+    flats = range(first, first + n)
     results = [None] * n
     if spec.route != "sampled":
         cyc = np.empty((n, MAX_CYCLES, layout.NOBS))
@@ -298,18 +285,25 @@ def basin_chunk(grid: Grid, start: int, stop: int, o: np.ndarray, spec: Spec,
         todo = [i for i in range(n) if plans[i] is not None]
         runs = _run(np.repeat(rows[todo], 2, axis=0),
                     [plans[i][k] for i in todo for k in (2, 3)], o, parallel)
+        cycles = [{"cycles": cyc[i], "n_cycles": int(found[i])} for i in range(n)]
         for j, i in enumerate(todo):
             results[i] = _verdict(plans[i], runs[2 * j], runs[2 * j + 1],
                                   _length_scale(rows[i]), spec)
+            if spec.route == "auto" and results[i] and \
+                    results[i]["status"] == NOT_RESOLVED:
+                results[i] = None                     # sampled instead
     if spec.route == "exact":
-        return [r if r is not None else {"route": EXACT, "status": NOT_APPLICABLE,
-                                         "samples": 0, "attractors": []}
-                for r in results]
+        results = [r if r is not None else {"route": EXACT, "status": NOT_APPLICABLE,
+                                            "samples": 0, "attractors": []}
+                   for r in results]
     todo = [i for i in range(n) if results[i] is None]
     if todo:
         runs = _run(rows[todo], [_starts(spec, flats[i]) for i in todo], o, parallel)
         for i, out in zip(todo, runs):
             results[i] = _tally(out, _length_scale(rows[i]), spec)
+    if spec.route != "sampled":        # the scan's cycles, beside the fractions
+        for r, c in zip(results, cycles):
+            r.update(c)
     return results
 
 
@@ -381,9 +375,11 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
         ``exact_route_not_applicable`` (NaN fractions). "sampled": ``samples``
         starts on the attractor kernel. "auto": exact where it applies, else
         sampled.
-    sampling : {"uniform", "grid"}
+    sampling : {"uniform", "halton", "grid"}
         Starts of the sampled route: uniform, seeded by ``(seed, flat index of the
-        point)`` (the same whatever the chunks), or the midpoints of a grid.
+        point)`` (the same whatever the chunks); a randomly shifted Halton sequence
+        (low discrepancy: the binomial error then overstates the error); or the
+        midpoints of a grid.
     seed : int
         Seed of the uniform starts and of the exact route's checks.
     checks : int
@@ -412,7 +408,10 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
         ``x_min``, ``xdot_max``, ``stick_fraction``, from one start that ends on
         it), ``attractor_regime``; per point ``n_attractors``, ``samples`` (starts
         run), ``basin_route`` and ``basin_status`` (flags), and the analytic q,
-        x_eq, v_star.
+        x_eq, v_star. Unless ``route="sampled"``, also the slip cycles of the
+        return-map scan over ``cycle`` (the variables of :func:`sweepcore.
+        slip_cycles`: ``n_cycles``, ``cycle_amplitude``, ``cycle_floquet`` > 1 for
+        the unstable cycle that bounds the basins, ...).
     """
     if not isinstance(grid, Grid):
         raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
@@ -438,18 +437,19 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
             bar.update(b - a)
 
         execute.run(kind, target, range(len(bounds)),
-                    lambda i: (basin_chunk, (*grid.block(*bounds[i]), o, spec)), handle)
+                    lambda i: (basin_chunk, (*grid.block(*bounds[i]), o, spec,
+                                                bounds[i][0])), handle)
     call = (f"sweepcore.basin_stability({grid!r}, x0={spec.box[0]!r}, "
             f"xdot0={spec.box[1]!r}, samples={spec.samples}, method={method!r}, "
             f"tol={tol!r}, route={route!r}, sampling={sampling!r}, seed={seed!r})")
-    ds = _dataset(grid, results, spec, method, tol, call)
+    ds = _dataset(grid, results, spec, o, method, tol, call)
     if target_path is not None:
         write_netcdf(ds, target_path)
     return ds
 
 
 # ------------------------------------------------------------------ labels
-def _dataset(grid, results, spec, method, tol, call) -> xr.Dataset:
+def _dataset(grid, results, spec, o, method, tol, call) -> xr.Dataset:
     dims, shape = grid.dims, grid.shape
     order = sorted({(r, name) for res in results for name, r, *_ in res["attractors"]})
     names = [name for _r, name in order]
@@ -473,8 +473,8 @@ def _dataset(grid, results, spec, method, tol, call) -> xr.Dataset:
     data = {
         "basin_fraction": xr.Variable(adims, frac.reshape(ashape),
                                       labels.attrs(*variables.BASIN_FRACTION)),
-        "basin_fraction_error": xr.Variable(adims, err.reshape(ashape),
-                                            labels.attrs(*variables.BASIN_FRACTION_ERROR)),
+        "basin_fraction_error": xr.Variable(
+            adims, err.reshape(ashape), labels.attrs(*variables.BASIN_FRACTION_ERROR)),
     }
     for name in PER_ATTRACTOR:
         col, units, long_name, _comment = variables.OBSERVABLES[name]
@@ -495,6 +495,11 @@ def _dataset(grid, results, spec, method, tol, call) -> xr.Dataset:
     data["basin_status"] = xr.Variable(dims, status.reshape(shape), labels.flags(
         STATUS_NAMES, "status of the basin fractions of the point"))
     coords = {k: v for k, v in grid.coords().items() if k not in ("x0", "xdot0")}
+    if "cycles" in results[0]:
+        cyc = cycle_variables(np.array([r["cycles"] for r in results]),
+                              np.array([r["n_cycles"] for r in results]), dims, shape, o)
+        coords["cycle"] = cyc.pop("cycle")
+        data.update(cyc)
     coords["attractor"] = xr.Variable("attractor", np.array(names or ["none"], object), {
         "units": "1", "long_name": "attractor (regime name; _2, _3: further "
                                    "attractors of that regime at a point)"})

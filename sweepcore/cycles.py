@@ -11,7 +11,9 @@ unstable cycle around a stable equilibrium is the boundary between two basins
   grid's dimensions and ``cycle`` (innermost first);
 * :func:`cycle_polygon`: one cycle in the (x, xdot) plane, sampled in time;
 * :func:`cycle_variables`: the labelled ``cycle_*`` variables of the kernel's output,
-  shared by the cycles, basin and diagram files.
+  shared by the cycles, basin and diagram files;
+* :func:`clipped_area`: the area of a polygon inside a rectangle (the part of a
+  cycle's interior in a box of starts), :func:`inside`: which starts a polygon holds.
 
 The scan's reach: amplitudes from 1e-4 of the length scale to twice ``|v|/omega``
 on a geometric ladder of 40 rungs; two cycles closer than one rung, or a cycle
@@ -34,6 +36,7 @@ from .io import result_path, write_netcdf
 from .options import make_options
 
 __all__ = ["slip_cycles", "cycle_polygon", "cycle_variables", "cycles_chunk",
+           "clipped_area", "inside",
            "stability", "STABLE", "UNSTABLE", "NONE", "UNDETERMINED"]
 
 # stability of a cycle slot (flag variable cycle_stability)
@@ -124,7 +127,8 @@ def cycle_variables(out: np.ndarray, found: np.ndarray, dims: tuple, shape: tupl
     for name, (col, *meta) in variables.CYCLE_OBSERVABLES.items():
         data[name] = xr.Variable(cdims, block[..., col], labels.attrs(*meta))
     data["cycle_stability"] = xr.Variable(
-        cdims, stability(block), labels.flags(STABILITY_NAMES, variables.CYCLE_STABILITY))
+        cdims, stability(block),
+        labels.flags(STABILITY_NAMES, variables.CYCLE_STABILITY))
     data["cycle_status"] = xr.Variable(
         cdims, block[..., layout.OB_STATUS].astype(np.int8),
         {**labels.flag_attrs(variables.STATUS),
@@ -241,3 +245,43 @@ def cycle_polygon(row: np.ndarray, cycle: np.ndarray, o: np.ndarray, points: int
     gap = float(np.hypot(x[-1] - x[0], xd[-1] - xd[0]))
     ok = status == codes.OK and n_ev == 0 and bool(np.isfinite(x).all())
     return x[:-1], xd[:-1], gap, ok
+
+
+# ------------------------------------------------------------------ areas
+def _clip(x, y, d):
+    """Sutherland-Hodgman step: the part of the closed polygon (x, y) where the
+    linear function with vertex values ``d`` is >= 0. Each edge i -> i+1 gives its
+    crossing of d = 0 (if it crosses) and then its end vertex (if kept); a concave
+    polygon may come out with zero-width bridges along the line, which add no area."""
+    xn, yn, dn = np.roll(x, -1), np.roll(y, -1), np.roll(d, -1)
+    keep_end = dn >= 0.0
+    cross = (d >= 0.0) != keep_end
+    t = d / np.where(cross, d - dn, 1.0)
+    px = np.stack([x + t * (xn - x), xn], axis=1)
+    py = np.stack([y + t * (yn - y), yn], axis=1)
+    keep = np.stack([cross, keep_end], axis=1)
+    return px[keep], py[keep]                 # C order: edge by edge
+
+
+def clipped_area(x, y, box):
+    """``(area, perimeter)`` of the closed polygon (x, y) inside the rectangle
+    ``box = ((xl, xh), (yl, yh))``: clipped at the four sides in turn (a convex
+    window), area by the shoelace formula."""
+    (xl, xh), (yl, yh) = box
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    for side in (lambda x, y: x - xl, lambda x, y: xh - x,
+                 lambda x, y: y - yl, lambda x, y: yh - y):
+        if x.size == 0:
+            return 0.0, 0.0
+        x, y = _clip(x, y, side(x, y))
+    if x.size < 3:
+        return 0.0, 0.0
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    return (0.5 * abs(float(np.sum(x * yn - xn * y))),
+            float(np.sum(np.hypot(xn - x, yn - y))))
+
+
+def inside(x, y, px, py):
+    """Starts (px, py) inside the closed polygon (x, y) (even-odd rule)."""
+    from matplotlib.path import Path
+    return Path(np.column_stack([x, y])).contains_points(np.column_stack([px, py]))

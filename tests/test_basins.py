@@ -10,8 +10,7 @@ import numpy as np
 import pytest
 
 import sweepcore as sc
-from sweepcore.basins import clipped_area
-from sweepcore.cycles import cycle_polygon
+from sweepcore.cycles import clipped_area, cycle_polygon
 from sweepcore._kernels import layout as L
 from sweepcore._kernels.cycles import MAX_CYCLES, slip_cycles
 from sweepcore.options import make_options
@@ -82,7 +81,7 @@ def test_exact_fraction_against_a_live_scipy_polygon():
 
 
 @pytest.mark.parametrize("v, sampling", [(1.25, "uniform"), (1.5, "uniform"),
-                                         (1.7, "grid")])
+                                         (1.7, "grid"), (1.4, "halton")])
 def test_sampled_route_agrees_with_the_exact_one(v, sampling):
     """Starts on the attractor kernel: the share ending on steady sliding is the exact
     fraction within 4 standard errors (binomial)."""
@@ -96,6 +95,7 @@ def test_sampled_route_agrees_with_the_exact_one(v, sampling):
     assert se == pytest.approx(math.sqrt(s * (1 - s) / int(mc.samples[0])))
     assert abs(s - f) <= 4 * se
     assert int(mc.n_attractors[0]) == 2 and int(mc.basin_route[0]) == 1
+    assert float(mc.basin_fraction.sum("attractor")[0]) == pytest.approx(1.0, abs=1e-12)
     # the same attractors: stick-slip's amplitude and steady sliding's position
     for name in ("amplitude", "mean"):
         np.testing.assert_allclose(mc[name].values, exact[name].values, atol=1e-6)
@@ -117,6 +117,29 @@ def test_one_attractor_outside_the_bistable_band():
         assert (ds.basin_fraction_error.values < 1e-7).all()
 
 
+def test_mirror_symmetry_of_a_negative_belt_speed():
+    """(x, xdot, v) -> (-x, -xdot, -v) maps the motion onto itself: the mirrored box
+    at -v has the same fractions (the scan then follows the x minima)."""
+    a = sc.basin_stability(grid(1.5), x0=(-2.0, 2.0), xdot0=(0.0, 2.0), route="exact",
+                           progress=False)
+    b = sc.basin_stability(grid(-1.5), x0=(-2.0, 2.0), xdot0=(-2.0, 0.0),
+                           route="exact", progress=False)
+    assert int(b.basin_status[0]) == 0
+    np.testing.assert_allclose(b.basin_fraction.values, a.basin_fraction.values,
+                               atol=1e-9)
+
+
+def test_a_tolerance_the_polygon_cannot_reach_is_said():
+    """ftol below the cycle's own accuracy (tol L times the perimeter): 'exact' says
+    polygon_not_resolved with NaN fractions, 'auto' samples instead."""
+    ex = sc.basin_stability(grid(1.5), **BOX, route="exact", ftol=1e-14, progress=False)
+    names = ex.basin_status.attrs["flag_meanings"].split()
+    assert names[int(ex.basin_status[0])] == "polygon_not_resolved"
+    assert np.isnan(ex.basin_fraction.values).all()
+    auto = sc.basin_stability(grid(1.5), **BOX, ftol=1e-14, samples=40, progress=False)
+    assert int(auto.basin_route[0]) == 1 and int(auto.basin_status[0]) == 0
+
+
 def test_auto_route_samples_where_the_exact_one_does_not_apply():
     """A supercritical law's stable slip cycle is no basin boundary: route='exact'
     says so (NaN fractions, a status); 'auto' samples there."""
@@ -131,15 +154,40 @@ def test_auto_route_samples_where_the_exact_one_does_not_apply():
     assert float(auto.basin_fraction.sel(attractor="slip_cycle")[0]) == 1.0
 
 
-def test_results_do_not_depend_on_the_chunks():
-    g = grid(1.3, 1.45, 1.6)
+@pytest.mark.parametrize("points", [False, True])
+def test_results_do_not_depend_on_the_chunks(points):
+    """The starts are seeded by (seed, flat index): the same whatever the chunks and
+    the executor, for a product grid and for scattered points."""
+    g = grid(1.3, 1.45, 1.6) if not points else sc.Grid.points(
+        **{k: v for k, v in BSTAB.items()}, v=np.array([1.3, 1.45, 1.6]))
     a = sc.basin_stability(g, **BOX, samples=60, route="sampled", progress=False)
     b = sc.basin_stability(g, **BOX, samples=60, route="sampled", chunks=1,
                            scheduler="synchronous", progress=False)
     np.testing.assert_array_equal(a.basin_fraction.values, b.basin_fraction.values)
 
 
+def test_starts_that_do_not_settle_are_data_not_an_attractor():
+    """With a time budget too short to recognise anything, the starts are counted
+    under 'unconverged', the point says so, and no attractor is claimed."""
+    ds = sc.basin_stability(grid(1.5), **BOX, samples=20, route="sampled",
+                            max_periods=0.5, progress=False)
+    names = ds.basin_status.attrs["flag_meanings"].split()
+    assert names[int(ds.basin_status[0])] == "unclassified_starts"
+    assert "unconverged" in list(ds.attractor.values)
+    assert int(ds.n_attractors[0]) < 2
+    assert float(ds.basin_fraction.sum("attractor")[0]) == pytest.approx(1.0)
+
+
 # ------------------------------------------------------------------ geometry
+def test_halton_points_are_the_radical_inverses():
+    from sweepcore.basins import _radical_inverse
+    i = np.arange(1, 9)
+    np.testing.assert_allclose(_radical_inverse(i, 2),
+                               [1 / 2, 1 / 4, 3 / 4, 1 / 8, 5 / 8, 3 / 8, 7 / 8, 1 / 16])
+    np.testing.assert_allclose(_radical_inverse(i, 3),
+                               [1 / 3, 2 / 3, 1 / 9, 4 / 9, 7 / 9, 2 / 9, 5 / 9, 8 / 9])
+
+
 def test_clipped_area_against_closed_forms():
     sq = (np.array([0.0, 2.0, 2.0, 0.0]), np.array([0.0, 0.0, 2.0, 2.0]))
     assert clipped_area(*sq, ((1.0, 3.0), (-1.0, 1.0))) == (1.0, 4.0)
@@ -233,7 +281,8 @@ def test_cli_basins_info_and_plot(tmp_path, monkeypatch, capsys, exact_band):
     """``sweepcore basins`` writes the file the API gives, its picture; ``info``
     tabulates the fractions; ``plot`` redraws it."""
     (tmp_path / "s.toml").write_text(STUDY)
-    code, out = cli(["basins", "s.toml", "--png", "b.png"], tmp_path, monkeypatch, capsys)
+    code, out = cli(["basins", "s.toml", "--png", "b.png"], tmp_path, monkeypatch,
+                    capsys)
     assert code == 0, out.err
     ds = sc.open_result(tmp_path / "b.nc")
     want = sc.basin_stability(grid(1.1, 1.5, 1.9), **BOX, route="exact",
@@ -243,6 +292,9 @@ def test_cli_basins_info_and_plot(tmp_path, monkeypatch, capsys, exact_band):
     assert (tmp_path / "b.png").read_bytes()[:4] == b"\x89PNG"
     code, out = cli(["info", "b.nc"], tmp_path, monkeypatch, capsys)
     assert code == 0 and "basin stability (v: 3)" in out.out
+    assert "unstable slip cycles (basin boundaries) at 1 of 3 points" in out.out
+    mu = float(want.cycle_floquet.sel(v=1.5)[0])
+    assert f"Floquet multipliers in [{mu:.6g}, {mu:.6g}]" in out.out
     f15 = float(want.basin_fraction.sel(v=1.5, attractor="equilibrium"))
     assert f"{f15:.6f}" in out.out
     code, out = cli(["plot", "b.nc", "-o", "c.png"], tmp_path, monkeypatch, capsys)
@@ -304,8 +356,9 @@ def test_physics_page_quotes_the_study_results():
     page = (root / "docs" / "physics.md").read_text()
     assert study.table(res) in page
     rows, c = res["rows"], res["curve"]
+    sampled = max(abs(r["sampled_in_errors"]) for r in rows if "sampled" in r)
     quoted = [f"{max(abs(r['exact_minus_scipy']) for r in rows):.1e}",
-              f"within {max(abs(r['sampled_in_errors']) for r in rows if 'sampled' in r):.1f}",
+              f"within {sampled:.1f}",
               f"{100 * rows[0]['classifier_share_inside']:.1f} %",
               f"reports {rows[0]['classifier_expected']:.4f}",
               f"largest error\n  {c['largest_error']:.1e}",
@@ -315,3 +368,25 @@ def test_physics_page_quotes_the_study_results():
         assert text in page, text
     # the exact fractions of the file are the code's (1e-6: the stated ftol)
     assert all(abs(r["exact_minus_scipy"]) <= 1e-6 for r in rows)
+
+
+def test_plot_basins_curves_and_maps():
+    """One swept axis: one curve per attractor (and the reference points); two: one
+    map per attractor, coloured on [0, 1]."""
+    from sweepcore.plot import plot_basins, plot_result
+    ds = sc.basin_stability(grid(1.1, 1.3, 1.5, 1.9), **BOX, route="exact",
+                            progress=False)
+    fig = plot_basins(ds, reference={"published": ([1.5], [0.304], [0.0065])})
+    ax = fig.axes[0]
+    curves = [ln for ln in ax.get_lines() if ln.get_label() in ("equilibrium",
+                                                                 "stick slip")]
+    assert len(curves) == 2
+    eq = next(ln for ln in curves if ln.get_label() == "equilibrium")
+    np.testing.assert_array_equal(eq.get_ydata(),
+                                  ds.basin_fraction.sel(attractor="equilibrium").values)
+    g2 = sc.Grid(**{**BSTAB, "c": np.array([0.1, 0.12])}, v=np.array([1.3, 1.6, 1.9]))
+    two = sc.basin_stability(g2, **BOX, route="exact", progress=False)
+    maps = plot_result(two)
+    meshes = [a.collections[0] for a in maps.axes
+              if a.get_title().startswith("basin fraction:")]
+    assert len(meshes) == 2 and meshes[0].get_clim() == (0.0, 1.0)

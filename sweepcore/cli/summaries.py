@@ -239,10 +239,11 @@ def jump_lines(ds) -> list[str]:
 
 def describe_basins(ds) -> str:
     """``sweepcore info`` of a basin-stability result."""
-    shape = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items() if d != "attractor")
+    shape = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items()
+                      if d not in ("attractor", "cycle"))
     lines = [f"  basin stability ({shape or 'one point'})"]
     for d in ds.dims:
-        if d != "attractor" and ds[d].dtype.kind == "f":
+        if d not in ("attractor", "cycle") and ds[d].dtype.kind == "f":
             v = ds[d].values
             lines.append(f"    {d:8s} {ds[d].attrs.get('long_name', '')} "
                          f"[{ds[d].attrs.get('units', '')}]: {v.size} values in "
@@ -265,7 +266,8 @@ def basin_lines(ds, table_rows: int = 12) -> list[str]:
                for k in ("x0_range", "xdot0_range"))
     lines = [f"  box: x0 in [{x0[0]:.6g}, {x0[1]:.6g}] cm, xdot0 in [{xd0[0]:.6g}, "
              f"{xd0[1]:.6g}] cm s-1; route {ds.attrs.get('route', '?')}, samples "
-             f"{ds.attrs.get('samples_requested', '?')} ({ds.attrs.get('sampling', '?')})"]
+             f"{ds.attrs.get('samples_requested', '?')} "
+             f"({ds.attrs.get('sampling', '?')})"]
     for var in ("basin_route", "basin_status"):
         counts = [f"{n} {c}" for n, c in _flag_counts(ds[var]) if c]
         lines.append(f"  {var.split('_')[1]}: " + ", ".join(counts))
@@ -277,6 +279,15 @@ def basin_lines(ds, table_rows: int = 12) -> list[str]:
             lines.append(f"  {name}: fraction in [{np.nanmin(vals):.6g}, "
                          f"{np.nanmax(vals):.6g}], error <= "
                          f"{np.nanmax(e.sel(attractor=name).values):.2g}")
+    if "cycle_stability" in ds:
+        unstable = (ds["cycle_stability"] == 1).any("cycle")
+        line = (f"  unstable slip cycles (basin boundaries) at {int(unstable.sum())} of "
+                f"{unstable.size} points")
+        mu = ds["cycle_floquet"].where(ds["cycle_stability"] == 1).values
+        if np.isfinite(mu).any():
+            line += (f", Floquet multipliers in [{np.nanmin(mu):.6g}, "
+                     f"{np.nanmax(mu):.6g}]")
+        lines.append(line)
     dims = [d for d in f.dims if d != "attractor"]
     if len(dims) == 1 and ds.sizes[dims[0]] <= table_rows:
         d = dims[0]

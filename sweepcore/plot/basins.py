@@ -64,6 +64,11 @@ def plot_basins(ds: xr.Dataset, x: str | None = None, y: str | None = None,
     if sampled.any():
         handles.append(Line2D([], [], marker="o", mfc="none", ls="", color="0.3",
                               label="sampled route (band: 2 standard errors)"))
+    vstar = ds["v_star"] if dim == "v" and "v_star" in ds else None
+    if vstar is not None and vstar.ndim == 0 and np.isfinite(float(vstar)):
+        handles.append(ax.axvline(float(vstar), color="0.4", ls=":", lw=1.0,
+                                  label=f"Hopf point $v^*$ = {float(vstar):.4g} "
+                                        "(analytic)"))
     for k, (name, (rx, rf, re)) in enumerate((reference or {}).items()):
         handles.append(ax.errorbar(rx, rf, yerr=re, fmt="sk"[k % 2], ms=4, mfc="none",
                                    color="k", capsize=2, lw=0.8, label=name))
