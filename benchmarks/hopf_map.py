@@ -342,7 +342,8 @@ def run(profile, outdir):
         med, times, out = time_kernel(P, make_options("auto", tol=tol), reps)
         outs[tol] = out
         conv = float((out[:, 9] == 0).mean())
-        res["kernel"].append({"method": "auto (dopri5)", "tol": tol, "median_s": med,
+        from .cost_model import map_method
+        res["kernel"].append({"method": f"auto ({map_method(tol)})", "tol": tol, "median_s": med,
                               "min_s": min(times),
                               "times_s": times, "points_per_s": n / med,
                               "converged_fraction": conv,
@@ -437,7 +438,7 @@ def plot(v, a2, out, res, outdir, peer_res=None):
         ax.set_ylim(v[0], v[-1])
         ax.set_xlabel("log10 alpha2 [kN s^3/cm^3]")
         ax.set_ylabel("v [cm/s]")
-    axs[0].set_title(f"amplitude, {nv} x {na}, dopri5 tol 1e-8")
+    axs[0].set_title(f"amplitude, {nv} x {na}, auto tol 1e-8")
     axs[1].set_title("regime (start stuck)")
     # timing bars
     labels, vals, colors = [], [], []

@@ -134,7 +134,7 @@ def _hopf(H, Pe, rel):
     for k in H["kernel"]:
         a = acc["map"].get(f"{k['tol']:g}", {})
         same = f"{k['tol']:g}" == acc["reference"].split("tol=")[-1]
-        rows.append([f"auto (dopri5) tol={k['tol']:g}" + (" (= the reference: error 0 by "
+        rows.append([f"{k['method']} tol={k['tol']:g}" + (" (= the reference: error 0 by "
                                                           "construction)" if same else ""),
                      s(k["median_s"]), g(k["points_per_s"]),
                      f"{100 * k['converged_fraction']:.3f} %",
@@ -407,7 +407,10 @@ def _cost(C):
         "cost_map", calls=f"{m['stepper_calls']:.3g}", wall=s(m["wall_s"]),
         cores=C["cores"], ns_per_core=f"{m['ns_per_call_per_core']:.0f}",
         cycles=f"{m['cycles_per_call']:.0f}", clock=f"{C['clock_ghz']:.2f}",
-        flops=C["dopri5_flops_per_call"], flops_q=C["dopri5_flops_per_call_with_quadratures"],
+        method=C.get("map_stepper", "dopri5"),
+        flops=C.get("stepper_flops_per_call", C.get("dopri5_flops_per_call")),
+        flops_q=C.get("stepper_flops_per_call_with_quadratures",
+                      C.get("dopri5_flops_per_call_with_quadratures")),
         one_thread=one, gflops_low=g(m["achieved_gflops_low"]),
         gflops_high=g(m["achieved_gflops_high"]), peak_scalar=g(C["peak_gflops_scalar_fma"]),
         peak_avx2=g(C["peak_gflops_avx2_fma"]),
