@@ -98,11 +98,18 @@ def count_flops(fn, skip_if=("want_q",)):
     return res
 
 
+def map_method(tol=1e-8):
+    """The stepper "auto" runs the map with (a smooth law far above rounding)."""
+    from sweepcore._kernels import stepper
+    return stepper.METHOD_NAMES[stepper.auto_method(False, tol, 0.0)]
+
+
 def stepper_flops():
-    from sweepcore._kernels import dopri5, law, rk4
+    from sweepcore._kernels import dop853, dopri5, law, rk4
     from . import peers
     return {"zdd (RHS, friction law eq. 40 + eq. 41)": count_flops(law.zdd),
             "sweepcore dopri5_step": count_flops(dopri5.dopri5_step),
+            "sweepcore dop853_step": count_flops(dop853.dop853_step),
             "sweepcore rk4_step": count_flops(rk4.rk4_step),
             "numba RK4 peer step": count_flops(peers._rk4)}
 
@@ -114,7 +121,8 @@ def run(profile, outdir, hopf_res, peer_res=None):
     cores = numba.config.NUMBA_NUM_THREADS
     ghz = mhz / 1000.0
     counts = stepper_flops()
-    d5 = counts["sweepcore dopri5_step"]
+    method = map_method()
+    d5 = counts[f"sweepcore {method}_step"]
     per_call = d5["flops"] + d5["sqrt"]
     per_call_q = per_call + d5["skipped_flops"]
     peak_simd = cores * ghz * 16.0
@@ -129,7 +137,8 @@ def run(profile, outdir, hopf_res, peer_res=None):
     res = {"cpu_model": model, "clock_ghz": ghz, "cores": cores,
            "simd_flags": sorted(f for f in flags if f in ("avx", "avx2", "fma", "avx512f")),
            "flop_counts": counts,
-           "dopri5_flops_per_call": per_call, "dopri5_flops_per_call_with_quadratures": per_call_q,
+           "map_stepper": method, "stepper_flops_per_call": per_call,
+           "stepper_flops_per_call_with_quadratures": per_call_q,
            "peak_gflops_avx2_fma": peak_simd, "peak_gflops_scalar_fma": peak_scalar,
            "map": {"tol": 1e-8, "stepper_calls": steps, "wall_s": t,
                    "ns_per_call_per_core": t * cores / steps * 1e9,
@@ -142,7 +151,7 @@ def run(profile, outdir, hopf_res, peer_res=None):
                    "cycles_per_call_one_thread": t1 * ghz * 1e9 / steps if t1 else None,
                    "achieved_gflops_one_core_high": steps * per_call_q / t1 / 1e9
                    if t1 else None}}
-    log(f"    dopri5 step: {per_call} flops ({per_call_q} with quadratures); map: "
+    log(f"    {method} step: {per_call} flops ({per_call_q} with quadratures); map: "
         f"{steps:.3g} calls in {t:.2f} s = {res['map']['ns_per_call_per_core']:.0f} ns/call/core,"
         f" {lo:.2f}-{hi:.2f} GFLOP/s vs peak {peak_scalar:.1f} (scalar) / {peak_simd:.1f} (AVX2)")
     if peer_res and "numba_peer_map" in peer_res:

@@ -342,7 +342,8 @@ def run(profile, outdir):
         med, times, out = time_kernel(P, make_options("auto", tol=tol), reps)
         outs[tol] = out
         conv = float((out[:, 9] == 0).mean())
-        res["kernel"].append({"method": "auto (dopri5)", "tol": tol, "median_s": med,
+        from .cost_model import map_method
+        res["kernel"].append({"method": f"auto ({map_method(tol)})", "tol": tol, "median_s": med,
                               "min_s": min(times),
                               "times_s": times, "points_per_s": n / med,
                               "converged_fraction": conv,
@@ -357,6 +358,19 @@ def run(profile, outdir):
                        "converged_fraction": default["converged_fraction"],
                        "regimes": default["regimes"]}
     save_fields(outdir, outs[1e-8])
+    from . import regimes
+    res["regimes"] = {"this_run": regimes.table(P[:, 3], 1.0, P[:, 5], outs[1e-8][:, OB_REGIME],
+                                                outs[1e-8][:, 10])}
+    if profile.get("regimes_before"):
+        log(f"  steps by regime and wall time, this checkout against "
+            f"{profile['regimes_before']} (interleaved probes)")
+        res["regimes"]["before_after"] = regimes.before_after(
+            profile["regimes_before"], profile["regimes_rounds"], profile["map_repeats"])
+        ba = res["regimes"]["before_after"]
+        if "speedup" in ba:
+            log(f"    before {ba['median_s_before']:.3f} s, after {ba['median_s_after']:.3f} s"
+                f" (x{ba['speedup']:.2f}); steps {ba['before']['steps_total']:.4g} -> "
+                f"{ba['after']['steps_total']:.4g}")
 
     log("  thread scaling")
     res["threads"] = thread_scaling(P, make_options("auto", tol=1e-8),
@@ -424,7 +438,7 @@ def plot(v, a2, out, res, outdir, peer_res=None):
         ax.set_ylim(v[0], v[-1])
         ax.set_xlabel("log10 alpha2 [kN s^3/cm^3]")
         ax.set_ylabel("v [cm/s]")
-    axs[0].set_title(f"amplitude, {nv} x {na}, dopri5 tol 1e-8")
+    axs[0].set_title(f"amplitude, {nv} x {na}, auto tol 1e-8")
     axs[1].set_title("regime (start stuck)")
     # timing bars
     labels, vals, colors = [], [], []

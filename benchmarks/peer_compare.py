@@ -123,7 +123,7 @@ def run(profile, outdir, hopf_res=None):
     sref = np.empty((n, NOBS))
     attractor_rows_parallel(P, make_options("dopri5", tol=1e-13), sref)
     cmp = common.compare(out, sref, common.length_scale(P))
-    res["sweepcore_same_points"] = {"setting": "auto (dopri5) tol=1e-8", "s_per_point": med / n,
+    res["sweepcore_same_points"] = {"setting": "auto tol=1e-8", "s_per_point": med / n,
                                     "s_per_point_without_v_star_point": med_off / n,
                                     **cmp, "status": [common.REGIMES[int(r)] for r in out[:, 8]]}
     # the protocol's own modelling error: its (exact) answer against the attractor's

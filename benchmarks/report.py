@@ -134,7 +134,7 @@ def _hopf(H, Pe, rel):
     for k in H["kernel"]:
         a = acc["map"].get(f"{k['tol']:g}", {})
         same = f"{k['tol']:g}" == acc["reference"].split("tol=")[-1]
-        rows.append([f"auto (dopri5) tol={k['tol']:g}" + (" (= the reference: error 0 by "
+        rows.append([f"{k['method']} tol={k['tol']:g}" + (" (= the reference: error 0 by "
                                                           "construction)" if same else ""),
                      s(k["median_s"]), g(k["points_per_s"]),
                      f"{100 * k['converged_fraction']:.3f} %",
@@ -173,6 +173,7 @@ def _hopf(H, Pe, rel):
         out.append(table(["setting", "statuses", "compared", "max abs amp err [cm]",
                           "max err / L", "by v / v* (max err, points)",
                           "points above v* not at rest"], hrows))
+    out += _regimes(H.get("regimes"))
     rk = acc["rk4_dt1e-3_vs_reference"]
     out.append(fill(
         "hopf_checks", regimes=", ".join(f"{k} {v} ({100 * v / n:.1f} %)"
@@ -246,6 +247,38 @@ def _hopf(H, Pe, rel):
                             map_arrays=f"{warm['map_arrays_mib']:.1f}",
                             after_sweep=after_sweep, map_time=s(warm["t_map"])))
     return "\n".join(out) + "\n"
+
+
+def _regimes(R):
+    """The per-regime step table; before and after when the run probed both."""
+    if not R:
+        return []
+    ba = R.get("before_after", {})
+    if "speedup" not in ba:
+        cols = {"this run": R["this_run"]}
+    else:
+        cols = {f"before ({ba['commit_before'][:7]})": ba["before"],
+                f"after ({ba['commit_after'][:7]})": ba["after"]}
+    header = ["regime"]
+    for name in cols:
+        header += [f"points, {name}", f"steps a point, {name}", f"share, {name}"]
+    rows = []
+    for i, r in enumerate(next(iter(cols.values()))["rows"]):
+        row = [r["regime"]]
+        for t in cols.values():
+            c = t["rows"][i]
+            row += [c["points"], g(c["steps_mean"]), f"{100 * (c['share'] or 0):.0f} %"]
+        rows.append(row)
+    rows.append(["all"] + sum(([t["points"], g(t["steps_total"] / t["points"]), "100 %"]
+                               for t in cols.values()), []))
+    out = [fill("hopf_regimes"), table(header, rows)]
+    if "speedup" in ba:
+        out.append(fill("hopf_regimes_ba", before=ba["commit_before"][:7],
+                        after=ba["commit_after"][:7], rounds=len(ba["round_medians_s"]["before"]),
+                        t_before=s(ba["median_s_before"]), t_after=s(ba["median_s_after"]),
+                        speedup=g(ba["speedup"]), steps_before=g(ba["before"]["steps_total"]),
+                        steps_after=g(ba["after"]["steps_total"])))
+    return out
 
 
 def _wp(W, Pe, rel):
@@ -374,7 +407,10 @@ def _cost(C):
         "cost_map", calls=f"{m['stepper_calls']:.3g}", wall=s(m["wall_s"]),
         cores=C["cores"], ns_per_core=f"{m['ns_per_call_per_core']:.0f}",
         cycles=f"{m['cycles_per_call']:.0f}", clock=f"{C['clock_ghz']:.2f}",
-        flops=C["dopri5_flops_per_call"], flops_q=C["dopri5_flops_per_call_with_quadratures"],
+        method=C.get("map_stepper", "dopri5"),
+        flops=C.get("stepper_flops_per_call", C.get("dopri5_flops_per_call")),
+        flops_q=C.get("stepper_flops_per_call_with_quadratures",
+                      C.get("dopri5_flops_per_call_with_quadratures")),
         one_thread=one, gflops_low=g(m["achieved_gflops_low"]),
         gflops_high=g(m["achieved_gflops_high"]), peak_scalar=g(C["peak_gflops_scalar_fma"]),
         peak_avx2=g(C["peak_gflops_avx2_fma"]),

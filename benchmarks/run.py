@@ -35,7 +35,7 @@ PROFILES = {
         scaling_repeats=1, dask_schedulers=["threads"], dask_chunks=[50], dask_repeats=1,
         compile_probe=False, ref_points=16, scipy_per_regime=1, hard_per_column=1,
         wp_const_points=3, wp_per_regime=1, wp_gps_dt=[0.01], wp_rk4_dt=[0.01],
-        wp_dopri5_tol=[1e-8], wp_repeats=1, wp_boundary_iters=4,
+        wp_dopri5_tol=[1e-8], wp_dop853_tol=[1e-8], wp_repeats=1, wp_boundary_iters=4,
         tp_sides=[4, 8], tp_repeats_small=1, tp_repeats_large=1,
         peer_points=2, peer_ref_tol=1e-10, peer_rk45_tols=[1e-6], peer_rk4_dt=[0.01],
         peer_numba_repeats=1, peer_map_points=8),
@@ -46,7 +46,8 @@ PROFILES = {
         hard_per_column=1,
         scipy_per_regime=2,
         wp_const_points=16, wp_per_regime=8, wp_gps_dt=[0.02, 0.005, 0.001, 2e-4],
-        wp_rk4_dt=[0.05, 0.01, 0.002], wp_dopri5_tol=[1e-5, 1e-8, 1e-11], wp_repeats=3,
+        wp_rk4_dt=[0.05, 0.01, 0.002], wp_dopri5_tol=[1e-5, 1e-8, 1e-11],
+        wp_dop853_tol=[1e-5, 1e-8, 1e-11], wp_repeats=3,
         wp_boundary_iters=20,
         tp_sides=[10, 32, 100, 316], tp_repeats_small=3, tp_repeats_large=1,
         peer_points=6, peer_ref_tol=1e-12, peer_rk45_tols=[1e-8],
@@ -61,11 +62,12 @@ PROFILES = {
         wp_const_points=32, wp_per_regime=16,
         wp_gps_dt=[0.02, 0.01, 0.005, 0.002, 0.001, 5e-4, 2e-4, 1e-4],
         wp_rk4_dt=[0.1, 0.05, 0.02, 0.01, 0.005, 0.002, 0.001],
-        wp_dopri5_tol=[1e-4, 1e-6, 1e-8, 1e-10, 1e-12], wp_repeats=3, wp_boundary_iters=25,
+        wp_dopri5_tol=[1e-4, 1e-6, 1e-8, 1e-10, 1e-12],
+        wp_dop853_tol=[1e-4, 1e-6, 1e-7, 1e-8, 1e-10, 1e-12], wp_repeats=3, wp_boundary_iters=25,
         tp_sides=[10, 32, 100, 316, 1000], tp_repeats_small=3, tp_repeats_large=2,
         peer_points=17, peer_ref_tol=1e-13, peer_rk45_tols=[1e-6, 1e-8, 1e-10],
         peer_rk4_dt=[0.04, 0.02, 0.01, 0.005, 0.0025, 0.001], peer_numba_repeats=1,
-        peer_map_points=65536),
+        peer_map_points=65536, regimes_before="cd6c8a2", regimes_rounds=3),
 }
 
 

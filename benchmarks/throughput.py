@@ -73,6 +73,6 @@ def plot(res, outdir):
     axs[1].set_ylim(bottom=0)
     axs[1].legend(fontsize=8)
     axs[1].grid(True, alpha=0.3)
-    fig.suptitle("Throughput on the Hopf-map box, dopri5 tol 1e-8, 2 cores")
+    fig.suptitle("Throughput on the Hopf-map box, auto tol 1e-8, 2 cores")
     fig.savefig(outdir / "throughput.png", dpi=110)
     plt.close(fig)

@@ -45,6 +45,7 @@ def settings(profile):
     out += [("gps", {"dt": dt}) for dt in profile["wp_gps_dt"]]
     out += [("rk4", {"dt": dt}) for dt in profile["wp_rk4_dt"]]
     out += [("dopri5", {"tol": tol}) for tol in profile["wp_dopri5_tol"]]
+    out += [("dop853", {"tol": tol}) for tol in profile.get("wp_dop853_tol", [])]
     return out
 
 
@@ -196,7 +197,7 @@ def run(profile, outdir):
 
 
 # ------------------------------------------------------------------ the figure
-COLORS = {"exact": "k", "gps": "#ee6677", "rk4": "#4477aa", "dopri5": "#228833",
+COLORS = {"exact": "k", "gps": "#ee6677", "rk4": "#4477aa", "dopri5": "#228833", "dop853": "#aa3377",
           "scipy RK45 loop": "#aa3377", "numba RK4 peer": "#ccbb44"}
 FLOOR = 1e-17        # errors that are exactly 0 are drawn at this floor
 

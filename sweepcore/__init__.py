@@ -6,12 +6,15 @@ Public API::
 
     Params, simulate, attractor, Attractor, Grid, sweep, estimate, SweepTooLarge,
     hopf_boundary,
-    locate_boundaries, continue_boundary, bifurcation_diagram,
+    locate_boundaries, continue_boundary, bifurcation_diagram, slip_cycles,
+    basin_stability,
     open_result, write_netcdf, check_cf
 """
 from .attractor import Attractor, attractor
+from .basins import basin_stability
 from .boundaries import continue_boundary, locate_boundaries
 from .boundary import hopf_boundary
+from .cycles import slip_cycles
 from .diagram import bifurcation_diagram
 from .grid import Grid
 from .io import check_cf, open_result, write_netcdf
@@ -26,4 +29,4 @@ __version__ = _version()
 __all__ = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "estimate",
            "SweepTooLarge",
            "hopf_boundary", "locate_boundaries", "continue_boundary",
-           "bifurcation_diagram", "open_result", "write_netcdf", "check_cf", "__version__"]
+           "bifurcation_diagram", "slip_cycles", "basin_stability", "open_result", "write_netcdf", "check_cf", "__version__"]

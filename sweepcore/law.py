@@ -187,7 +187,7 @@ def unresolvable(P: np.ndarray, o: np.ndarray) -> np.ndarray:
 
     Two magnitudes: (1) the friction law changes a motion by less per natural
     period than the driver's touch tolerance ``g`` (``driver.touch_tol``: 20 tol
-    for dopri5, ``graze`` for the others), so a slowly growing or decaying motion
+    for the adaptive pairs dopri5 and dop853, ``graze`` for the others), so a slowly growing or decaying motion
     that touches the belt is taken for a reset cycle: ``0 < pi zeta <= WEAK g``
     with ``zeta = max(|c|, |alpha1|, 3 alpha2 v^2, |r_y - r_k|/v_s) / (m omega)``,
     an upper bound of the law's slope per ``m omega`` (``|q|/omega`` is one value
@@ -195,7 +195,7 @@ def unresolvable(P: np.ndarray, o: np.ndarray) -> np.ndarray:
     resolved exactly, and a static belt (``v = 0``) has no cycle through the
     breakaway point to mistake. (2) ``1/omega > TIME_SCALE_MAX``.
     """
-    from ._kernels.stepper import TOUCH_FACTOR
+    from ._kernels.stepper import ADAPTIVE, TOUCH_FACTOR
     from ._kernels import codes
 
     P = np.atleast_2d(np.asarray(P, np.float64))
@@ -210,9 +210,9 @@ def unresolvable(P: np.ndarray, o: np.ndarray) -> np.ndarray:
         zeta = slope / (root_m * root_k)                   # m omega = sqrt(k m)
         method = int(o[layout.O_METHOD])
         linear = (P[:, layout.A2] == 0.0) & (d == 0.0)     # kernel's piecewise_linear
-        if method < 0:                                      # auto
-            factor = np.where(linear, TOUCH_FACTOR[codes.EXACT],
-                              TOUCH_FACTOR[codes.DOPRI5])
+        if method < 0:          # auto: the closed form, else one of the adaptive pairs
+            pairs = max(f for f, a in zip(TOUCH_FACTOR, ADAPTIVE) if a)
+            factor = np.where(linear, TOUCH_FACTOR[codes.EXACT], pairs)
         else:
             factor = TOUCH_FACTOR[method]
         g = np.maximum(o[layout.O_GRAZE], factor * o[layout.O_RTOL])

@@ -7,7 +7,9 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
+from .branches import plot_hysteresis
 from .lines import plot_lines
 from .maps import plot_map
 from .style import SYMBOLS, flag_axis, fmt, label
@@ -21,7 +23,11 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
     :func:`plot_map`.
     """
     kind = ds.attrs.get("sweepcore_kind")
+    if kind == "basins":
+        return plot_basins(ds, **kwargs)
     if kind == "bifurcation_diagram":
+        if "unstable_amplitude" in ds and np.isfinite(ds.unstable_amplitude).any():
+            return plot_hysteresis(ds)     # coexisting attractors
         return plot_diagram(ds)
     if kind == "boundaries":
         # drawn over the map named by the study ([boundary] over), when it exists
