@@ -171,7 +171,8 @@ def stick_onset_estimate(source):
 # of the paper's slider (m = 5, k = 50, r_y = 10, alpha1 = 1, alpha2 = 0.01, v = 2
 # and 5; time unit 1e-10 .. 1e100 s, length and force units 1e-100 .. 1e100) give
 # the same period and amplitude to 1e-15 up to 1/omega = 3.2e80 s, and a wrong
-# regime (slip_cycle for stick_slip, period off by 2e-4) from 3.2e81 s on.
+# regime (slip_cycle for stick_slip, period off by 2e-4) from 3.2e81 s on (the same
+# edges with dopri5 and with dop853, both thresholds below).
 TIME_SCALE_MAX = 1e78
 # pi zeta at most this many touch tolerances: too weak a law to resolve. Measured on
 # the paper's slider with m raised (v = 7, where the equilibrium is the attractor):
