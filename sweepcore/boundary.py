@@ -13,6 +13,7 @@ import xarray as xr
 
 from . import labels
 from ._kernels import codes
+from .options import checked_keywords
 
 CYCLES = (codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
 BOUNDARY_VARIABLES = ("v_hopf_measured", "v_hopf_resolution", "v_stick_onset",
@@ -45,6 +46,7 @@ def _labelled(da: xr.DataArray, **attrs) -> xr.DataArray:
     return da
 
 
+@checked_keywords
 def hopf_boundary(ds: xr.Dataset, axis: str = "v") -> xr.Dataset:
     """Measured Hopf and stick boundaries along the belt speed, with the analytic v*.
 

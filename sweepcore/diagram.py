@@ -17,7 +17,7 @@ from . import execute, labels, variables
 from ._kernels import codes, layout
 from .boundaries import locate_boundaries
 from .grid import AXES, COLUMNS, Grid
-from .options import make_options
+from .options import checked_keywords, make_options
 from .params import LONG_NAMES, UNITS
 
 BRANCHES = ("up", "down")
@@ -45,6 +45,7 @@ def _follow(base: np.ndarray, col: int, values, start, o) -> np.ndarray:
     return out
 
 
+@checked_keywords(options=True)
 def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
                         tol: float = 1e-10, method: str = "auto",
                         **options) -> xr.Dataset:

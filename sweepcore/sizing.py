@@ -19,6 +19,7 @@ from . import variables
 from ._kernels import layout
 from .grid import Grid
 from .io import WorkingStore, chunk_shape, free_bytes
+from .options import checked_keywords
 
 CHUNK_MAX = 50_000        # default chunks hold 20 000 - 50 000 points,
 CHUNK_MIN = 20_000        # or the whole grid when it is smaller,
@@ -47,6 +48,7 @@ def _analytic_sizes(grid: Grid) -> int:
     return total
 
 
+@checked_keywords
 def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
     """Size of a sweep, before any work: points, bytes of output, memory and disk.
 

@@ -74,7 +74,7 @@ from ._kernels.attractor import attractor_rows, attractor_rows_parallel
 from .boundary import BOUNDARY_VARIABLES, hopf_boundary
 from .grid import Grid
 from .io import WorkingStore, chunk_shape, result_path, write_netcdf
-from .options import make_options
+from .options import checked_keywords, make_options
 from .sizing import (SweepTooLarge, default_chunk, estimate, refuse_if_too_large,
                      size_text)
 
@@ -108,6 +108,7 @@ def run_chunk_parallel(grid: Grid, start: int, stop: int, o: np.ndarray) -> np.n
 
 
 # -------------------------------------------------------------------- sweep
+@checked_keywords(options=True)
 def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | None = None,
           client=None, path=None, progress: bool | None = None, scheduler=None,
           overwrite: bool = False, **options) -> xr.Dataset:

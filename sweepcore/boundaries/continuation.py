@@ -8,7 +8,7 @@ import numpy as np
 import xarray as xr
 
 from ..grid import COLUMNS, Grid
-from ..options import make_options
+from ..options import checked_keywords, make_options
 from .dataset import _dataset
 from .drive import _drive, _together
 from .graze import SEED_SPACING, _seeded_graze
@@ -93,6 +93,7 @@ def _history():
             "graze_width": math.inf}
 
 
+@checked_keywords(options=True)
 def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
                       bracket=None, xtol: float = 1e-9, scan: int = 32,
                       offset: float = 5e-3, tol: float = 1e-10, method: str = "auto",

@@ -16,7 +16,7 @@ import xarray as xr
 from .. import execute
 from .._kernels import codes, layout
 from ..grid import AXES, COLUMNS, Grid
-from ..options import make_options
+from ..options import checked_keywords, make_options
 from ..params import UNITS
 from .dataset import _dataset
 from .drive import _drive, _together
@@ -245,6 +245,7 @@ def locate_chunk(base: np.ndarray, along: str, values: np.ndarray, xtol: float,
     return results
 
 
+@checked_keywords(options=True)
 def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 1e-9,
                       scan: int = 32, offset: float = 5e-3, tol: float = 1e-10,
                       method: str = "auto", chunks: int | None = None, client=None,

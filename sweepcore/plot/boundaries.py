@@ -10,6 +10,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from .._kernels import codes
+from ..options import checked_keywords
 from .maps import map_panel
 from .style import REGIME_COLOURS, axis_scale, fixed_parameters, label
 
@@ -21,6 +22,7 @@ _MARKS = (
 )
 
 
+@checked_keywords
 def plot_diagram(ds: xr.Dataset, title: str | None = None) -> Figure:
     """A bifurcation diagram (:func:`sweepcore.diagram.bifurcation_diagram`).
 
@@ -82,6 +84,7 @@ def plot_diagram(ds: xr.Dataset, title: str | None = None) -> Figure:
     return fig
 
 
+@checked_keywords
 def plot_boundaries(ds: xr.Dataset, over: xr.Dataset | None = None,
                     title: str | None = None) -> Figure:
     """Located boundary curves (:func:`sweepcore.locate_boundaries` or

@@ -13,6 +13,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from .. import law
+from ..options import checked_keywords
 from .style import (REGIME_COLOURS, SYMBOLS, axis_scale, fmt, is_geometric, label,
                     pretty_units, regime_codes, sweep_title)
 
@@ -54,6 +55,7 @@ def _plane(ds: xr.Dataset, x: str | None, y: str | None):
     return ds, x, y, facet, note
 
 
+@checked_keywords
 def plot_map(ds: xr.Dataset, x: str | None = None, y: str | None = None,
              variables=("regime", "amplitude"), title: str | None = None,
              boundary: bool = True) -> Figure:

@@ -7,6 +7,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from ..options import checked_keywords
 from .boundaries import plot_boundaries, plot_diagram
 from .lines import plot_lines
 from .maps import plot_map
@@ -14,6 +15,7 @@ from .style import SYMBOLS, flag_axis, fmt, label
 from .trajectories import plot_cases, plot_trajectory
 
 
+@checked_keywords(also=(plot_trajectory, plot_lines, plot_map))
 def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
     """The natural picture of a result Dataset (simulation, 1-D or 2-D sweep).
 
@@ -24,10 +26,7 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
     if kind == "bifurcation_diagram":
         return plot_diagram(ds)
     if kind == "boundaries":
-        # drawn over the map named by the study ([boundary] over), when it exists
-        over = ds.attrs.get("over")
-        return plot_boundaries(ds, over=xr.open_dataset(over)
-                               if over and Path(over).is_file() else None)
+        return plot_boundaries(ds, over=over_map(ds))
     if "time" in ds.dims:
         if ds.attrs.get("status", "ok") != "ok":
             raise ValueError(f"a failed simulation (status {ds.attrs['status']}): its "
@@ -54,6 +53,25 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
         return plot_lines(ds, numeric[0], series=series[0] if series else None,
                           **kwargs)
     return plot_map(ds, **kwargs)
+
+
+def over_map(ds: xr.Dataset) -> xr.Dataset | None:
+    """The map a boundaries result is drawn over (its ``over`` attribute, the
+    study's ``[boundary] over`` or ``sweepcore boundary --over``), when it exists:
+    the path as recorded (relative to where the command runs), else a file of that
+    name beside the result file. None without one."""
+    over = ds.attrs.get("over")
+    if not over:
+        return None
+    candidates = [Path(over)]
+    source = ds.encoding.get("source")
+    if source:
+        candidates.append(Path(source).parent / Path(over).name)
+    for path in candidates:
+        if path.is_file():
+            from ..io import open_result
+            return open_result(path)
+    return None
 
 
 def _plot_variables(ds: xr.Dataset, max_panels: int = 6) -> Figure:
