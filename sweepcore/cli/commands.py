@@ -11,6 +11,7 @@ import numpy as np
 
 from ..execute import LOCAL_SCHEDULERS
 from ..labels import version
+from ..options import did_you_mean
 from .summaries import (boundary_lines, describe, describe_boundaries, regime_line,
                         simulation_summary)
 
@@ -51,13 +52,19 @@ def announce_compile(command: str, dask: bool, quiet: bool) -> None:
 
 # ---------------------------------------------------------------- commands
 def _resolve_outputs(args, default: str, study_png) -> tuple[Path, Path | None]:
-    """The result file and picture of a command that runs a study (run, boundary):
-    ``-o``, else ``default`` (the study's path, or a name after it); no picture with
-    ``--no-png`` or a study's ``png = false``; else ``--png``, else the study's png
-    file, else the result's path with .png."""
+    """The result file and picture of a command that runs a study (run, boundary).
+
+    ``-o`` replaces the study's outputs as a whole: the result is ``-o`` and its
+    picture ``--png``, else the result's path with .png (the study's own picture
+    path is then not used: it may name a directory of the study's place). Without
+    ``-o``: ``default`` (the study's path, or a name after the study) and ``--png``,
+    else the study's png file, else the result's path with .png. No picture with
+    ``--no-png`` or (without ``-o``) a study's ``png = false``."""
     out = Path(args.output or default)
     if out.suffix != ".nc":
         raise UsageError(f"output must end in .nc, got {str(out)!r}")
+    if args.output:
+        study_png = None
     if args.no_png or (args.png is None and study_png is False):
         png = None
     elif args.png is not None:
@@ -168,17 +175,16 @@ def cmd_plot(args) -> int:
         swept = [d for d in ds.dims if ds.sizes[d] > 1 and ds[d].dtype.kind in "iuf"]
         for key, dim in kwargs.items():
             if dim not in swept:
-                raise UsageError(f"--{key} {dim}: not a swept axis of {args.result} "
-                                 f"(swept: {', '.join(swept)})")
+                raise UsageError(f"--{key} {dim}: not a swept axis of {args.result}"
+                                 f"{did_you_mean(dim, swept)} (swept: "
+                                 f"{', '.join(swept) or 'none'})")
         if len(swept) < 2 and kwargs:
             raise UsageError("--x/--y apply to maps; this result has one swept axis")
+        if kwargs.get("x") and kwargs.get("x") == kwargs.get("y"):
+            raise UsageError(f"--x and --y are both {kwargs['x']}: a map needs two "
+                             "different axes")
         if args.variables:
-            names = [s.strip() for s in args.variables.split(",") if s.strip()]
-            missing = [n for n in names if n not in ds]
-            if missing:
-                raise UsageError(f"--variables: {', '.join(missing)} not in "
-                                 f"{args.result} (has {', '.join(ds.data_vars)})")
-            kwargs["variables"] = names
+            kwargs["variables"] = _variable_names(args, ds, ("regime", *ds.data_vars))
         elif "study" in ds.attrs:
             from ..study import StudyError, parse_study
             try:
@@ -272,12 +278,7 @@ def cmd_export(args) -> int:
         raise UsageError(f"--csv must end in .csv, got {str(out)!r}")
     _check_directories(out)
     if args.variables:
-        names = [n.strip() for n in args.variables.split(",") if n.strip()]
-        missing = [n for n in names if n not in ds.data_vars]
-        if missing:
-            raise UsageError(f"--variables: {', '.join(missing)} not in {args.result} "
-                             f"(has {', '.join(ds.data_vars)})")
-        ds = ds[names]
+        ds = ds[_variable_names(args, ds, list(ds.data_vars))]
     tables = csv_tables(ds)
     written = []
     for suffix, frame in tables.items():
@@ -322,6 +323,20 @@ def _frame(ds):
     return frame.rename(columns=columns)
 
 
+def _variable_names(args, ds, known) -> list[str]:
+    """The names of ``--variables a,b``, each a variable of the result (``known``):
+    an unknown one is refused with the closest name and the list."""
+    names = [n.strip() for n in args.variables.split(",") if n.strip()]
+    if not names:
+        raise UsageError("--variables: give at least one name")
+    known = list(dict.fromkeys(known))
+    for name in names:
+        if name not in known:
+            raise UsageError(f"--variables: {name!r} is not a variable of {args.result}"
+                             f"{did_you_mean(name, known)} (has {', '.join(known)})")
+    return names
+
+
 def _open(path):
     from ..io import open_result
     if not Path(path).is_file():
@@ -349,13 +364,16 @@ def cmd_boundary(args) -> int:
     if (args.scheduler or args.chunks) and (b["continuation"] or b["diagram"]):
         raise UsageError("--scheduler and --chunks apply to located boundaries, not to "
                          "a continuation or a diagram (sequential by nature)")
+    over = args.over or b.get("over")
+    if over and not over.endswith(".nc"):
+        raise UsageError(f"--over must name a .nc map, got {over!r}")
     _check_directories(out, png)
     t0 = time.perf_counter()
     ds = _boundary_result(grid, study, b, args)
     elapsed = time.perf_counter() - t0
     ds = label_with_study(ds, study, _command_line(args))
-    if b.get("over"):
-        ds.attrs["over"] = b["over"]
+    if over:
+        ds.attrs["over"] = over
     write_netcdf(ds, out)
     if not args.quiet:
         print(f"wrote {out} ({elapsed:.1f} s)")

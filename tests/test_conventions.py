@@ -1,0 +1,165 @@
+"""Conventions a new user relies on, from Python and from the command line.
+
+What is proven:
+* the global options ``--threads`` and ``--traceback`` work after the subcommand
+  as well as before it;
+* ``sweepcore run STUDY -o OUT.nc`` replaces the study's outputs as a whole: the
+  picture goes beside OUT.nc, not to the study's own png path (which may name a
+  directory that exists only where the study lives);
+* every name a user types gets "did you mean": keywords of every public function
+  (``sweep(tolerance=...)`` names sweep and suggests ``tol``), plot and export
+  variables, map axes, command-line options;
+* the plotting API is exported from ``sweepcore`` without importing matplotlib on
+  ``import sweepcore``.
+"""
+from __future__ import annotations
+
+import inspect
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import sweepcore as sc
+from sweepcore.cli import build_parser, main
+
+SMALL = textwrap.dedent("""\
+    [axes]
+    m = 5.0
+    k = 50.0
+    r_y = 10.0
+    v = { start = 1.0, stop = 5.0, num = 3 }
+    [solver]
+    method = "exact"
+    [output]
+    path = "out/small.nc"
+    png = "out/small.png"
+    """)
+
+
+@pytest.mark.parametrize("argv", [
+    ["--threads", "1", "info", "r.nc"], ["info", "--threads", "1", "r.nc"],
+    ["info", "r.nc", "--threads", "1"]])
+def test_threads_before_or_after_the_subcommand(argv):
+    assert build_parser().parse_args(argv).threads == 1
+
+
+def test_traceback_after_the_subcommand_and_defaults():
+    p = build_parser()
+    assert p.parse_args(["info", "--traceback", "r.nc"]).traceback is True
+    args = p.parse_args(["info", "r.nc"])
+    assert args.threads is None and args.traceback is False
+
+
+def test_run_with_threads_after_the_subcommand(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text(SMALL.replace("out/", ""))
+    assert main(["run", "--threads", "1", "s.toml", "-q"]) == 0
+    assert (tmp_path / "small.nc").is_file()
+
+
+def test_output_option_replaces_the_study_outputs_as_a_whole(tmp_path, monkeypatch,
+                                                             capsys):
+    """The study lives elsewhere and names out/small.png; -o puts both files here."""
+    where = tmp_path / "studies"
+    where.mkdir()
+    study = where / "small.toml"
+    study.write_text(SMALL)
+    run = tmp_path / "elsewhere"
+    run.mkdir()
+    monkeypatch.chdir(run)
+    assert main(["run", str(study), "-o", "x.nc", "-q"]) == 0, capsys.readouterr().err
+    assert (run / "x.nc").is_file() and (run / "x.png").is_file()
+    assert not (run / "out").exists()
+    # without -o the study's own paths (relative to where the command runs) apply
+    assert main(["run", str(study), "-q"]) == 2
+    assert "directory 'out' of 'out/small.nc' does not exist" in capsys.readouterr().err
+
+
+PUBLIC = [(sc.sweep, "tolerance", "tol"), (sc.attractor, "tolerance", "tol"),
+          (sc.simulate, "tolerance", "tol"), (sc.estimate, "chunk", "chunks"),
+          (sc.locate_boundaries, "xtl", "xtol"), (sc.continue_boundary, "ovr", "over"),
+          (sc.bifurcation_diagram, "max_step", "max_steps"),
+          (sc.hopf_boundary, "axs", "axis"), (sc.open_result, "pth", "path"),
+          (sc.write_netcdf, "pth", "path"), (sc.check_cf, "dss", "ds")]
+
+
+@pytest.mark.parametrize("fn, typo, right", PUBLIC, ids=[f[0].__name__ for f in PUBLIC])
+def test_public_keyword_typos_name_the_function_and_suggest(fn, typo, right):
+    """Refused before any work, as the caller's function, with the right name."""
+    args = [object()] * sum(p.default is p.empty and p.kind == p.POSITIONAL_OR_KEYWORD
+                            for p in inspect.signature(fn).parameters.values())
+    with pytest.raises(TypeError) as err:
+        fn(*args, **{typo: 1})
+    text = str(err.value)
+    assert text.startswith(f"{fn.__name__}() got an unexpected keyword argument "
+                           f"'{typo}'; did you mean '{right}'?"), text
+    assert "make_options" not in text
+
+
+def test_every_public_function_checks_its_keywords():
+    """Each public function of sweepcore (and the plotting API) refuses a typo with
+    "did you mean"; a new public function without the check fails here."""
+    for name in sc.__all__:
+        fn = getattr(sc, name)
+        if not inspect.isfunction(fn):
+            continue
+        with pytest.raises(TypeError, match="did you mean|allowed"):
+            fn(no_such_keyword_xyz=1)
+
+
+def test_keyword_check_keeps_signatures():
+    assert list(inspect.signature(sc.sweep).parameters)[:3] == ["grid", "method", "tol"]
+    assert "options" in inspect.signature(sc.attractor).parameters
+
+
+def test_plot_variable_typo_is_suggested(tmp_path, capsys):
+    ds = sc.sweep(sc.Grid(m=5.0, k=50.0, r_y=10.0, v=[1.0, 2.0, 3.0],
+                          alpha2=0.0, alpha1=0.0), path=tmp_path / "r.nc")
+    ds.close()
+    assert main(["plot", str(tmp_path / "r.nc"), "--variables", "amplitud"]) == 2
+    err = capsys.readouterr().err
+    assert "'amplitud' is not a variable" in err and "did you mean 'amplitude'?" in err
+    assert main(["export", str(tmp_path / "r.nc"), "--csv", str(tmp_path / "r.csv"),
+                 "--variables", "regim"]) == 2
+    assert "did you mean 'regime'?" in capsys.readouterr().err
+
+
+def test_map_axis_typo_is_suggested(tmp_path, capsys):
+    ds = sc.sweep(sc.Grid(m=5.0, k=[40.0, 50.0, 60.0], r_y=10.0, v=[1.0, 2.0, 3.0]),
+                  path=tmp_path / "r.nc")
+    ds.close()
+    assert main(["plot", str(tmp_path / "r.nc"), "--x", "kk"]) == 2
+    assert "did you mean 'k'?" in capsys.readouterr().err
+    assert main(["plot", str(tmp_path / "r.nc"), "--x", "v", "--y", "v"]) == 2
+    assert "two different axes" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("argv, hint", [
+    (["simulate", "--tolerance", "1e-3"], "did you mean --tol?"),
+    (["run", "--threds", "2", "s.toml"], "did you mean --threads?"),
+    (["boundary", "s.toml", "--ovr", "m.nc"], "did you mean --over?")])
+def test_option_typos_are_suggested(argv, hint, capsys):
+    assert main(argv) == 2
+    assert hint in capsys.readouterr().err
+
+
+def test_plotting_api_is_exported_lazily():
+    code = ("import sys, sweepcore as sc; assert 'matplotlib' not in sys.modules; "
+            "from sweepcore import plot_map; import sweepcore.plot as p; "
+            "assert plot_map is p.plot_map and sc.plot_result is p.plot_result; "
+            "assert 'matplotlib' in sys.modules")
+    subprocess.run([sys.executable, "-c", code], check=True)
+    for name in sc.PLOTS:
+        assert name in sc.__all__ and name in dir(sc)
+    with pytest.raises(AttributeError, match="did you mean 'plot_map'"):
+        sc.plot_mapp
+
+
+def test_plot_api_draws_a_sweep():
+    ds = sc.sweep(sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, v=np.linspace(1, 8, 5),
+                          alpha2=[0.005, 0.01, 0.02, 0.04]))
+    fig = sc.plot_map(ds)
+    assert len(fig.axes) >= 2
