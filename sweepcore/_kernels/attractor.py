@@ -87,10 +87,10 @@ def _write_cycle(out, acc, t0, omega, regime):
 
 
 @kernel
-def answer_cycle(out, acc, t0, w, regime, floquet, unresolved, p, n_steps):
+def answer_cycle(out, acc, t0, omega, regime, floquet, unresolved, p, n_steps):
     """Write a measured cycle with its Floquet multiplier and status: ok, or
     below_resolution (``check_cycle``), or unresolved when ``unresolved``."""
-    _write_cycle(out, acc, t0, w[W_OMEGA], regime)
+    _write_cycle(out, acc, t0, omega, regime)
     out[OB_FLOQUET] = floquet
     check_cycle(out, p)
     if unresolved and out[OB_STATUS] == codes.OK:
@@ -242,7 +242,7 @@ def on_reset(st, p, w, acc, out):
     if w[W_RESET_SEEN] > 0.0:
         cyc = acc[ACC_CYC]
         regime = codes.R_STICK_SLIP if cyc[A_NSTICK] > 0 else codes.R_SLIP_CYCLE
-        answer_cycle(out, cyc, w[W_T_CYC], w, regime, 0.0, False, p, st[S_N])
+        answer_cycle(out, cyc, w[W_T_CYC], w[W_OMEGA], regime, 0.0, False, p, st[S_N])
         return True
     w[W_RESET_SEEN] = 1.0
     w[W_T_CYC] = w[W_T_OFF] + st[S_T]
@@ -290,7 +290,7 @@ def on_event(ev, st, p, o, w, acc, out):
     else:
         return False
     if action == ACCEPT:
-        answer_cycle(out, acc[ACC_LAST], w[W_T_LAST], w, regime, np.nan, False, p,
+        answer_cycle(out, acc[ACC_LAST], w[W_T_LAST], w[W_OMEGA], regime, np.nan, False, p,
                      st[S_N])
         return True
     return False
@@ -341,12 +341,12 @@ def finish(action, value, st, p, w, acc, out):
     if action == REST:
         answer_rest(out, x_eq(p), w[W_T_OFF] + st[S_T], codes.R_EQUILIBRIUM, False, n)
     elif action == ACCEPT_NF:
-        answer_cycle(out, last, w[W_T_LAST], w, codes.R_SLIP_CYCLE,
+        answer_cycle(out, last, w[W_T_LAST], w[W_OMEGA], codes.R_SLIP_CYCLE,
                      nf_multiplier(p, last[A_DT]), w[W_NF_FLOOR] > 0.0, p, n)
     elif action == NEUTRAL:
-        answer_cycle(out, last, w[W_T_LAST], w, codes.R_UNCONVERGED, value, True, p, n)
+        answer_cycle(out, last, w[W_T_LAST], w[W_OMEGA], codes.R_UNCONVERGED, value, True, p, n)
     else:
-        answer_cycle(out, last, w[W_T_LAST], w, codes.R_SLIP_CYCLE, value,
+        answer_cycle(out, last, w[W_T_LAST], w[W_OMEGA], codes.R_SLIP_CYCLE, value,
                      action == ACCEPT_FLOOR, p, n)
     return True
 
