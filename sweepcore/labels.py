@@ -29,10 +29,30 @@ def version() -> str:
         return "0.1.0"
 
 
+def timestamp() -> str:
+    """Now, in UTC, ISO 8601 to the second (``2026-01-31T12:00:00+00:00``): the one
+    format of every ``history`` line."""
+    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+
+
+def run_statuses(ds: xr.Dataset) -> list[str]:
+    """The status of each run of a simulation file: one for a single run, one per
+    run for runs stacked along a parameter (a ``status`` variable, or the global
+    attribute with one word per run)."""
+    if "status" in ds.data_vars:
+        return [str(s) for s in np.ravel(ds["status"].values)]
+    return str(ds.attrs.get("status", "ok")).split() or ["ok"]
+
+
+def run_dims(ds: xr.Dataset) -> list[str]:
+    """The dimensions a simulation file stacks runs along (not time or event)."""
+    return [d for d in ds.dims if d not in ("time", "event") and ds.sizes[d] > 1]
+
+
 def provenance(title: str, call: str, source: str, comment: str) -> dict:
     """CF global attributes (section 2.6): Conventions, title, history (the time, the
     version and ``call``), source (the version and ``source``), references, comment."""
-    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    now = timestamp()
     return {
         "Conventions": "CF-1.11",
         "title": title,

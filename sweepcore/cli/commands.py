@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..execute import LOCAL_SCHEDULERS
-from ..labels import version
+from ..labels import run_statuses, timestamp, version
 from ..options import did_you_mean
 from .summaries import (boundary_lines, describe, describe_boundaries, regime_line,
                         simulation_summary)
@@ -153,8 +153,7 @@ def label_with_study(ds, study, command: str):
 
 def _command_line(args) -> str:
     """``history`` line: time, version and the command as typed."""
-    now = time.strftime("%Y-%m-%dT%H:%M:%S%z")
-    return f"{now} sweepcore {version()}: " + shlex.join(["sweepcore", *args.argv])
+    return f"{timestamp()} sweepcore {version()}: " + shlex.join(["sweepcore", *args.argv])
 
 
 def cmd_plot(args) -> int:
@@ -166,9 +165,10 @@ def cmd_plot(args) -> int:
     if out.suffix.lower() != ".png":
         raise UsageError(f"picture must end in .png, got {str(out)!r}")
     _check_directories(out)
-    if "time" in ds.dims and ds.attrs.get("status", "ok") != "ok":
-        raise UsageError(f"{args.result} holds a failed simulation (status "
-                         f"{ds.attrs['status']}): nothing to draw")
+    failed = [s for s in run_statuses(ds) if s != "ok"] if "time" in ds.dims else []
+    if failed and len(failed) == len(run_statuses(ds)):
+        raise UsageError(f"{args.result} holds only failed simulations (status "
+                         f"{' '.join(failed)}): nothing to draw")
     kwargs = {}
     if "time" not in ds.dims:
         kwargs = {k: getattr(args, k) for k in ("x", "y") if getattr(args, k)}

@@ -8,7 +8,7 @@ from collections import Counter
 import numpy as np
 
 from ..boundaries import LOCATED
-from ..labels import parameter
+from ..labels import parameter, run_dims, run_statuses
 
 
 def _units(var) -> str:
@@ -113,23 +113,48 @@ def _describe_simulation(ds) -> str:
                                       if np.isfinite(parameter(ds, n))),
              f"  start: x0 = {parameter(ds, 'x0'):.6g} cm, "
              f"xdot0 = {parameter(ds, 'xdot0'):.6g} cm s-1",
-             f"  method: {a.get('method', '?')}, status: {a.get('status', '?')}, "
-             f"steps: {a.get('n_steps', '?')}"]
+             *_run_lines(ds)]
     if "event_kind" in ds:
         counts = [(n, c) for n, c in _flag_counts(ds["event_kind"]) if c]
         lines.append("  events: " + (", ".join(f"{n} {c}" for n, c in counts)
                                      if counts else "none"))
-    x = ds.x.values
-    tail = (t >= t[-1] - 0.2 * (t[-1] - t[0])) & np.isfinite(x)
-    if tail.any():
-        lines.append(f"  x over the last 20 % of the run: [{x[tail].min():.6g}, "
-                     f"{x[tail].max():.6g}] cm")
-    else:
-        lines.append("  x over the last 20 % of the run: no valid sample (the run "
-                     "stopped early)")
+    if not run_dims(ds):
+        lines.append(f"  x over the last 20 % of the run: {_tail_range(ds)}")
     if "history" in a:
         lines.append(f"  history: {a['history']}")
     return "\n".join(lines)
+
+
+def _tail_range(ds) -> str:
+    """The range of x over the last 20 % of one run [cm]."""
+    t = ds.time.values
+    x = ds.x.transpose("time", ...).values
+    tail = (t >= t[-1] - 0.2 * (t[-1] - t[0])) & np.isfinite(x)
+    if not tail.any():
+        return "no valid sample (the run stopped early)"
+    return f"[{x[tail].min():.6g}, {x[tail].max():.6g}] cm"
+
+
+def _run_lines(ds) -> list[str]:
+    """Method, status and steps of a simulation; one line per run for runs stacked
+    along a parameter (the parameter's values, each run's status and, when the file
+    holds them per run, its steps)."""
+    a = ds.attrs
+    dims = run_dims(ds)
+    if not dims:
+        return [f"  method: {a.get('method', '?')}, status: {a.get('status', '?')}, "
+                f"steps: {a.get('n_steps', '?')}"]
+    d = dims[0]
+    statuses = run_statuses(ds)
+    steps = ds["n_steps"].values if "n_steps" in ds.data_vars else [None] * ds.sizes[d]
+    lines = [f"  {ds.sizes[d]} runs along {d} ({ds[d].attrs.get('units', '?')}), method: "
+             f"{a.get('method', '?')}"]
+    for i, value in enumerate(ds[d].values):
+        status = statuses[i] if len(statuses) == ds.sizes[d] else "?"
+        step = "" if steps[i] is None else f", steps: {int(steps[i])}"
+        lines.append(f"    {d} = {value:.6g}: status: {status}{step}; x over the "
+                     f"last 20 % of the run: {_tail_range(ds.isel({d: i}))}")
+    return lines
 
 
 def simulation_summary(ds, p) -> str:

@@ -7,6 +7,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from ..labels import run_dims, run_statuses
 from ..options import checked_keywords
 from .boundaries import plot_boundaries, plot_diagram
 from .lines import plot_lines
@@ -28,15 +29,22 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
     if kind == "boundaries":
         return plot_boundaries(ds, over=over_map(ds))
     if "time" in ds.dims:
-        if ds.attrs.get("status", "ok") != "ok":
-            raise ValueError(f"a failed simulation (status {ds.attrs['status']}): its "
+        statuses = run_statuses(ds)
+        if all(s != "ok" for s in statuses):
+            raise ValueError(f"a failed simulation (status {' '.join(statuses)}): its "
                              "samples after the failure are NaN, nothing to draw")
-        extra = [d for d in ds.dims if d not in ("time", "event") and ds.sizes[d] > 1]
+        extra = run_dims(ds)
         if extra:          # several runs stacked along a parameter: one row each
             d = extra[0]
             runs = [ds.isel({d: i}) for i in range(ds.sizes[d])]
+            if len(statuses) != len(runs):
+                statuses = ["ok"] * len(runs)
+            eqs = ds["x_eq"].values if "x_eq" in ds and ds["x_eq"].dims == (d,) \
+                else None
             return plot_cases(runs, [f"${SYMBOLS.get(d, d)}$ = {fmt(r[d])}"
-                                     for r in runs], title=ds.attrs.get("title"))
+                                     + ("" if s == "ok" else f" (status {s})")
+                                     for r, s in zip(runs, statuses)],
+                              title=ds.attrs.get("title"), equilibria=eqs)
         return plot_trajectory(ds, **kwargs)
     dims = [d for d in ds.dims if ds.sizes[d] > 1]
     if not dims:
