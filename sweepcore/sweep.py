@@ -71,7 +71,7 @@ from tqdm.auto import tqdm
 from . import execute, labels, variables
 from ._kernels import codes, layout
 from ._kernels.attractor import attractor_rows, attractor_rows_parallel
-from .boundary import BOUNDARY_VARIABLES, hopf_boundary
+from .boundary import BOUNDARY_VARIABLES, hopf_boundary, reversal_cycles
 from .grid import Grid
 from .io import WorkingStore, chunk_shape, result_path, write_netcdf
 from .options import checked_keywords, make_options
@@ -393,8 +393,10 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
 
     if "v" in ds.dims and ds.sizes["v"] >= 2:
         # lazily: the boundary needs the regime of the whole grid, 1 byte per point
-        bd = hopf_boundary(ds[["regime"]].compute(scheduler="synchronous") if lazy
-                           else ds)
+        # (and which slip cycles overshoot the belt, 1 byte more)
+        src = ds[["regime"]].assign(reversal=reversal_cycles(ds)).compute(
+            scheduler="synchronous") if lazy else ds
+        bd = hopf_boundary(src)
         ds = ds.assign({n: bd[n].variable for n in BOUNDARY_VARIABLES})
 
     ds.attrs.update({

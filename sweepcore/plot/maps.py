@@ -260,7 +260,7 @@ def _measured_boundaries(ds, x, y) -> list:
 
     Taken from the result when the sweep stored them, else measured here.
     """
-    names = ("v_hopf_measured", "v_stick_onset")
+    names = ("v_hopf_measured", "v_stick_onset", "v_reversal_lower", "v_reversal_upper")
     if all(n in ds for n in names):
         bd = ds
     else:
@@ -275,7 +275,11 @@ def _measured_boundaries(ds, x, y) -> list:
         "v_hopf_measured": dict(color="black", ls="-", lw=1.3,
                                 label="measured boundary: cycle | equilibrium"),
         "v_stick_onset": dict(color="#CC79A7", ls="-", lw=1.3,
-                              label="measured end of stick-slip"),
+                              label="measured stick onset (end of stick-slip)"),
+        # one legend entry for both edges (the legend keeps one handle per label)
+        **{f"v_reversal_{e}": dict(color="#009E73", ls="--", lw=1.2,
+                                   label="measured edges of the slide-slide-reversal "
+                                         "band") for e in ("lower", "upper")},
     }
     found = []
     for name in names:
