@@ -56,8 +56,8 @@ def main(out):
         write_netcdf(ds, out / "paper_fig5.nc")
     for alpha2, q, a in rows:
         print(f"  alpha2 = {alpha2:.5g}: q = {_signed(q)} 1/s -> {a.regime} "
-              f"(amplitude {a.amplitude:.4g} cm, mean {a.mean:.4g} cm, status "
-              f"{a.status})")
+              f"(amplitude {a.amplitude:.5g} cm, mean {a.mean:.4g} cm, stick fraction "
+              f"{a.stick_fraction:.2g}, status {a.status})")
     print(f"  q = 0 at t = {T_END:g} s: x still oscillates with half-range "
           f"{_swing(runs[1]):.3g} cm (slow algebraic decay)")
     return [out / "paper_fig5.nc", out / "paper_fig5.png"]

@@ -49,6 +49,10 @@ def describe(ds) -> str:
         c = ds[d]
         vals = c.values
         spacing = c.attrs.get("spacing", "")
+        if vals.dtype.kind not in "iuf":        # a categorical axis (names)
+            lines.append(f"    {d:8s} {vals.size} values: "
+                         + ", ".join(str(v) for v in vals))
+            continue
         name = f"{c.attrs.get('long_name', '')} [{c.attrs.get('units', '')}]"
         lines.append(f"    {d:8s} {name}: {vals.size} values in [{vals.min():.6g}, {vals.max():.6g}]"
                      + (f" ({spacing})" if spacing else ""))
@@ -100,7 +104,27 @@ def _boundary_lines(ds) -> list[str]:
             if sel.any() else "")
     if res is not None and res.size:
         text += f" (grid resolution +-{np.max(res):.3g})"
-    return [text] if text else []
+    return ([text] if text else []) + _onset_lines(ds, vs)
+
+
+def _onset_lines(ds, vs) -> list[str]:
+    """The measured stick onset (as a multiple of v*) and the reversal band's edges,
+    each on the rows where the map holds it."""
+    lines = []
+    if "v_stick_onset" in ds:
+        on = ds["v_stick_onset"].values
+        ok = np.isfinite(on)
+        ratio = (ds["v_stick_onset"] / vs).values[ok]
+        lines.append(f"  measured stick onset: {int(ok.sum())} of {ok.size} rows"
+                     + (f"; v_stick_onset / v* in [{ratio.min():.4g}, {ratio.max():.4g}]"
+                        if ok.any() else ""))
+    for edge in ("lower", "upper"):
+        name = f"v_reversal_{edge}"
+        if name in ds and np.isfinite(ds[name].values).any():
+            val = ds[name].values[np.isfinite(ds[name].values)]
+            lines.append(f"  reversal band, {edge} edge: {val.size} rows, "
+                         f"[{val.min():.4g}, {val.max():.4g}] cm s-1")
+    return lines
 
 
 def _describe_simulation(ds) -> str:
