@@ -49,6 +49,33 @@ def run_dims(ds: xr.Dataset) -> list[str]:
     return [d for d in ds.dims if d not in ("time", "event") and ds.sizes[d] > 1]
 
 
+def is_geometric(values) -> bool:
+    """True when ``values`` (> 0, 3 or more) are evenly spaced in log, not linearly."""
+    a = np.asarray(values, dtype=float)
+    if a.ndim != 1 or a.size < 3 or not np.all(a > 0):
+        return False
+    dl, d = np.diff(np.log(a)), np.diff(a)
+    log_even = np.allclose(dl, dl[0], rtol=1e-6, atol=0)
+    lin_even = np.allclose(d, d[0], rtol=1e-6, atol=0)
+    return bool(log_even and not lin_even)
+
+
+def mark_spacing(ds: xr.Dataset) -> xr.Dataset:
+    """``spacing = "geometric"`` on each numeric dimension evenly spaced in log (so
+    plots, sweepcore's and the reader's, know to use a log axis), ``"linear"`` on
+    each evenly spaced one; an attribute already set is kept."""
+    for d in ds.dims:
+        c = ds[d]
+        if c.dtype.kind != "f" or c.size < 3 or "spacing" in c.attrs:
+            continue
+        d_ = np.diff(c.values)
+        if is_geometric(c.values):
+            c.attrs["spacing"] = "geometric"
+        elif np.allclose(d_, d_[0], rtol=1e-6, atol=0):
+            c.attrs["spacing"] = "linear"
+    return ds
+
+
 def provenance(title: str, call: str, source: str, comment: str) -> dict:
     """CF global attributes (section 2.6): Conventions, title, history (the time, the
     version and ``call``), source (the version and ``source``), references, comment."""

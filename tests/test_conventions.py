@@ -163,3 +163,28 @@ def test_plot_api_draws_a_sweep():
                           alpha2=[0.005, 0.01, 0.02, 0.04]))
     fig = sc.plot_map(ds)
     assert len(fig.axes) >= 2
+
+
+def test_sweep_files_suit_xarray_and_csv(tmp_path, capsys):
+    """v is the last dimension (xarray's default 2-D plot puts it on x), geometric
+    axes say so, regime carries its flag names, n_steps is an integer in the file
+    and in the CSV, and the history has one timestamp format."""
+    import re
+
+    import xarray as xr
+    sc.sweep(sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, v=np.linspace(1, 8, 5),
+                     alpha2=np.geomspace(0.005, 0.04, 4)), path=tmp_path / "r.nc").close()
+    with xr.open_dataset(tmp_path / "r.nc") as ds:
+        assert ds.amplitude.dims[-1] == "v"
+        mesh = ds.amplitude.plot()
+        assert mesh.axes.get_xlabel().startswith("belt speed")
+        assert ds.alpha2.attrs["spacing"] == "geometric"
+        assert "stick_slip" in ds.regime.attrs["flag_meanings"].split()
+        assert ds.n_steps.dtype == np.int64
+        stamp = ds.attrs["history"].split()[0]
+    assert re.fullmatch(r"\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\+00:00", stamp), stamp
+    assert main(["export", str(tmp_path / "r.nc"), "--csv", str(tmp_path / "r.csv")]) == 0
+    import csv
+    with open(tmp_path / "r.csv") as f:
+        row = next(csv.DictReader(f))
+    assert re.fullmatch(r"\d+", row["n_steps"]), row["n_steps"]

@@ -183,15 +183,21 @@ def test_sweep_needs_a_grid():
 
 
 # ------------------------------------------------------- values of a sweep
+def flat(da):
+    """A sweep variable in the grid's flat order (the grid's axis order; the file
+    puts v last for xarray's default plot)."""
+    return da.transpose(*[a for a in Grid(**MIXED).dims if a in da.dims]).values.ravel()
+
+
 def test_sweep_equals_serial_kernel_point_by_point(warm_sweep):
     o = make_options("auto", tol=1e-8)
     ds = sweep(Grid(**MIXED), progress=False)
     ref = per_point(product_rows(**MIXED), o)
     for name, (col, *_meta) in OBSERVABLES.items():
-        np.testing.assert_array_equal(ds[name].values.ravel(), ref[:, col], err_msg=name)
-    np.testing.assert_array_equal(ds.regime.values.ravel(), ref[:, layout.OB_REGIME])
-    np.testing.assert_array_equal(ds.status.values.ravel(), ref[:, layout.OB_STATUS])
-    np.testing.assert_array_equal(ds.converged.values.ravel(),
+        np.testing.assert_array_equal(flat(ds[name]), ref[:, col], err_msg=name)
+    np.testing.assert_array_equal(flat(ds.regime), ref[:, layout.OB_REGIME])
+    np.testing.assert_array_equal(flat(ds.status), ref[:, layout.OB_STATUS])
+    np.testing.assert_array_equal(flat(ds.converged),
                                   ref[:, layout.OB_STATUS] == codes.OK)
 
 
@@ -266,7 +272,7 @@ def test_analytic_arrays_equal_params_bit_for_bit():
 def test_analytic_variables_span_only_their_dimensions(paper_map):
     ds = sweep(paper_map, progress=False)
     assert ds.omega.dims == () and ds.v_star.dims == ("alpha2",)
-    assert ds.q.dims == ds.x_eq.dims == ("v", "alpha2")
+    assert ds.q.dims == ds.x_eq.dims == ("alpha2", "v")     # v last: plotted on x
     p = sc.Params(m=5.0, k=50.0, r_y=10.0, v=float(ds.v[7]), alpha1=1.0, alpha2=0.02)
     at = ds.isel(v=7).sel(alpha2=0.02)
     assert (float(at.q), float(at.x_eq), float(at.v_star)) == (p.q, p.x_eq, p.v_star)
@@ -388,7 +394,7 @@ def spy_chunks(monkeypatch, path, interrupt_after=None):
 
 
 def test_interrupted_sweep_resumes_computing_only_missing_chunks(paper_map, tmp_path,
-                                                                 monkeypatch):
+                                                                 monkeypatch, capsys):
     path = tmp_path / "map.nc"
     store = WorkingStore.location(path)
     first = spy_chunks(monkeypatch, path, interrupt_after=3)
@@ -397,7 +403,9 @@ def test_interrupted_sweep_resumes_computing_only_missing_chunks(paper_map, tmp_
     assert len(first) == 3 and not path.exists() and store.is_dir()
 
     resumed = spy_chunks(monkeypatch, path)
-    sweep(paper_map, chunks=10, path=path, progress=False)
+    capsys.readouterr()
+    sweep(paper_map, chunks=10, path=path)      # says so (no bar off a terminal)
+    assert "sweep: resuming 3 of 8 chunks" in capsys.readouterr().err
     assert sorted(resumed) == sorted(set(range(0, paper_map.size, 10)) - set(first))
     assert path.exists() and not store.exists()
 

@@ -167,8 +167,9 @@ def cmd_plot(args) -> int:
     _check_directories(out)
     failed = [s for s in run_statuses(ds) if s != "ok"] if "time" in ds.dims else []
     if failed and len(failed) == len(run_statuses(ds)):
-        raise UsageError(f"{args.result} holds only failed simulations (status "
-                         f"{' '.join(failed)}): nothing to draw")
+        what = "a failed simulation" if len(failed) == 1 else "only failed simulations"
+        raise UsageError(f"{args.result} holds {what} (status {' '.join(failed)}): "
+                         "nothing to draw")
     kwargs = {}
     if "time" not in ds.dims:
         kwargs = {k: getattr(args, k) for k in ("x", "y") if getattr(args, k)}
