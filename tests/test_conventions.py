@@ -188,3 +188,30 @@ def test_sweep_files_suit_xarray_and_csv(tmp_path, capsys):
     with open(tmp_path / "r.csv") as f:
         row = next(csv.DictReader(f))
     assert re.fullmatch(r"\d+", row["n_steps"]), row["n_steps"]
+
+
+def test_faceted_maps_share_one_colour_scale():
+    """Rows of a faceted map (a third swept axis) use one colour scale per
+    variable: the same colour is the same amplitude in every row."""
+    from matplotlib.collections import QuadMesh
+    ds = sc.sweep(sc.Grid(m=[2.0, 5.0], k=50.0, r_y=10.0, alpha1=1.0,
+                          v=np.linspace(1, 8, 5), alpha2=np.geomspace(0.005, 0.04, 4)))
+    fig = sc.plot_map(ds, variables=("amplitude",))
+    clims = {m.get_clim() for ax in fig.axes for m in ax.collections
+             if isinstance(m, QuadMesh)}
+    assert len(clims) == 1, clims
+    lo, hi = clims.pop()
+    assert lo == float(ds.amplitude.min()) and hi == float(ds.amplitude.max())
+
+
+def test_boundary_picture_has_a_legend_of_the_regime_colours():
+    import xarray as xr
+    over = sc.sweep(sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, v=np.linspace(1, 10, 8),
+                            alpha2=np.geomspace(0.01, 0.04, 3)))
+    curves = sc.continue_boundary(sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0,
+                                          v=[0.5, 14.0], alpha2=[0.01, 0.02, 0.04]))
+    assert isinstance(curves, xr.Dataset)
+    fig = sc.plot_boundaries(curves, over=over)
+    names = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+    assert any(n.startswith("regime: stick slip") for n in names), names
+    assert "Hopf point (located)" in names

@@ -87,10 +87,11 @@ def plot_map(ds: xr.Dataset, x: str | None = None, y: str | None = None,
     fig = Figure(figsize=(5.6 * n + 0.6, 5.0 * len(rows) + 0.4), layout="constrained")
     axs = np.atleast_2d(fig.subplots(len(rows), n, sharex=True, sharey=True))
     curves = {}
+    shared = _shared_scales(ds, variables) if facet else {}
     for row_axs, sub in zip(axs, rows):
         overlays = _overlays(sub, x, y) if boundary else []
         for ax, name in zip(row_axs, variables):
-            map_panel(fig, ax, sub, name, x, y)
+            map_panel(fig, ax, sub, name, x, y, **shared.get(name, {}))
             for draw in overlays:
                 # on the regime map the measured boundaries are the colour edges
                 if name != "regime" or draw.analytic:
@@ -107,6 +108,20 @@ def plot_map(ds: xr.Dataset, x: str | None = None, y: str | None = None,
                    ncol=min(len(curves), 2))
     fig.suptitle((title or sweep_title(ds)) + note, fontsize=10)
     return fig
+
+
+def _shared_scales(ds: xr.Dataset, variables) -> dict:
+    """``{name: {"vmin", "vmax"}}``: one colour scale per variable over every row of
+    a faceted map, so that a colour means the same value in each row (a variable
+    uniform over the whole map keeps its own "uniform" panel)."""
+    out = {}
+    for name in variables:
+        if name == "regime" or ds[name].dtype.kind not in "iuf":
+            continue
+        data = np.ma.masked_invalid(ds[name].values.astype(float))
+        if data.count() and _uniform(data) is None:
+            out[name] = {"vmin": float(data.min()), "vmax": float(data.max())}
+    return out
 
 
 def map_panel(fig: Figure, ax, ds: xr.Dataset, name: str, x: str, y: str,
