@@ -215,3 +215,13 @@ def test_boundary_picture_has_a_legend_of_the_regime_colours():
     names = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
     assert any(n.startswith("regime: stick slip") for n in names), names
     assert "Hopf point (located)" in names
+
+
+def test_info_and_plot_handle_a_bifurcation_diagram(tmp_path, capsys):
+    ds = sc.bifurcation_diagram(sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0,
+                                        alpha2=0.01, v=np.linspace(4.0, 7.0, 7)))
+    sc.write_netcdf(ds, tmp_path / "d.nc")
+    assert main(["info", str(tmp_path / "d.nc")]) == 0
+    assert "bifurcation diagram" in capsys.readouterr().out
+    assert main(["plot", str(tmp_path / "d.nc"), "-o", str(tmp_path / "d.png")]) == 0
+    assert (tmp_path / "d.png").stat().st_size > 10_000

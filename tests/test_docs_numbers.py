@@ -243,3 +243,38 @@ def test_run_all_runs(tmp_path):
                           text=True, env=env, timeout=600)
     assert done.returncode == 0, done.stderr[-2000:]
     assert (tmp_path / "paper_fig3.nc").is_file()
+
+
+# ------------------------------------------------------------------ the README
+def _blocks(text: str) -> list[str]:
+    return re.findall(r"^```[a-z]*\n(.*?)^```", text, flags=re.M | re.S)
+
+
+def test_readme_commands_and_snippet_run_as_written(tmp_path, monkeypatch, capsys):
+    """Every ``sweepcore`` command of the README, from a checkout's root (studies/
+    and an empty out/), then the Python snippet; the numbers in its comments are
+    the values it computes."""
+    import shlex
+    (tmp_path / "studies").symlink_to(STUDIES)
+    (tmp_path / "out").mkdir()
+    monkeypatch.chdir(tmp_path)
+    text = (ROOT / "README.md").read_text()
+    blocks = _blocks(text)
+    commands = [line.split("  #")[0].strip() for b in blocks for line in b.splitlines()
+                if line.startswith("sweepcore ")]
+    assert len(commands) >= 5, commands
+    for command in commands:
+        argv = shlex.split(command)[1:]
+        assert main(argv) == 0, (command, capsys.readouterr().err)
+    snippet = next(b for b in blocks if b.startswith("import numpy as np"))
+    names: dict = {}
+    exec(compile(snippet, "README.md", "exec"), names)      # noqa: S102
+    p, ob = names["p"], names["ob"]
+    comment = re.search(r"p\.q, p\.v_star, p\.x_eq\s+# (\S+) 1/s, (\S+) cm/s, (\S+) cm",
+                        snippet).groups()
+    assert comment == (f"{p.q:.2g}", f"{p.v_star:.3g}", f"{p.x_eq:.3g}")
+    amp, period = re.search(r"amplitude=(\S+), regime='(\w+)',\s+#\s+period=(\S+),",
+                            snippet).group(1, 3)
+    assert (f"{ob.amplitude:.5g}", f"{ob.period:.5g}") == (amp, period)
+    assert ob.regime == "stick_slip" and ob.converged
+    assert (tmp_path / "map.nc").is_file() and (tmp_path / "map.csv").is_file()
