@@ -19,7 +19,7 @@ import xarray as xr
 
 from . import labels
 from ._kernels import codes
-from .options import checked_keywords
+from .options import checked_keywords, did_you_mean
 
 CYCLES = (codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
 BOUNDARY_VARIABLES = ("v_hopf_measured", "v_hopf_resolution", "v_stick_onset",
@@ -121,7 +121,8 @@ def hopf_boundary(ds: xr.Dataset, axis: str = "v") -> xr.Dataset:
             the analytic Hopf speed sqrt(alpha1/(3 alpha2)).
     """
     if axis not in ds.dims:
-        raise ValueError(f"axis={axis!r} is not a dimension of the Dataset "
+        raise ValueError(f"axis={axis!r} is not a dimension of the Dataset"
+                         f"{did_you_mean(axis, list(ds.dims))} "
                          f"(dimensions: {tuple(ds.dims)})")
     if ds.sizes[axis] < 2:
         raise ValueError(f"axis={axis!r} needs >= 2 values to locate a boundary, got "

@@ -17,7 +17,7 @@ from . import execute, labels, variables
 from ._kernels import codes, layout
 from .boundaries import locate_boundaries
 from .grid import AXES, COLUMNS, Grid
-from .options import checked_keywords, make_options
+from .options import checked_keywords, did_you_mean, make_options
 from .params import LONG_NAMES, UNITS
 
 BRANCHES = ("up", "down")
@@ -74,7 +74,8 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
         analytic ``v_star``; with ``boundaries``, ``v_hopf`` and ``v_stick_onset``.
     """
     if along not in AXES[:6]:
-        raise ValueError(f"along must be one of {AXES[:6]}, got {along!r}")
+        raise ValueError(f"along must be one of {AXES[:6]}, got {along!r}"
+                         f"{did_you_mean(along, AXES[:6])}")
     if not isinstance(grid, Grid):
         raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
     swept = [n for n in grid.swept if n != along]

@@ -29,6 +29,7 @@ import numba
 import numpy as np
 
 from ._kernels.attractor import _LANES, attractor_rows, attractor_rows_parallel
+from .options import did_you_mean
 
 LOCAL_SCHEDULERS = {"threads": "threads", "processes": "processes",
                     "synchronous": "synchronous", "sync": "synchronous",
@@ -62,7 +63,8 @@ def resolve(client, scheduler):
         if ":" in target:
             return "distributed", target
         raise ValueError(f"scheduler must be one of {sorted(LOCAL_SCHEDULERS)} or a "
-                         f"scheduler address 'tcp://host:port', got {target!r}")
+                         f"scheduler address 'tcp://host:port', got {target!r}"
+                         f"{did_you_mean(target, LOCAL_SCHEDULERS)}")
     from distributed import Client
     if isinstance(target, Client):
         return "distributed", target

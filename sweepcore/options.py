@@ -57,7 +57,8 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
         motion's velocity scale |v|), in (0, 1e-6]; dopri5 uses at least 20 tol.
     """
     if method not in METHODS:
-        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}"
+                         f"{did_you_mean(method, METHODS)}")
     for name, val in (("tol", tol), ("graze", graze)):
         if isinstance(val, bool) or not isinstance(val, (int, float)) or \
                 not (math.isfinite(val) and 0.0 < val < 1.0):

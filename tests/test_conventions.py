@@ -15,6 +15,7 @@ What is proven:
 from __future__ import annotations
 
 import inspect
+import re
 import subprocess
 import sys
 import textwrap
@@ -225,3 +226,21 @@ def test_info_and_plot_handle_a_bifurcation_diagram(tmp_path, capsys):
     assert "bifurcation diagram" in capsys.readouterr().out
     assert main(["plot", str(tmp_path / "d.nc"), "-o", str(tmp_path / "d.png")]) == 0
     assert (tmp_path / "d.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("call, hint", [
+    (lambda g: sc.sweep(g, method="dopri"), "did you mean 'dopri5'?"),
+    (lambda g: sc.sweep(g, scheduler="thread"), "did you mean 'threads'?"),
+    (lambda g: sc.locate_boundaries(g, along="vv"), "did you mean 'v'?"),
+    (lambda g: sc.bifurcation_diagram(g, along="vv"), "did you mean 'v'?"),
+    (lambda g: sc.hopf_boundary(sc.sweep(g), axis="vv"), "did you mean 'v'?")])
+def test_names_given_as_values_get_did_you_mean(call, hint):
+    grid = sc.Grid(m=5.0, k=50.0, r_y=10.0, v=[1.0, 2.0], alpha1=1.0, alpha2=0.01)
+    with pytest.raises(ValueError, match=re.escape(hint)):
+        call(grid)
+
+
+def test_study_choice_typo_is_suggested(tmp_path, capsys):
+    (tmp_path / "s.toml").write_text(SMALL.replace('"exact"', '"dopri"'))
+    assert main(["run", str(tmp_path / "s.toml"), "-o", str(tmp_path / "s.nc")]) == 2
+    assert "did you mean 'dopri5'?" in capsys.readouterr().err

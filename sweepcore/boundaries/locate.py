@@ -16,7 +16,7 @@ import xarray as xr
 from .. import execute
 from .._kernels import codes, layout
 from ..grid import AXES, COLUMNS, Grid
-from ..options import checked_keywords, make_options
+from ..options import checked_keywords, did_you_mean, make_options
 from ..params import UNITS
 from .dataset import _dataset
 from .drive import _drive, _together
@@ -202,7 +202,8 @@ def _scan_values(grid: Grid, along: str, bracket, scan: int) -> np.ndarray:
 
 def _check_search(along, xtol, offset):
     if along not in AXES[:6]:
-        raise ValueError(f"along must be one of {AXES[:6]}, got {along!r}")
+        raise ValueError(f"along must be one of {AXES[:6]}, got {along!r}"
+                         f"{did_you_mean(along, AXES[:6])}")
     for name, val in (("xtol", xtol), ("offset", offset)):
         if isinstance(val, bool) or not isinstance(val, (int, float)) or \
                 not (math.isfinite(val) and val > 0):
