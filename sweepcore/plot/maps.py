@@ -303,6 +303,9 @@ def _measured_boundaries(ds, x, y) -> list:
             continue
         b = b.sortby(other)
         vals, coord = b.values, b[other].values
+        style = dict(styles[name])
+        if coord.size < 5:      # a few values of the other axis: points, not a line
+            style.update(ls="", marker="o", ms=5)
         found.append(_Overlay(*((vals, coord) if x == "v" else (coord, vals)),
-                              Line2D([], [], **styles[name])))
+                              Line2D([], [], **style)))
     return found
