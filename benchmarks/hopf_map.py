@@ -357,6 +357,19 @@ def run(profile, outdir):
                        "converged_fraction": default["converged_fraction"],
                        "regimes": default["regimes"]}
     save_fields(outdir, outs[1e-8])
+    from . import regimes
+    res["regimes"] = {"this_run": regimes.table(P[:, 3], 1.0, P[:, 5], outs[1e-8][:, OB_REGIME],
+                                                outs[1e-8][:, 10])}
+    if profile.get("regimes_before"):
+        log(f"  steps by regime and wall time, this checkout against "
+            f"{profile['regimes_before']} (interleaved probes)")
+        res["regimes"]["before_after"] = regimes.before_after(
+            profile["regimes_before"], profile["regimes_rounds"], profile["map_repeats"])
+        ba = res["regimes"]["before_after"]
+        if "speedup" in ba:
+            log(f"    before {ba['median_s_before']:.3f} s, after {ba['median_s_after']:.3f} s"
+                f" (x{ba['speedup']:.2f}); steps {ba['before']['steps_total']:.4g} -> "
+                f"{ba['after']['steps_total']:.4g}")
 
     log("  thread scaling")
     res["threads"] = thread_scaling(P, make_options("auto", tol=1e-8),

@@ -173,6 +173,7 @@ def _hopf(H, Pe, rel):
         out.append(table(["setting", "statuses", "compared", "max abs amp err [cm]",
                           "max err / L", "by v / v* (max err, points)",
                           "points above v* not at rest"], hrows))
+    out += _regimes(H.get("regimes"))
     rk = acc["rk4_dt1e-3_vs_reference"]
     out.append(fill(
         "hopf_checks", regimes=", ".join(f"{k} {v} ({100 * v / n:.1f} %)"
@@ -246,6 +247,38 @@ def _hopf(H, Pe, rel):
                             map_arrays=f"{warm['map_arrays_mib']:.1f}",
                             after_sweep=after_sweep, map_time=s(warm["t_map"])))
     return "\n".join(out) + "\n"
+
+
+def _regimes(R):
+    """The per-regime step table; before and after when the run probed both."""
+    if not R:
+        return []
+    ba = R.get("before_after", {})
+    if "speedup" not in ba:
+        cols = {"this run": R["this_run"]}
+    else:
+        cols = {f"before ({ba['commit_before'][:7]})": ba["before"],
+                f"after ({ba['commit_after'][:7]})": ba["after"]}
+    header = ["regime"]
+    for name in cols:
+        header += [f"points, {name}", f"steps a point, {name}", f"share, {name}"]
+    rows = []
+    for i, r in enumerate(next(iter(cols.values()))["rows"]):
+        row = [r["regime"]]
+        for t in cols.values():
+            c = t["rows"][i]
+            row += [c["points"], g(c["steps_mean"]), f"{100 * (c['share'] or 0):.0f} %"]
+        rows.append(row)
+    rows.append(["all"] + sum(([t["points"], g(t["steps_total"] / t["points"]), "100 %"]
+                               for t in cols.values()), []))
+    out = [fill("hopf_regimes"), table(header, rows)]
+    if "speedup" in ba:
+        out.append(fill("hopf_regimes_ba", before=ba["commit_before"][:7],
+                        after=ba["commit_after"][:7], rounds=len(ba["round_medians_s"]["before"]),
+                        t_before=s(ba["median_s_before"]), t_after=s(ba["median_s_after"]),
+                        speedup=g(ba["speedup"]), steps_before=g(ba["before"]["steps_total"]),
+                        steps_after=g(ba["after"]["steps_total"])))
+    return out
 
 
 def _wp(W, Pe, rel):

@@ -35,11 +35,12 @@ def orders():
         print(f"| {meth} | dt = {dts} s | {s[0]:.2f} | {s[1]:.2f} | {sp:.2f} |")
     tols = [1e-6, 1e-8, 1e-10]
     lx = P0.r_y / P0.k + P0.v / P0.omega
-    e0 = [abs(x_end(P0, "dopri5", tol=t) - ref[0]) / lx for t in tols]
-    e1 = [abs(x_end(P1, "dopri5", tol=t) - ref[1]) / lx for t in tols]
-    print(f"| dopri5 | tol = {tols} | error/(tol L) = "
-          f"{', '.join(f'{e / t:.1f}' for e, t in zip(e0, tols))} | "
-          f"{', '.join(f'{e / t:.1f}' for e, t in zip(e1, tols))} | |")
+    for meth in ("dopri5", "dop853"):
+        e0 = [abs(x_end(P0, meth, tol=t) - ref[0]) / lx for t in tols]
+        e1 = [abs(x_end(P1, meth, tol=t) - ref[1]) / lx for t in tols]
+        print(f"| {meth} | tol = {tols} | error/(tol L) = "
+              f"{', '.join(f'{e / t:.2g}' for e, t in zip(e0, tols))} | "
+              f"{', '.join(f'{e / t:.2g}' for e, t in zip(e1, tols))} | |")
     print()
 
 
@@ -55,7 +56,8 @@ def hopf_shift():
         a = sc.attractor(sc.Params(5.0, 50.0, 10.0, v, a1, a2), max_periods=4000, **kw)
         return a.regime in ("slip_cycle", "stick_slip")
     for meth, kw in (("gps", dict(dt=1e-2)), ("gps", dict(dt=1e-3)), ("gps", dict(dt=1e-4)),
-                     ("rk4", dict(dt=1e-2)), ("dopri5", dict(tol=1e-8))):
+                     ("rk4", dict(dt=1e-2)), ("dopri5", dict(tol=1e-8)),
+                     ("dop853", dict(tol=1e-8))):
         lo, hi = 0.8 * vs, 1.5 * vs
         for _ in range(14):
             mid = 0.5 * (lo + hi)

@@ -2,7 +2,8 @@
 
     python studies/run_all.py [--out out/] [--skip hopf_map ...] [--tables]
 
-TOML studies run through the ``sweepcore run`` command; the scripts (paper figures,
+TOML studies run through the ``sweepcore run`` command (``boundary`` and
+``basins`` for those studies); the scripts (paper figures,
 design maps, initial conditions) through their ``main(out)``. ``--tables`` also runs
 the table-printing studies (paper claims, method orders; a few minutes) and keeps
 their output in ``<out>/<name>.md``. Prints the wall time of each.
@@ -19,7 +20,9 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 TOML = ("hopf_map", "belt_speed")
-BOUNDARY = ("boundaries",)         # `sweepcore boundary`, after hopf_map (drawn over it)
+BOUNDARY = ("boundaries", "bstab_hysteresis")  # `sweepcore boundary` (boundaries after
+                                                # hopf_map: drawn over it)
+BASINS = ("bstab_basins",)         # `sweepcore basins`
 SCRIPTS = ("paper_fig3", "paper_fig4", "paper_fig5", "design_map", "initial_conditions")
 TABLES = ("paper_claims", "method_orders")      # print markdown tables, write no files
 
@@ -29,7 +32,7 @@ def main(argv=None) -> int:
     parser.add_argument("--out", type=Path, default=Path("out"),
                         help="output directory (default out/)")
     parser.add_argument("--skip", nargs="*", default=[], metavar="STUDY",
-                        choices=TOML + BOUNDARY + SCRIPTS + TABLES,
+                        choices=TOML + BOUNDARY + BASINS + SCRIPTS + TABLES,
                         help="studies not to run")
     parser.add_argument("--tables", action="store_true",
                         help="also run " + ", ".join(TABLES) + " into <out>/<name>.md")
@@ -38,7 +41,7 @@ def main(argv=None) -> int:
     from sweepcore.cli import main as cli
 
     times = {}
-    names = SCRIPTS + TOML + BOUNDARY + (TABLES if args.tables else ())
+    names = SCRIPTS + TOML + BOUNDARY + BASINS + (TABLES if args.tables else ())
     for name in names:
         if name in args.skip or not (HERE / f"{name}.py").exists() and name in TABLES:
             continue
@@ -49,8 +52,8 @@ def main(argv=None) -> int:
                         str(args.out / f"{name}.png")])
             if code:
                 return code
-        elif name in BOUNDARY:
-            code = cli(["boundary", str(HERE / f"{name}.toml"), "-o",
+        elif name in BOUNDARY + BASINS:
+            code = cli(["boundary" if name in BOUNDARY else "basins", str(HERE / f"{name}.toml"), "-o",
                         str(args.out / f"{name}.nc"), "--png",
                         str(args.out / f"{name}.png")])
             if code:

@@ -6,18 +6,21 @@ Public API::
 
     Params, simulate, attractor, Attractor, Grid, sweep, estimate, SweepTooLarge,
     hopf_boundary,
-    locate_boundaries, continue_boundary, bifurcation_diagram,
+    locate_boundaries, continue_boundary, bifurcation_diagram, slip_cycles,
+    basin_stability,
     open_result, write_netcdf, check_cf,
     plot_result, plot_map, plot_lines, plot_trajectory, plot_cases, plot_friction,
-    plot_diagram, plot_boundaries
+    plot_diagram, plot_hysteresis, plot_boundaries, plot_basins
 
 The plotting functions are those of :mod:`sweepcore.plot` (each returns a
 matplotlib Figure; ``sweepcore.plot.save`` writes one as PNG). They are imported
 on first use, so ``import sweepcore`` does not import matplotlib.
 """
 from .attractor import Attractor, attractor
+from .basins import basin_stability
 from .boundaries import continue_boundary, locate_boundaries
 from .boundary import hopf_boundary
+from .cycles import slip_cycles
 from .diagram import bifurcation_diagram
 from .grid import Grid
 from .io import check_cf, open_result, write_netcdf
@@ -30,12 +33,14 @@ from .sweep import sweep
 __version__ = _version()
 
 PLOTS = ("plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
-         "plot_friction", "plot_diagram", "plot_boundaries")
+         "plot_friction", "plot_diagram", "plot_hysteresis", "plot_boundaries",
+         "plot_basins")
 
 __all__ = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "estimate",
            "SweepTooLarge",
            "hopf_boundary", "locate_boundaries", "continue_boundary",
-           "bifurcation_diagram", "open_result", "write_netcdf", "check_cf", *PLOTS,
+           "bifurcation_diagram", "slip_cycles", "basin_stability",
+           "open_result", "write_netcdf", "check_cf", *PLOTS,
            "__version__"]
 
 

@@ -62,7 +62,7 @@ def attractor(params: Params, x0: float = 0.0, xdot0: float | None = None,
         ``sweepcore._kernels.codes``).
     tol : float
         Accuracy asked of the observables, relative to the point's length scale
-        L = r_y/k + |v|/omega: the dopri5 tolerance, tightened per cycle where the
+        L = r_y/k + |v|/omega: the adaptive stepper's tolerance, tightened per cycle where the
         cycle's weak contraction amplifies the integration error.
     **options
         dt, max_steps, max_periods, gps_a, graze (see ``make_options``).

@@ -1,10 +1,18 @@
 """Bifurcation diagrams: attractors followed along one parameter, up and down.
 
-Each point starts from the previous point's attractor, at its largest ``x`` and at
-rest (``x0 = x_max``, ``xdot0 = 0``), so a branch is followed as long as it exists;
-the down scan starts from the last attractor of the up scan. Coexisting attractors
-show up as branches that differ between the two directions (hysteresis); with the
-supercritical Hopf point of Liu's model (docs/physics.md) they coincide.
+Each point starts from the previous point's attractor, so a branch is followed as
+long as it exists: a slip cycle or the equilibrium from its largest ``x``, at rest
+(``x0 = x_max``, ``xdot0 = 0``); a stick-slip cycle from the belt (stuck at its
+``x_min``): every state on the belt lies outside the slip cycles, which stay below
+belt speed, so the stick-slip branch is kept up to its very end (the fold where it
+meets the unstable slip cycle). The down scan starts from the last attractor of the
+up scan (``sweep="both"``). Coexisting attractors show up as branches that differ
+between the two directions (hysteresis: with a subcritical Hopf point the up scan
+stays on stick-slip up to the fold, the down scan on steady sliding down to the
+Hopf point); with the supercritical Hopf point of Liu's model (docs/physics.md)
+they coincide. The unstable slip cycles between the two (the boundary of the
+equilibrium's basin) come from the cycle scan (``_kernels/cycles.py``) and are
+stored as their own branch, the ``unstable_*`` variables.
 """
 from __future__ import annotations
 
@@ -13,7 +21,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from . import execute, labels, variables
+from . import execute, labels, law, variables
 from ._kernels import codes, layout
 from .boundaries import locate_boundaries
 from .grid import AXES, COLUMNS, Grid
@@ -21,14 +29,18 @@ from .options import checked_keywords, did_you_mean, make_options
 from .params import LONG_NAMES, UNITS
 
 BRANCHES = ("up", "down")
+SWEEPS = {"up": ("up",), "down": ("down",), "both": BRANCHES}
 DIAGRAM_VARIABLES = ("x_max", "x_min", "mean", "amplitude", "floquet", "xdot_max",
                      "period", "stick_fraction")
+UNSTABLE_VARIABLES = ("x_max", "x_min", "mean", "amplitude", "floquet", "xdot_max",
+                      "period")
 
 
 def _follow(base: np.ndarray, col: int, values, start, o) -> np.ndarray:
     """Observables (len(values), NOBS) along ``values``, each point started from the
-    previous attractor (x_max, at rest); ``start`` (x0, xdot0 or NaN) for the first
-    and after a point without an attractor."""
+    previous attractor (x_max, at rest; stick-slip: stuck on the belt at x_min);
+    ``start`` (x0, xdot0 or NaN) for the first and after a point without an
+    attractor."""
     out = np.empty((len(values), layout.NOBS))
     x0, xd0 = start
     row = base.copy()[None, :]
@@ -37,18 +49,31 @@ def _follow(base: np.ndarray, col: int, values, start, o) -> np.ndarray:
         row[0, layout.X0] = x0
         row[0, layout.XD0] = row[0, layout.V] if np.isnan(xd0) else xd0
         execute.attractors(row, o, out[i:i + 1], parallel=False)
-        if int(out[i, layout.OB_STATUS]) == codes.OK and \
-                np.isfinite(out[i, layout.OB_X_MAX]):
-            x0, xd0 = out[i, layout.OB_X_MAX], 0.0
-        else:
-            x0, xd0 = start
+        x0, xd0 = _next_start(out[i], start)
     return out
+
+
+def _next_start(obs: np.ndarray, start):
+    """The start of the next point from the observables of this one."""
+    if int(obs[layout.OB_STATUS]) != codes.OK or not np.isfinite(obs[layout.OB_X_MAX]):
+        return start
+    if int(obs[layout.OB_REGIME]) == codes.R_STICK_SLIP:
+        return obs[layout.OB_X_MIN], math.nan
+    return obs[layout.OB_X_MAX], 0.0
+
+
+def _unstable(base: np.ndarray, along: str, values, o) -> np.ndarray:
+    """Observables (len(values), NOBS) of the largest unstable slip cycle at each
+    value (NaN where none): :func:`sweepcore.boundaries.fold.unstable_cycles`."""
+    from .boundaries.fold import unstable_cycles
+    from .boundaries.point import _Point
+    return unstable_cycles(_Point(base, along), values, o)
 
 
 @checked_keywords(options=True)
 def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
-                        tol: float = 1e-10, method: str = "auto",
-                        **options) -> xr.Dataset:
+                        tol: float = 1e-10, method: str = "auto", sweep: str = "both",
+                        unstable: bool = True, **options) -> xr.Dataset:
     """Attractors along ``along``, followed up and down (hysteresis scan).
 
     Parameters
@@ -62,17 +87,28 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
     boundaries : bool
         Also locate the Hopf point and the stick onset inside the range
         (:func:`sweepcore.locate_boundaries`) and store them, to mark them.
+    sweep : {"both", "up", "down"}
+        Direction of the scan: "up" (increasing ``along``, from the grid's start
+        at the lowest value), "down" (decreasing, from that start at the highest
+        value) or "both" (up, then down from the up scan's last attractor).
+    unstable : bool
+        Also store the unstable slip cycles (the ``unstable_*`` variables).
     tol, method, **options
         As :func:`sweepcore.attractor`.
 
     Returns
     -------
     xarray.Dataset
-        Dimensions ``branch`` ("up", "down") and ``along``: x_max, x_min, mean,
-        amplitude, floquet, xdot_max, period, stick_fraction (units from
-        :data:`sweepcore.variables.OBSERVABLES`), regime and status flags; the
-        analytic ``v_star``; with ``boundaries``, ``v_hopf`` and ``v_stick_onset``.
+        Dimensions ``branch`` (the scans of ``sweep``) and ``along``: x_max,
+        x_min, mean, amplitude, floquet, xdot_max, period, stick_fraction (units
+        from :data:`sweepcore.variables.OBSERVABLES`), regime and status flags;
+        with ``unstable``, ``unstable_x_max`` ... ``unstable_period`` over
+        ``along`` (NaN where there is none); the analytic ``v_star`` and
+        ``hopf_criticality``; with ``boundaries``, ``v_hopf``, ``v_stick_onset``,
+        ``v_hopf_subcritical`` and ``v_fold``.
     """
+    if sweep not in SWEEPS:
+        raise ValueError(f"sweep must be one of {tuple(SWEEPS)}, got {sweep!r}")
     if along not in AXES[:6]:
         raise ValueError(f"along must be one of {AXES[:6]}, got {along!r}"
                          f"{did_you_mean(along, AXES[:6])}")
@@ -91,11 +127,13 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
     x0, xd0 = grid.axis("x0"), grid.axis("xdot0")
     start = (x0, math.nan if xd0 is None else xd0)
     col = COLUMNS[along]
-    up = _follow(base, col, values, start, o)
-    last = (up[-1, layout.OB_X_MAX], 0.0) if int(up[-1, layout.OB_STATUS]) == codes.OK \
-        else start
-    down = _follow(base, col, values[::-1], last, o)[::-1]
-    cols = np.stack([up, down])                 # (branch, along, NOBS)
+    scans = []
+    if sweep != "down":
+        scans.append(_follow(base, col, values, start, o))
+    if sweep != "up":
+        first = _next_start(scans[0][-1], start) if scans else start
+        scans.append(_follow(base, col, values[::-1], first, o)[::-1])
+    cols = np.stack(scans)                      # (branch, along, NOBS)
 
     dims = ("branch", along)
     data = {}
@@ -109,25 +147,40 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
               if n not in (along, "x0", "xdot0")}
     coords[along] = xr.Variable(along, values, {"units": UNITS[along],
                                                 "long_name": LONG_NAMES[along]})
-    coords["branch"] = xr.Variable("branch", np.array(BRANCHES), {
+    coords["branch"] = xr.Variable("branch", np.array(SWEEPS[sweep]), {
         "units": "1", "long_name": "direction of the scan (each point started "
                                    "from the previous attractor)"})
+    if unstable:
+        cyc = _unstable(base, along, values, o)
+        for name in UNSTABLE_VARIABLES:
+            c, units, long_name, *rest = variables.OBSERVABLES[name]
+            data["unstable_" + name] = ((along,), cyc[:, c], labels.attrs(
+                units, long_name.replace("the attractor", "the cycle")
+                + " (unstable slip cycle)",
+                "largest slip cycle with Floquet multiplier > 1 (cycle scan of the "
+                "return map); NaN where there is none"))
     ds = xr.Dataset(data, coords)
     ds["v_star"] = labels.analytic("v_star", ds).variable
+    ds["hopf_criticality"] = xr.Variable((), law.criticality_code(
+        float(labels.analytic("first_lyapunov", ds))), labels.flags(
+        law.CRITICALITY, "kind of the Hopf point v_star (sign of the first Lyapunov "
+                         "coefficient)"))
     if boundaries:
         found = locate_boundaries(Grid(**{**kw, along: values}), along=along,
                                   tol=min(tol, 1e-10), method=method, **options)
-        for name in ("v_hopf", "v_stick_onset"):
+        for name in ("v_hopf", "v_stick_onset", "v_hopf_subcritical", "v_fold"):
             ds[name] = xr.Variable((), float(found[name].values), found[name].attrs)
     ds.attrs.update({
         **labels.provenance(
             f"Bifurcation diagram of the stick-slip friction oscillator along {along}",
             f"sweepcore.bifurcation_diagram({grid!r}, along={along!r}, tol={tol!r}, "
-            f"method={method!r})",
-            "attractors followed up and down, each started from the previous one "
-            "(x0 = x_max, xdot0 = 0)", "Units kN, cm, s."),
+            f"method={method!r}, sweep={sweep!r}, unstable={unstable!r})",
+            "attractors followed up and/or down, each started from the previous one "
+            "(x0 = x_max, xdot0 = 0; stick-slip: stuck on the belt at x_min)",
+            "Units kN, cm, s."),
         "sweepcore_kind": "bifurcation_diagram",
         "along": along,
         "tol": float(tol),
+        "sweep": sweep,
     })
     return ds

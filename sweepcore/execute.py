@@ -17,7 +17,9 @@ task finishes (``handle(i, result)``), so a caller can store them and hold no mo
 than it needs.
 
 :func:`attractors` is the one call of the attractor kernel on a batch of rows, for
-callers that batch their own requests (the boundary solvers, the diagrams).
+callers that batch their own requests (the boundary solvers, the diagrams, the
+basins); :func:`cycles` the same for the slip-cycle search (stable and unstable
+cycles, ``sweepcore/_kernels/cycles.py``).
 """
 from __future__ import annotations
 
@@ -29,6 +31,7 @@ import numba
 import numpy as np
 
 from ._kernels.attractor import _LANES, attractor_rows, attractor_rows_parallel
+from ._kernels.cycles import slip_cycles_rows, slip_cycles_rows_parallel
 from .options import did_you_mean
 
 LOCAL_SCHEDULERS = {"threads": "threads", "processes": "processes",
@@ -167,12 +170,25 @@ def attractors(P: np.ndarray, o: np.ndarray, out: np.ndarray, parallel: bool) ->
     only: batches below ``threads * _LANES`` rows are shared by Python threads
     instead, row by row (the kernel releases the GIL).
     """
+    _batched(attractor_rows, attractor_rows_parallel, P, o, (out,), parallel)
+
+
+def cycles(P: np.ndarray, o: np.ndarray, out: np.ndarray, found: np.ndarray,
+           parallel: bool) -> None:
+    """``slip_cycles_rows`` over the rows of P (``out`` of shape (n, MAX_CYCLES,
+    NOBS), ``found`` (n,) int64), shared out as :func:`attractors` does."""
+    _batched(slip_cycles_rows, slip_cycles_rows_parallel, P, o, (out, found), parallel)
+
+
+def _batched(serial, parallel_kernel, P, o, outs, parallel: bool) -> None:
+    """``serial(P, o, *outs)`` on every numba thread if ``parallel`` (the rule of
+    :func:`attractors`); ``outs`` are indexed by row like P."""
     n = P.shape[0]
     threads = numba.get_num_threads() if parallel else 1
     if threads == 1 or n == 1:
-        attractor_rows(P, o, out)
+        serial(P, o, *outs)
     elif n >= threads * _LANES:
-        attractor_rows_parallel(P, o, out)
+        parallel_kernel(P, o, *outs)
     else:
         if not _POOL:
             _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="sweepcore"))
@@ -184,5 +200,5 @@ def attractors(P: np.ndarray, o: np.ndarray, out: np.ndarray, parallel: bool) ->
             for i in rows:
                 if i >= n:
                     return
-                attractor_rows(P[i:i + 1], o, out[i:i + 1])
+                serial(P[i:i + 1], o, *(a[i:i + 1] for a in outs))
         list(_POOL[0].map(work, range(min(threads, n))))

@@ -14,7 +14,8 @@ from ._kernels import codes, layout, stepper
 METHODS = ("auto", *codes.METHOD_CODES)
 CLOSED_FORM = tuple(row[0] for row in stepper.METHODS if row[5])
 AUTO = -1.0   # resolved per point in the kernel: a closed form where the law allows
-              # one (no cubic and no Stribeck term), else dopri5
+              # one (no cubic and no Stribeck term), else dop853 below tol 1e-7
+              # and dopri5 from it up (stepper.auto_method)
 MAX_STEPS_CAP = 2**53   # largest integer a float64 option row holds exactly
 # Largest touch tolerance: the accuracy of an answer (1e-6 relative). A touch reset to
 # the breakaway point drops the excursion of zdot past 0; above this it can drop a
@@ -38,11 +39,13 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
 
     Parameters
     ----------
-    method : {"auto", "exact", "gps", "rk4", "dopri5"}
+    method : {"auto", "exact", "gps", "rk4", "dopri5", "dop853"}
         Stepper (the kernels' method table). "auto" is exact where the law is
-        piecewise linear (alpha2 = 0, no Stribeck term), else dopri5 at ``tol``.
+        piecewise linear (alpha2 = 0, no Stribeck term), else dop853 for
+        ``tol < 1e-7`` and dopri5 from 1e-7 up (the faster pair there).
     tol : float
-        Relative tolerance of dopri5, and of convergence detection of attractors.
+        Relative tolerance of the adaptive steppers, and of convergence detection
+        of attractors.
     dt : float, optional
         Fixed step of gps and rk4 [s]; default 2 pi / omega / 50 per point.
     max_steps : int
@@ -54,7 +57,8 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
         GPS shift constant a [cm]; default the point's length scale r_y/k + |v|/omega.
     graze : float
         Relative tolerance that decides a tangential touch of zdot = 0 (of the
-        motion's velocity scale |v|), in (0, 1e-6]; dopri5 uses at least 20 tol.
+        motion's velocity scale |v|), in (0, 1e-6]; the adaptive steppers use at
+        least 20 tol.
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}"

@@ -44,7 +44,7 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
         "auto" or a stepper of ``sweepcore.options.METHODS`` (the method table of
         ``sweepcore._kernels.stepper``); "exact" (closed-form arcs) needs a
         piecewise-linear law (alpha2 = 0, no Stribeck term); "auto" picks it then,
-        else dopri5.
+        else dop853 (tol < 1e-7) or dopri5.
     output_dt : float, optional
         Sampling interval [s]; default 2 pi / omega / 100 (at most 10^6 samples).
     tol, dt, max_steps, gps_a, graze :

@@ -37,6 +37,7 @@ import numpy as np
 from .options import METHODS
 from . import law
 from .params import LONG_NAMES, RULES, UNITS, check_real
+from .study_basins import basins_table
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -50,7 +51,8 @@ SPACINGS = ("linear", "geometric")
 RANGE_KEYS = ("start", "stop", "num", "spacing")
 MAX_POINTS = 50_000_000
 
-TOP_KEYS = ("title", "description", "axes", "solver", "output", "plot", "boundary")
+TOP_KEYS = ("title", "description", "axes", "solver", "output", "plot", "boundary",
+            "basins")
 SOLVER_KEYS = ("method", "tol", "chunks", "dt", "max_steps", "max_periods", "gps_a",
                "graze")
 OUTPUT_KEYS = ("path", "png")
@@ -121,6 +123,7 @@ class Study:
     png: str | bool | None = None
     plot: dict = field(default_factory=dict)
     boundary: dict = field(default_factory=dict)
+    basins: dict = field(default_factory=dict)
 
     @property
     def stem(self) -> str:
@@ -400,7 +403,7 @@ def _plot(ck: _Checker, doc: dict, axes: dict) -> dict:
 
 
 BOUNDARY_KEYS = ("along", "bracket", "xtol", "scan", "offset", "tol", "continuation",
-                 "diagram", "over", "path", "png")
+                 "diagram", "sweep", "over", "path", "png")
 BOUNDARY_ALONG = law.PARAMETERS
 
 
@@ -414,7 +417,7 @@ def _boundary(ck: _Checker, doc: dict, axes: dict) -> dict:
     kp = lambda key: ("boundary", key)   # noqa: E731
     out = {"along": "v", "xtol": 1e-9, "scan": 32, "offset": 5e-3, "tol": 1e-10,
            "continuation": None, "diagram": False, "over": None, "path": None,
-           "png": None, "bracket": None}
+           "png": None, "bracket": None, "sweep": "both"}
     if "along" in table:
         out["along"] = ck.string(kp("along"), table["along"], BOUNDARY_ALONG)
     along = out["along"]
@@ -465,6 +468,11 @@ def _boundary(ck: _Checker, doc: dict, axes: dict) -> dict:
         if val and out["continuation"]:
             ck.fail(kp("diagram"), "choose a diagram or a continuation, not both")
         out["diagram"] = val
+    if "sweep" in table:
+        out["sweep"] = ck.string(kp("sweep"), table["sweep"], ("up", "down", "both"))
+        if not out["diagram"]:
+            ck.fail(kp("sweep"), "the scan direction applies to a diagram "
+                                 "(diagram = true)")
     for key, suffix in (("over", ".nc"), ("path", ".nc"), ("png", ".png")):
         if key in table:
             name = ck.string(kp(key), table[key])
@@ -501,11 +509,12 @@ def parse_study(text: str, path: str | Path | None = None) -> Study:
     output = _output(ck, doc)
     plot = _plot(ck, doc, axes)
     boundary = _boundary(ck, doc, axes)
+    basins = basins_table(ck, doc, axes)
     return Study(path=Path(path) if path is not None else None, text=text, title=title,
                  description=description, axes=axes, method=solver["method"],
                  tol=solver["tol"], chunks=solver["chunks"], options=solver["options"],
                  output_path=output["path"], png=output["png"], plot=plot,
-                 boundary=boundary)
+                 boundary=boundary, basins=basins)
 
 
 def load_study(path: str | Path) -> Study:

@@ -77,3 +77,39 @@ ANALYTIC = {
 STICK_ONSET_ESTIMATE = ("cm s-1", "averaging estimate 2 v*/sqrt(5) of the stick onset",
                         "the averaged cycle's velocity amplitude 2 sqrt(v*^2 - v^2) "
                         "reaches v")
+
+# slip cycles of the return-map scan (sweepcore.cycles), stable and unstable, over
+# the dimension ``cycle``: name -> (column of the observables row, units, long_name,
+# comment)
+CYCLE_OBSERVABLES = {
+    "cycle_amplitude": (layout.OB_AMPLITUDE, "cm", "amplitude of the slip cycle",
+                        "half peak-to-peak of x on the cycle"),
+    "cycle_mean": (layout.OB_MEAN, "cm", "mean position on the slip cycle", ""),
+    "cycle_x_max": (layout.OB_X_MAX, "cm", "largest x on the slip cycle",
+                    "its section point (at rest) for v > 0"),
+    "cycle_x_min": (layout.OB_X_MIN, "cm", "smallest x on the slip cycle", ""),
+    "cycle_xdot_max": (layout.OB_XDOT_MAX, "cm s-1", "largest velocity on the slip cycle",
+                       "below v: the cycle never reaches the belt; it grazes at v"),
+    "cycle_period": (layout.OB_PERIOD, "s", "period of the slip cycle", ""),
+    "cycle_floquet": (layout.OB_FLOQUET, "1", "Floquet multiplier of the slip cycle",
+                      "slope of the return map at the cycle: < 1 stable, > 1 unstable "
+                      "(in the plane a basin boundary)"),
+}
+N_CYCLES = ("1", "number of slip cycles found",
+            "stop-free slip cycles bracketed by the scan of the return map, stable "
+            "and unstable")
+CYCLE_STABILITY = "stability of the slip cycle (Floquet multiplier below or above 1)"
+
+# basin stability (sweepcore.basins), over the grid's dimensions and ``attractor``
+BASIN_FRACTION = ("1", "basin fraction of the attractor",
+                  "share of the box of start states (x0, xdot0) that ends on it")
+BASIN_FRACTION_ERROR = ("1", "error of the basin fraction",
+                        "exact route: bound from the polygon's discretisation and the "
+                        "cycle's tolerance; sampled route: binomial standard error "
+                        "sqrt(f (1 - f) / N)")
+N_ATTRACTORS = ("1", "number of attractors found in the box",
+                "distinct attractors the starts of the point end on (unconverged and "
+                "failed runs not counted)")
+SAMPLES = ("1", "starts run for the point",
+           "sampled route: the Monte-Carlo starts; exact route: the checks of its "
+           "premise")

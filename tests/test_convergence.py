@@ -107,3 +107,62 @@ def test_dormand_prince_tableau_conditions():
     for q in range(1, 5):
         assert (bh * c ** (q - 1)).sum() == pytest.approx(1.0 / q, abs=1e-14)
     assert abs((bh * c ** 4).sum() - 1.0 / 5) > 1e-6   # and no higher: the 4th-order pair
+
+
+def _dop853_tableau():
+    """A, b, c and the two error weights of dop853, read back from its constants."""
+    import re
+
+    from sweepcore._kernels import dop853 as d
+    A, c, b, e5, e3 = (np.zeros((12, 12)),) + tuple(np.zeros(12) for _ in range(4))
+    for name in dir(d):
+        for pat, arr in ((r"C(\d+)", c), (r"B(\d+)", b), (r"E5_(\d+)", e5),
+                         (r"E3_(\d+)", e3)):
+            m = re.fullmatch(pat, name)
+            if m:
+                arr[int(m[1]) - 1] = getattr(d, name)
+        m = re.fullmatch(r"A(\d+)_(\d+)", name)
+        if m:
+            A[int(m[1]) - 1, int(m[2]) - 1] = getattr(d, name)
+    return A, b, c, e5, e3
+
+
+def test_dop853_tableau_conditions():
+    """Row sums of A equal c; b meets the quadrature conditions to order 8 and not 9,
+    and the trees of order 4 and 5 (a typo in one coefficient breaks them); the
+    embedded weights b - E5 and b - E3 are of order 5 and 3 exactly (Hairer,
+    Norsett & Wanner, Solving ODEs I, II.10)."""
+    A, b, c, e5, e3 = _dop853_tableau()
+    np.testing.assert_allclose(A.sum(axis=1), c, atol=1e-15)
+    for q in range(1, 9):
+        assert (b * c ** (q - 1)).sum() == pytest.approx(1.0 / q, abs=1e-14)
+    assert abs((b * c ** 8).sum() - 1.0 / 9) > 1e-6
+    for lhs, rhs in ((b @ A @ c, 1 / 6), ((b * c) @ A @ c, 1 / 8), (b @ A @ c ** 2, 1 / 12),
+                     (b @ A @ A @ c, 1 / 24), ((b * c * c) @ A @ c, 1 / 10),
+                     (b @ A @ c ** 4, 1 / 30)):
+        assert lhs == pytest.approx(rhs, abs=1e-14)
+    for e, order in ((e5, 5), (e3, 3)):
+        for q in range(1, order + 1):
+            assert ((b - e) * c ** (q - 1)).sum() == pytest.approx(1.0 / q, abs=1e-14)
+        assert abs(((b - e) * c ** order).sum() - 1.0 / (order + 1)) > 1e-4
+
+
+@pytest.mark.parametrize("p", [P0, P1], ids=["alpha2=0 vs exact", "alpha2>0 vs tight"])
+def test_dop853_error_stays_below_tolerance(refs, p):
+    """dop853's error estimate is of order 7 in the step, conservative at loose
+    tolerances (there the step is bounded by the driver, not by the error): the
+    error is below tol L at every tolerance, never grows as tol falls, and falls by
+    10x at least over the ladder."""
+    tols = [1e-6, 1e-8, 1e-10]
+    err = np.array([abs(x_end(p, "dop853", tol=t) - refs[p]) for t in tols])
+    lx = p.r_y / p.k + abs(p.v) / p.omega
+    assert (err < np.array(tols) * lx).all()
+    assert (np.diff(err) <= 0).all() and err[-1] < 0.1 * err[0]
+
+
+def test_dop853_and_dopri5_agree_on_a_stick_slip_cycle():
+    """Two pairs, one answer: the stick-slip period and amplitude at tol 1e-12."""
+    a, b = (sc.attractor(P1, method=m, tol=1e-12) for m in ("dopri5", "dop853"))
+    assert a.regime == b.regime == "stick_slip"
+    assert abs(a.period - b.period) < 1e-11 * a.period
+    assert abs(a.amplitude - b.amplitude) < 1e-11 * (P1.r_y / P1.k + P1.v / P1.omega)

@@ -69,3 +69,54 @@ def test_rows_kernel_equals_the_point_kernel():
         want = cycles(p)
         assert found[i] == len(want)
         np.testing.assert_array_equal(out[i, :found[i]], want)
+
+
+# ------------------------------------------------------------------ the Python API
+def test_slip_cycles_dataset_is_the_kernel_labelled(tmp_path):
+    """sweepcore.slip_cycles: the kernel's rows over the grid and ``cycle``, with
+    units and flags (CF), written and read back unchanged."""
+    vs = np.array([1.0, 1.175, 1.5, 2.0])
+    g = sc.Grid(**BSTAB, v=vs)
+    ds = sc.slip_cycles(g, chunks=3, path=tmp_path / "c.nc")
+    assert ds.sizes == {"v": 4, "cycle": 1}
+    assert list(ds.n_cycles.values) == [0, 1, 1, 0]
+    for i, v in enumerate(vs):
+        want = cycles(sc.Params(**BSTAB, v=v))
+        for j, row in enumerate(want):
+            assert ds.cycle_amplitude.values[i, j] == row[L.OB_AMPLITUDE]
+            assert ds.cycle_floquet.values[i, j] == row[L.OB_FLOQUET]
+            assert ds.cycle_period.values[i, j] == row[L.OB_PERIOD]
+    # both cycles of the band are unstable; the unused slots say none
+    assert list(ds.cycle_stability.values[:, 0]) == [-1, 1, 1, -1]
+    assert ds.cycle_stability.attrs["flag_meanings"].split() == [
+        "none", "stable", "unstable", "undetermined"]
+    assert ds.cycle_amplitude.attrs["units"] == "cm"
+    assert ds.cycle_period.attrs["units"] == "s"
+    assert sc.check_cf(ds) == []
+    back = sc.open_result(tmp_path / "c.nc")
+    np.testing.assert_array_equal(back.cycle_floquet.values, ds.cycle_floquet.values)
+    np.testing.assert_array_equal(back.cycle_stability.values,
+                                  ds.cycle_stability.values)
+
+
+def test_slip_cycles_refusals():
+    with pytest.raises(ValueError, match="x0"):
+        sc.slip_cycles(sc.Grid(**BSTAB, v=1.5, x0=np.array([0.0, 1.0])))
+    with pytest.raises(ValueError, match="gps"):
+        sc.slip_cycles(sc.Grid(**BSTAB, v=1.5), method="gps")
+    with pytest.raises(TypeError, match="Grid"):
+        sc.slip_cycles(sc.Params(**BSTAB, v=1.5))
+
+
+def test_cycle_polygon_closes_on_the_cycle():
+    """The polygon of the unstable cycle closes after one period (to the cycle's
+    tolerance, amplified by the multiplier) and spans [x_min, x_max] of the scan;
+    its maximal velocity is the scan's xdot_max."""
+    from sweepcore.cycles import cycle_polygon
+    p = sc.Params(**BSTAB, v=1.5)
+    (row,) = cycles(p)
+    x, xd, gap, ok = cycle_polygon(p.row(0.0, p.v), row, make_options(), 4000)
+    assert ok and gap < 1e-6
+    assert x.max() == pytest.approx(row[L.OB_X_MAX], abs=1e-12)
+    assert x.min() == pytest.approx(row[L.OB_X_MIN], abs=1e-5)
+    assert xd.max() == pytest.approx(row[L.OB_XDOT_MAX], abs=1e-5)

@@ -49,13 +49,26 @@ def test_a_return_at_the_fixed_point_is_accepted_with_its_slope_as_multiplier():
 def test_acceptance_waits_for_returns_computed_finely_enough():
     """The integrator's noise is amplified by 1/(1 - P'): the returns must be
     computed at rtol <= tol (1 - P')/2 before a residual is believed; a coarser
-    tolerance is lowered to exactly that (and Newton goes on meanwhile)."""
+    tolerance is lowered to 90 % of that (the slope moves in its last digits between
+    iterates; the bound must hold for the accepted return) and Newton goes on."""
     a_star, lam = 0.8, 0.9
     a0 = a_star + 1e-10
     action, _v, rtol, *_ = decide(a0, linear_return(a0, a_star, lam), lam,
                                   rtol_h1=1e-8, rtol=1e-8)
     assert action != S.ACCEPT
-    assert rtol == pytest.approx(0.5 * TOL * (1 - lam))
+    assert rtol == pytest.approx(0.9 * 0.5 * TOL * (1 - lam))
+
+
+def test_newton_iterates_keep_the_users_tolerance_until_the_last_two_returns():
+    """Far from the fixed point a Newton jump keeps the tolerance in force; once the
+    iterate after next is predicted within the acceptance bound (Newton's error
+    squares), the returns from here on are computed at 90 % of tol (1 - P')/2."""
+    a_star, lam = 0.8, 0.5
+    for a0, lowered in ((1.0, False), (a_star + 1e-6, True)):
+        action, _v, rtol, *_ = decide(a0, linear_return(a0, a_star, lam), lam,
+                                      rtol_h1=1e-8, rtol=1e-8)
+        assert action == S.NEWTON_JUMP
+        assert rtol == (pytest.approx(0.9 * 0.5 * TOL * (1 - lam)) if lowered else 1e-8)
 
 
 def test_an_expanding_return_is_followed():
@@ -76,6 +89,15 @@ def test_no_newton_step_across_a_change_of_itinerary():
     action, *_ = decide(a0, linear_return(a0, a_star, lam), lam, e1=0, e2=2,
                         rtol_h1=1e-12, rtol=1e-12)
     assert action == S.FOLLOW
+
+
+def test_newton_steps_from_the_first_whole_return_after_a_partial_one():
+    """The return before a0 that ends the start's transient has an unknown itinerary
+    (-1): the slope of the whole return a0 -> a1 is used at once."""
+    a0, a_star, lam = 1.0, 0.8, 0.5
+    action, value, *_ = decide(a0, linear_return(a0, a_star, lam), lam, e1=-1, e2=2,
+                               rtol_h1=1e-12, rtol=1e-12)
+    assert action == S.NEWTON_JUMP and value == pytest.approx(a_star, rel=1e-14)
 
 
 def test_a_jump_that_did_not_halve_the_distance_rests_newton_for_three_returns():

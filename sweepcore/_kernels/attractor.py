@@ -49,7 +49,7 @@ from .sections import (ACCEPT, ACCEPT_FLOOR, ACCEPT_NF, NEUTRAL, NF_JUMP,
                        newton_decision, note_event, own_map_step, push_section,
                        static_belt_decision, undo_jump)
 from .return_map import return_slope
-from .stepper import CLOSED_FORM
+from .stepper import CLOSED_FORM, auto_method
 
 EPS = np.finfo(np.float64).eps
 
@@ -139,12 +139,13 @@ def answer_failure(out, w, acc, status, n_steps, unbounded):
 def resolve_options(p, o_in):
     """Per-point option row: 'auto' method, default dt and GPS shift resolved."""
     o = o_in.copy()
-    if o[O_METHOD] < 0.0:
-        o[O_METHOD] = codes.EXACT if piecewise_linear(p) else codes.DOPRI5
     omega = math.sqrt(p[K] / p[M])
+    lx, lv = scales(p)
+    if o[O_METHOD] < 0.0:
+        o[O_METHOD] = auto_method(piecewise_linear(p), o[O_RTOL],
+                                  EPS * lx * omega / max(lv, 1e-300))
     if not o[O_DT] > 0.0:
         o[O_DT] = 2.0 * math.pi / omega / 50.0
-    lx, lv = scales(p)
     o[O_LX] = lx
     o[O_LV] = lv
     if np.isnan(o[O_GPS_A]):
@@ -274,6 +275,10 @@ def on_event(ev, st, p, o, w, acc, out):
     if not ((ev == codes.EV_XMAX and v > 0.0) or (ev == codes.EV_XMIN and v < 0.0)
             or (v == 0.0 and ev == codes.EV_NORMAL_STOP and st[S_X] > 0.0)):
         note_event(w, p, ev, st[S_X], w[W_MODE0], st[S_MODE])
+        if (ev == codes.EV_XMIN or ev == codes.EV_XMAX) and _at_rest(st, p, w):
+            # the other extremum: half a period sooner for a fast decay
+            answer_rest(out, x_eq(p), w[W_T_OFF] + t, codes.R_EQUILIBRIUM, False, st[S_N])
+            return True
         return False
     if _at_rest(st, p, w):
         answer_rest(out, x_eq(p), w[W_T_OFF] + t, codes.R_EQUILIBRIUM, False, st[S_N])

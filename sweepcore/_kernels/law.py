@@ -402,32 +402,32 @@ def certified_rest(x, zd, p):
     ``-|v|`` and ``-|v| + w``. On the sublevel set through the state, ``|w| <= W =
     sqrt(2E/m)``; if ``W < |v|`` (no sticking) and ``c + S > 0`` for every such w, E
     decreases, the set is invariant and the motion converges to x_eq (LaSalle).
-    Lower bound of ``c + S``: ``c - alpha1 + 3 alpha2 |v| (|v| - W)`` for the
-    polynomial part (for it the test reads ``W < m|q|/(3 alpha2 |v|)``) plus the
-    smallest slope of the Stribeck term over ``|s + |v|| <= W`` (its slope is monotone).
+    The polynomial part of S is exact, ``-alpha1 + alpha2 (3 v^2 - 3 v w + w^2)``,
+    least at ``w = W`` (its minimum in w lies at 1.5 |v| > W); the Stribeck term's
+    slope is monotone, least at one end of ``|s + |v|| <= W``. A margin of 1e-12 of
+    the terms' size keeps rounding from deciding.
     """
     v = p[V]
     if v == 0.0:
         return False
-    m = p[M]
-    qq = q(p)
-    if not qq < 0.0:
+    if not q(p) < 0.0:
         return False
+    m = p[M]
     y = x - x_eq(p)
     yd = zd + v
     vel = math.sqrt(yd * yd + p[K] / m * y * y)     # sqrt(2E/m)
     va = abs(v)
-    d = p[RY] - p[RK]
-    if d == 0.0:
-        lim = va
-        if p[A2] > 0.0:
-            lim = min(lim, m * abs(qq) / (3.0 * p[A2] * va))
-        return vel < lim
     if not vel < va:
         return False
-    s_end = -va + vel if d > 0.0 else -va - vel      # where the Stribeck slope is least
-    smin = -d / p[VS] * math.exp(s_end / p[VS])
-    return p[C] - p[A1] + 3.0 * p[A2] * va * (va - vel) + smin > 0.0
+    poly = p[A2] * (3.0 * va * (va - vel) + vel * vel)
+    size = abs(p[C]) + abs(p[A1]) + 3.0 * p[A2] * va * va
+    d = p[RY] - p[RK]
+    smin = 0.0
+    if d != 0.0:
+        s_end = -va + vel if d > 0.0 else -va - vel  # where the Stribeck slope is least
+        smin = -d / p[VS] * math.exp(s_end / p[VS])
+        size += abs(d) / p[VS]
+    return p[C] - p[A1] + poly + smin > 1e-12 * size
 
 
 # ------------------------------------------------- closed forms (linear laws)

@@ -94,7 +94,9 @@ def push_section(w, acc, x, t):
     w[W_TH + 3] = t
     w[W_E] = w[W_E + 1]
     w[W_E + 1] = w[W_E + 2]
-    w[W_E + 2] = w[W_N_EV]
+    # the first section after a start or a reset ends a partial return: its
+    # itinerary is unknown (-1), not that of a whole return
+    w[W_E + 2] = w[W_N_EV] if w[W_N_SEC] >= 1.0 else -1.0
     w[W_N_EV] = 0.0
     w[W_SALTH] = w[W_SALTH + 1]
     w[W_SALTH + 1] = w[W_SALT]
@@ -206,10 +208,11 @@ def newton_decision(a0, a1, dP, xe, e1, e2, rtol_h0, rtol_h1, rtol_int, tol, lx,
         accept = max(accept, 4.0 * RTOL_FLOOR * lx / gap)
     if err0 <= accept and fine:
         return (ACCEPT_FLOOR if floor else ACCEPT), dP, rtol_int, newton_rest, err0
-    if not fine and (err0 <= 4.0 * rtol_h1 * lx / gap or need >= 0.1 * tol):
-        # (a tolerance within 10x of the user's costs < 1.6x the steps: take it at
-        # once rather than pay the two returns that a late switch needs)
-        rtol_int = max(need, RTOL_FLOOR)
+    # 10 % below the bound: the slope moves in its last digits from one iterate to
+    # the next, and the bound must still hold for the accepted return
+    tight = max(0.9 * need, RTOL_FLOOR)
+    if not fine and err0 <= 4.0 * rtol_h1 * lx / gap:
+        rtol_int = tight          # the tolerance's noise is reached: lower it
     if newton_rest > 0:
         return FOLLOW, 0.0, rtol_int, newton_rest - 1, err0
     if after_jump and err0 >= 0.5 * err_jump and rtol_h1 == rtol_h0 \
@@ -218,9 +221,10 @@ def newton_decision(a0, a1, dP, xe, e1, e2, rtol_h0, rtol_h1, rtol_int, tol, lx,
         # noise: a step across a change of itinerary, where the slope of one return
         # does not hold. Follow the motion for a few returns instead.
         return FOLLOW, 0.0, rtol_int, 3, err0
-    if e2 == e1:
-        # Newton step from a0 (the map is smooth along one itinerary); a jump never
-        # more than halves or doubles the distance to x_eq
+    if e2 == e1 or e1 < 0:
+        # Newton step from a0 (the map is smooth along one itinerary; the return
+        # before a0 may be the partial one from the start); a jump never more than
+        # halves or doubles the distance to x_eq
         a_new = a0 + F / gap
         r = (a_new - xe) / (a1 - xe)
         if r < 0.5:
@@ -228,6 +232,15 @@ def newton_decision(a0, a1, dP, xe, e1, e2, rtol_h0, rtol_h1, rtol_int, tol, lx,
         elif r > 2.0:
             a_new = xe + 2.0 * (a1 - xe)
         if abs(a_new - a1) > 0.1 * tol * lx:
+            e_next = 4.0 * err0 * err0 / abs(a1 - xe)
+            if not fine and need >= 0.1 * tol and 4.0 * e_next * e_next <= \
+                    accept * abs(a1 - xe):
+                # Newton's error squares (relative to the cycle's size, within a
+                # factor 4): the iterate after next is likely accepted. Its residual
+                # and the jump to it both need the lowered tolerance (within 10x of
+                # the user's), so the return from a_new is computed at it; the
+                # earlier ones keep the user's tolerance.
+                rtol_int = tight
             return NEWTON_JUMP, a_new, rtol_int, newton_rest, err0
     return FOLLOW, 0.0, rtol_int, newton_rest, err0
 

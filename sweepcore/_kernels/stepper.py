@@ -23,6 +23,7 @@ Adding a stepper: its module, one row of ``METHODS`` and one line of each dispat
 """
 from .jit import kernel
 
+from .dop853 import dop853_step
 from .dopri5 import dopri5_step
 from .exact import exact_proposal, exact_step
 from .gps import gps_step
@@ -39,8 +40,20 @@ METHODS = (
     ("gps", 1, False, 0.0, 0.0, False),      # Liu's group-preserving scheme (49)-(50)
     ("rk4", 4, False, 0.0, 0.0, False),      # classical Runge-Kutta
     ("dopri5", 5, True, -0.2, 20.0, False),  # Dormand-Prince 5(4)
+    ("dop853", 8, True, -0.125, 20.0, False),  # Dormand-Prince 8(5,3)
 )
-EXACT, GPS, RK4, DOPRI5 = range(len(METHODS))
+EXACT, GPS, RK4, DOPRI5, DOP853 = range(len(METHODS))
+# "auto" between the adaptive pairs: dop853 below this tolerance, dopri5 from it up.
+# At tol 1e-8 and below dop853 needs under half of dopri5's stepper calls for the
+# 256 x 256 map, at 1e-6 its dearer step loses (benchmarks/run.py, "Hopf map";
+# right-hand sides per period: benchmarks/pair_choice.py).
+AUTO_DOP853_BELOW = 1e-7
+# ... and only where the motion is far above float64's rounding of x: where
+# eps (r_y/k + |v|/omega) / (|v|/omega), the rounding of x at the breakaway point
+# over the size of the cycle, exceeds this, the rounding of dop853's larger stage
+# sums shows (stick fraction of the paper's slider at v = 1e-9 cm/s, ratio 1.4e-7:
+# 1.3e-6 off with dop853, 4.4e-7 with dopri5; at v = 1e-8, ratio 1.4e-8: 4e-8)
+AUTO_DOP853_ROUNDING = 3e-8
 METHOD_NAMES = {i: row[0] for i, row in enumerate(METHODS)}
 METHOD_CODES = {name: i for i, name in METHOD_NAMES.items()}
 METHOD_ORDER = {i: row[1] for i, row in enumerate(METHODS)}
@@ -60,7 +73,21 @@ def step(x, zd, h, s, p, o, want_q):
         return rk4_step(x, zd, h, s, p, o, want_q)
     if meth == GPS:
         return gps_step(x, zd, h, s, p, o, want_q)
+    if meth == DOP853:
+        return dop853_step(x, zd, h, s, p, o, want_q)
     return dopri5_step(x, zd, h, s, p, o, want_q)
+
+
+@kernel(inline="always")
+def auto_method(closed_form, rtol, rounding):
+    """The method "auto" resolves to: the closed form where the law allows one, else
+    the adaptive pair that wins at ``rtol`` where the motion's ``rounding`` (the
+    ratio above) allows it."""
+    if closed_form:
+        return EXACT
+    if rtol < AUTO_DOP853_BELOW and rounding <= AUTO_DOP853_ROUNDING:
+        return DOP853
+    return DOPRI5
 
 
 @kernel

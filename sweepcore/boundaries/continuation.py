@@ -11,6 +11,7 @@ from ..grid import AXES, COLUMNS, Grid
 from ..options import checked_keywords, did_you_mean, make_options
 from .dataset import _dataset
 from .drive import _drive, _together
+from .fold import cycle_boundaries
 from .graze import SEED_SPACING, _seeded_graze
 from .hopf import _hopf, _seeded_hopf
 from .locate import (_check_search, _empty, _locate_point, _other_grid, _scan_values,
@@ -114,7 +115,10 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
     whose seeds do not bracket falls back to the full scan of
     :func:`locate_boundaries` (so do the first two, and the ``continued`` flag says
     which). About 6 attractors a
-    step against 32 for the scan alone. Only ``v`` is supported as ``along`` here.
+    step against 32 for the scan alone. The ends of the unstable slip cycle (the
+    subcritical Hopf point and the fold, :mod:`.fold`) are located at every step
+    from a scan of cycles (cheap: no attractor is computed). Only ``v`` is
+    supported as ``along`` here.
 
     Parameters
     ----------
@@ -163,6 +167,8 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
         errs = []
         for j, (res, ne) in enumerate(zip(found, evals)):
             res["evaluations"] = int(ne)
+            res.update(cycle_boundaries(_Point(rows[j], along, tol), values, xtol,
+                                        offset, o))
             res["continued"] = int(not res.pop("fallback"))
             ok_h = res["hopf_status"] == LOCATED
             ok_g = res["stick_status"] == LOCATED

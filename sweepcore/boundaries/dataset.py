@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from .. import labels
+from .. import labels, law
 from .._kernels import codes, layout
 from ..grid import Grid
 from ..params import LONG_NAMES, UNITS
@@ -46,6 +46,33 @@ def _dataset(other: Grid, along: str, results, o, method, call,
                        "between the roots of the polynomials of two degrees"}),
         "stick_status": (field("stick_status", np.int8),
                          {**status, "long_name": "outcome of the stick-onset search"}),
+        "v_hopf_subcritical": (field("v_hopf_subcritical"), {
+            "units": units, "long_name": "subcritical Hopf point (unstable slip "
+                                         "cycle | unstable equilibrium)",
+            "comment": "root of the unstable cycle's amplitude squared, a cubic in "
+                       "v^2 through four unstable cycles of the cycle scan"}),
+        "v_hopf_subcritical_error": (field("v_hopf_subcritical_error"), {
+            "units": units, "long_name": "estimated error of the subcritical Hopf "
+                                         "point",
+            "comment": "difference between the roots of the cubics through samples "
+                       "1-4 and 2-5"}),
+        "subcritical_status": (field("subcritical_status", np.int8), {
+            **status, "long_name": "outcome of the subcritical Hopf point search",
+            "comment": "searched where hopf_criticality is subcritical or "
+                       "degenerate, absent elsewhere"}),
+        "v_fold": (field("v_fold"), {
+            "units": units, "long_name": "fold of cycles at grazing (end of the "
+                                         "stick-slip attractor)",
+            "comment": "root of v - xdot_max on the unstable slip cycle: it grazes "
+                       "the belt and meets the stick-slip cycle; steady sliding and "
+                       "stick-slip coexist between v_hopf_subcritical and v_fold"}),
+        "v_fold_width": (field("v_fold_width"), {
+            "units": units, "long_name": "uncertainty of the fold",
+            "comment": "distance between the roots of the polynomials of two "
+                       "degrees, plus the root's move under errors of 2 tol L in "
+                       "xdot_max"}),
+        "fold_status": (field("fold_status", np.int8), {
+            **status, "long_name": "outcome of the fold search"}),
         "evaluations": (field("evaluations", np.int64), {
             "units": "1", "long_name": "attractors computed for the point"}),
     }
@@ -80,6 +107,11 @@ def _dataset(other: Grid, along: str, results, o, method, call,
             **status, "long_name": "outcome of the search of the change"})
     if along == "v":        # the analytic values to compare with
         ds["v_star"] = labels.analytic("v_star", ds).variable
+        ds["hopf_criticality"] = xr.Variable(
+            ds["v_star"].dims, law.criticality_code(
+                labels.analytic("first_lyapunov", ds).values),
+            labels.flags(law.CRITICALITY, "kind of the Hopf point v_star (sign of "
+                                          "the first Lyapunov coefficient)"))
         ds["v_stick_onset_estimate"] = labels.stick_onset_estimate(ds).variable
     ds.attrs.update({
         **labels.provenance(

@@ -20,6 +20,7 @@ from ..options import checked_keywords, did_you_mean, make_options
 from ..params import UNITS
 from .dataset import _dataset
 from .drive import _drive, _together
+from .fold import cycle_boundaries
 from .graze import _graze
 from .hopf import N_SAMPLES, _hopf, _hopf_offset
 from .point import (ABSENT, FAILED, INCONSISTENT, LOCATED, PROPER, STUCK, _ok, _Point,
@@ -239,8 +240,9 @@ def locate_chunk(base: np.ndarray, along: str, values: np.ndarray, xtol: float,
     pts = [_Point(row, along, float(o[layout.O_RTOL])) for row in base]
     solvers = [_locate_point(p, values, xtol, offset, start) for p in pts]
     results, evals = _drive(solvers, base, COLUMNS[along], o, parallel)
-    for r, n in zip(results, evals):
+    for r, n, p in zip(results, evals, pts):
         r["evaluations"] = int(n)
+        r.update(cycle_boundaries(p, values, xtol, offset, o))
         for key in ("hopf_reach", "hopf_shape", "graze_amp", "graze_reach"):
             r.pop(key, None)
     return results
@@ -286,7 +288,12 @@ def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 
     xarray.Dataset
         Over the grid's other swept dimensions (CF-1.11, units on every
         variable): ``v_hopf`` and ``v_hopf_error`` (the Hopf point and the
-        estimated error of its extrapolation), ``v_stick_onset`` and
+        estimated error of its extrapolation), ``v_hopf_subcritical`` (with
+        ``_error``) and ``v_fold`` (with ``_width``), the two ends of the
+        unstable slip cycle where steady sliding and stick-slip coexist
+        (:mod:`sweepcore.boundaries.fold`; ``subcritical_status``,
+        ``fold_status``), ``hopf_criticality`` (analytic, from the first
+        Lyapunov coefficient), ``v_stick_onset`` and
         ``v_stick_onset_width`` (its uncertainty), their ``*_status`` flags
         (located, absent, attractor_failed, inconsistent), the analytic ``v_star``
         and the averaging estimate ``v_stick_onset_estimate = 2 v*/sqrt(5)``,

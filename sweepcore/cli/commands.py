@@ -1,4 +1,4 @@
-"""What each subcommand of ``sweepcore`` does: run and boundary (study files),
+"""What each subcommand of ``sweepcore`` does: run, boundary and basins (study files),
 simulate (one slider), plot, info and export (result files)."""
 from __future__ import annotations
 
@@ -12,8 +12,8 @@ import numpy as np
 from ..execute import LOCAL_SCHEDULERS
 from ..labels import run_statuses, timestamp, version
 from ..options import did_you_mean
-from .summaries import (boundary_lines, describe, describe_boundaries, regime_line,
-                        simulation_summary)
+from .summaries import (basin_lines, boundary_lines, describe, describe_basins,
+                        describe_boundaries, regime_line, simulation_summary)
 
 
 class UsageError(ValueError):
@@ -266,6 +266,8 @@ def cmd_info(args) -> int:
     print(f"{args.result}:")
     if ds.attrs.get("sweepcore_kind") in ("boundaries", "bifurcation_diagram"):
         print(describe_boundaries(ds))
+    elif ds.attrs.get("sweepcore_kind") == "basins":
+        print(describe_basins(ds))
     else:
         print(describe(ds))
     return 0
@@ -399,10 +401,48 @@ def _boundary_result(grid, study, b, args):
 
     common = dict(tol=b["tol"], method=study.method, **study.options)
     if b["diagram"]:
-        return bifurcation_diagram(grid, along=b["along"], **common)
+        sweep = getattr(args, "sweep", None) or b.get("sweep", "both")
+        return bifurcation_diagram(grid, along=b["along"], sweep=sweep, **common)
     search = dict(along=b["along"], bracket=b["bracket"], xtol=b["xtol"],
                   scan=b["scan"], offset=b["offset"], **common)
     if b["continuation"]:
         return continue_boundary(grid, over=b["continuation"], **search)
     return locate_boundaries(grid, chunks=args.chunks, scheduler=args.scheduler,
                              **search)
+
+
+def cmd_basins(args) -> int:
+    """``sweepcore basins``: basin fractions over the study's grid ([basins])."""
+    from ..basins import basin_stability
+    from ..grid import Grid
+    from ..io import write_netcdf
+    from ..study import load_study, parse_study
+
+    study = load_study(args.study)
+    b = study.basins or parse_study(study.text + "\n[basins]\n", study.path).basins
+    grid = Grid(**study.grid_kwargs())
+    out, png = _resolve_outputs(args, b["path"] or f"{study.stem}_basins.nc", b["png"])
+    _check_directories(out, png)
+    if not args.quiet:
+        print(f"sweepcore basins {args.study}: {grid.size} points, route {b['route']}, "
+              f"{b['samples']} samples a point where sampled", flush=True)
+    t0 = time.perf_counter()
+    ds = basin_stability(grid, x0=b["x0"], xdot0=b["xdot0"], samples=b["samples"],
+                         route=b["route"], sampling=b["sampling"], seed=b["seed"],
+                         checks=b["checks"], ftol=b["ftol"], match=b["match"],
+                         method=study.method, tol=study.tol,
+                         chunks=args.chunks or study.chunks, scheduler=args.scheduler,
+                         progress=False if args.quiet else None, **study.options)
+    elapsed = time.perf_counter() - t0
+    ds = label_with_study(ds, study, _command_line(args))
+    write_netcdf(ds, out)
+    if not args.quiet:
+        print(f"wrote {out} ({grid.size} points in {elapsed:.1f} s)")
+        for line in basin_lines(ds):
+            print(line)
+    if png is not None:
+        from ..plot import plot_result, save
+        save(plot_result(ds), png)
+        if not args.quiet:
+            print(f"wrote {png}")
+    return 0

@@ -97,7 +97,7 @@ def _add_global_options(p, default) -> None:
 
 def _add_study_options(p, output: str, png: str, scheduler: str, chunks: str,
                        quiet: str) -> None:
-    """The options of the commands that run a study file (run, boundary), declared
+    """The options of the commands that run a study file (run, boundary, basins), declared
     once: the study, the result and its picture, the executor, the quiet switch;
     each command gives its own help texts (its defaults differ)."""
     p.add_argument("study", metavar="STUDY.toml", help="study file")
@@ -163,9 +163,9 @@ def _simulate_options(p):
                    help="sampling interval [s] (default a hundredth of 2 pi/omega)")
     p.add_argument("--method", default="auto", choices=METHODS,
                    help="stepper (default auto: exact for a piecewise-linear law, "
-                        "else dopri5)")
+                        "else dop853 below tol 1e-7, dopri5 above)")
     p.add_argument("--tol", type=float, default=1e-10,
-                   help="tolerance of dopri5 (default 1e-10)")
+                   help="tolerance of the adaptive steppers (default 1e-10)")
     p.add_argument("--dt", type=float, default=None,
                    help="fixed step of gps and rk4 [s] (default 2 pi/omega/50)")
     p.add_argument("-o", "--output", metavar="RUN.nc", help="write the run as netCDF")
@@ -193,6 +193,16 @@ def _boundary_options(p):
         quiet="no summary")
     p.add_argument("--over", metavar="MAP.nc",
                    help="map to draw the curves over; default [boundary] over")
+    p.add_argument("--sweep", choices=("up", "down", "both"),
+                   help="direction of a diagram's scan (default [boundary] sweep, "
+                        "else both: up, then down)")
+
+
+def _basins_options(p):
+    _add_study_options(
+        p, output="netCDF result; default [basins] path, else <study stem>_basins.nc",
+        png="picture; default [basins] png, else the result's path with .png",
+        scheduler="as for run", chunks="grid points per task", quiet="no summary")
 
 
 # name -> (one-line help, description, the function adding its options); the
@@ -240,4 +250,12 @@ SUBCOMMANDS = {
         "bifurcation diagram up and down; settings in the study's [boundary] table "
         "(docs/studies.md). " + UNITS_HELP + ".",
         _boundary_options),
+    "basins": (
+        "basin stability: the share of a box of starts ending on each attractor",
+        "For every point of a study's grid, the fraction of a box of start states "
+        "(x0, xdot0) that ends on each attractor, with its error: exact where one "
+        "unstable slip cycle bounds the stable equilibrium's basin (the area of its "
+        "interior in the box), else sampled on the attractor kernel; settings in the "
+        "study's [basins] table (docs/studies.md). " + UNITS_HELP + ".",
+        _basins_options),
 }

@@ -7,6 +7,7 @@ from collections import Counter
 
 import numpy as np
 
+from .._kernels import codes
 from ..boundaries import LOCATED
 from ..labels import parameter, run_dims, run_statuses
 
@@ -216,10 +217,11 @@ def boundary_lines(ds) -> list[str]:
     """Summary of a boundaries or diagram result: what was located, against v*."""
     if ds.attrs.get("sweepcore_kind") == "bifurcation_diagram":
         lines = ["  " + regime_line(ds)]
-        for name in ("v_hopf", "v_stick_onset", "v_star"):
+        for name in ("v_hopf", "v_stick_onset", "v_hopf_subcritical", "v_fold",
+                     "v_star"):
             if name in ds:
                 lines.append(f"  {name} = {float(ds[name]):.10g} cm s-1")
-        return lines
+        return lines + jump_lines(ds)
     lines = []
     for name, status, width in (("v_hopf", "hopf_status", "v_hopf_error"),
                                 ("v_stick_onset", "stick_status",
@@ -244,5 +246,103 @@ def boundary_lines(ds) -> list[str]:
             est = (ds["v_stick_onset_estimate"] / ds["v_star"]).values[stick]
             line += f" (averaging sqrt(4/5) = {np.max(est):.10f})"
         lines.append(line)
+    lines.extend(coexistence_lines(ds))
     lines.append(f"  attractors computed: {int(ds['evaluations'].sum())}")
+    return lines
+
+
+def coexistence_lines(ds) -> list[str]:
+    """The ends of the unstable slip cycle of a boundaries result, where located."""
+    lines = []
+    for name, status, width in (("v_hopf_subcritical", "subcritical_status",
+                                 "v_hopf_subcritical_error"),
+                                ("v_fold", "fold_status", "v_fold_width")):
+        if status not in ds:
+            continue
+        ok = ds[status].values == LOCATED
+        if ok.any():
+            vals = ds[name].values[ok]
+            lines.append(f"  {name}: located at {int(ok.sum())} of {ok.size} points, "
+                         f"in [{vals.min():.10g}, {vals.max():.10g}] cm s-1, {width} "
+                         f"<= {np.nanmax(ds[width].values[ok]):.2g}")
+    return lines
+
+
+def jump_lines(ds) -> list[str]:
+    """The regime changes of each scan of a diagram, in the scan's direction."""
+    along = ds.attrs.get("along", "v")
+    x = ds[along].values
+    names = {int(k): n for k, n in codes.REGIME_NAMES.items()}
+    lines = []
+    for branch in ds.branch.values:
+        reg = ds.regime.sel(branch=branch).values.astype(int)
+        idx = range(len(x) - 1) if branch != "down" else range(len(x) - 2, -1, -1)
+        for i in idx:
+            a, b = (i, i + 1) if branch != "down" else (i + 1, i)
+            if reg[a] != reg[b]:
+                lines.append(f"  {branch} scan: {names.get(reg[a])} -> "
+                             f"{names.get(reg[b])} between {along} = {x[a]:.6g} and "
+                             f"{x[b]:.6g}")
+    return lines
+
+
+def describe_basins(ds) -> str:
+    """``sweepcore info`` of a basin-stability result."""
+    shape = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items()
+                      if d not in ("attractor", "cycle"))
+    lines = [f"  basin stability ({shape or 'one point'})"]
+    for d in ds.dims:
+        if d not in ("attractor", "cycle") and ds[d].dtype.kind == "f":
+            v = ds[d].values
+            lines.append(f"    {d:8s} {ds[d].attrs.get('long_name', '')} "
+                         f"[{ds[d].attrs.get('units', '')}]: {v.size} values in "
+                         f"[{v.min():.6g}, {v.max():.6g}]")
+    fixed = [n for n in ds.coords if ds[n].ndim == 0]
+    if fixed:
+        lines.append("  fixed: " + ", ".join(f"{n} = {float(ds[n]):.6g}{_units(ds[n])}"
+                                             for n in fixed))
+    lines.extend(basin_lines(ds))
+    if "history" in ds.attrs:
+        text = str(ds.attrs["history"]).replace("\n", "\n" + " " * 12)
+        lines.append(f"  history   {text}")
+    return "\n".join(lines)
+
+
+def basin_lines(ds, table_rows: int = 12) -> list[str]:
+    """The box, the routes and statuses, each attractor's range of fractions, and
+    (one swept axis of at most ``table_rows`` values) the fractions point by point."""
+    x0, xd0 = (np.atleast_1d(ds.attrs.get(k, [np.nan, np.nan]))
+               for k in ("x0_range", "xdot0_range"))
+    lines = [f"  box: x0 in [{x0[0]:.6g}, {x0[1]:.6g}] cm, xdot0 in [{xd0[0]:.6g}, "
+             f"{xd0[1]:.6g}] cm s-1; route {ds.attrs.get('route', '?')}, samples "
+             f"{ds.attrs.get('samples_requested', '?')} "
+             f"({ds.attrs.get('sampling', '?')})"]
+    for var in ("basin_route", "basin_status"):
+        counts = [f"{n} {c}" for n, c in _flag_counts(ds[var]) if c]
+        lines.append(f"  {var.split('_')[1]}: " + ", ".join(counts))
+    names = [str(n) for n in ds["attractor"].values]
+    f, e = ds["basin_fraction"], ds["basin_fraction_error"]
+    for name in names:
+        vals = f.sel(attractor=name).values
+        if np.isfinite(vals).any():
+            lines.append(f"  {name}: fraction in [{np.nanmin(vals):.6g}, "
+                         f"{np.nanmax(vals):.6g}], error <= "
+                         f"{np.nanmax(e.sel(attractor=name).values):.2g}")
+    if "cycle_stability" in ds:
+        unstable = (ds["cycle_stability"] == 1).any("cycle")
+        line = (f"  unstable slip cycles (basin boundaries) at {int(unstable.sum())} of "
+                f"{unstable.size} points")
+        mu = ds["cycle_floquet"].where(ds["cycle_stability"] == 1).values
+        if np.isfinite(mu).any():
+            line += (f", Floquet multipliers in [{np.nanmin(mu):.6g}, "
+                     f"{np.nanmax(mu):.6g}]")
+        lines.append(line)
+    dims = [d for d in f.dims if d != "attractor"]
+    if len(dims) == 1 and ds.sizes[dims[0]] <= table_rows:
+        d = dims[0]
+        lines.append(f"  {d:>10s} " + " ".join(f"{n:>22s}" for n in names))
+        for i, x in enumerate(ds[d].values):
+            cells = [f"{float(f.isel({d: i}).sel(attractor=n)):.6f} +- "
+                     f"{float(e.isel({d: i}).sel(attractor=n)):.1e}" for n in names]
+            lines.append(f"  {x:10.6g} " + " ".join(f"{c:>22s}" for c in cells))
     return lines

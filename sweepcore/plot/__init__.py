@@ -15,18 +15,23 @@ atomically. :func:`plot_result` picks the natural picture of any result:
   amplitude map, the analytic Hopf speed v* drawn over both, and the measured
   boundaries of :mod:`sweepcore.boundary` when they can be computed; a third swept
   axis of at most six values gives one row of maps per value;
-* a bifurcation diagram: :func:`plot_diagram`; located boundaries:
-  :func:`plot_boundaries`; any other 1-D file: its variables against its axis.
+* basin fractions (:func:`sweepcore.basin_stability`): :func:`plot_basins`;
+* a bifurcation diagram: :func:`plot_diagram`, or :func:`plot_hysteresis` (stable
+  branches solid, unstable slip cycles dashed) where it has unstable cycles;
+  located boundaries: :func:`plot_boundaries`; any other 1-D file: its variables
+  against its axis.
 
 :func:`plot_friction` draws the friction law (the paper's Fig. 4), :func:`map_panel`
 one map into a given axes. Axis labels carry the units of the data (kN, cm, s);
 geometric axes are drawn on a log scale.
 
 Rooms: ``style`` (colours, labels, save), ``maps``, ``lines``, ``trajectories``,
-``friction``, ``boundaries`` (diagrams and boundary curves), ``result`` (the
-choice of picture).
+``friction``, ``basins``, ``boundaries`` (diagrams and boundary curves),
+``branches`` (hysteresis), ``result`` (the choice of picture).
 """
+from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
+from .branches import plot_hysteresis
 from .friction import plot_friction
 from .lines import plot_lines
 from .maps import map_panel, plot_map
@@ -36,6 +41,6 @@ from .style import (REGIME_COLOURS, fixed_parameters, flag_axis, is_geometric, l
 from .trajectories import plot_cases, plot_trajectory
 
 __all__ = ["plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
-           "plot_friction", "plot_diagram", "plot_boundaries", "map_panel", "save",
-           "REGIME_COLOURS", "fixed_parameters", "flag_axis", "is_geometric", "label",
-           "pretty_units"]
+           "plot_friction", "plot_basins", "plot_diagram", "plot_hysteresis",
+           "plot_boundaries", "map_panel", "save", "REGIME_COLOURS", "fixed_parameters",
+           "flag_axis", "is_geometric", "label", "pretty_units"]

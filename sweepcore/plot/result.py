@@ -9,7 +9,9 @@ from matplotlib.figure import Figure
 
 from ..labels import run_dims, run_statuses
 from ..options import checked_keywords
+from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
+from .branches import plot_hysteresis
 from .lines import plot_lines
 from .maps import plot_map
 from .style import SYMBOLS, flag_axis, fmt, label
@@ -24,7 +26,11 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
     :func:`plot_map`.
     """
     kind = ds.attrs.get("sweepcore_kind")
+    if kind == "basins":
+        return plot_basins(ds, **kwargs)
     if kind == "bifurcation_diagram":
+        if "unstable_amplitude" in ds and np.isfinite(ds.unstable_amplitude).any():
+            return plot_hysteresis(ds)     # coexisting attractors
         return plot_diagram(ds)
     if kind == "boundaries":
         return plot_boundaries(ds, over=over_map(ds))

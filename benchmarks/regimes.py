@@ -1,0 +1,129 @@
+"""Where the Hopf map's stepper calls go, by regime, now and at an earlier commit.
+
+The table: for each regime band of the map (v against v* = sqrt(alpha1/(3 alpha2))),
+the number of points, the mean stepper calls a point (``OB_NSTEPS``) and the share of
+all calls. Step counts are deterministic (the same on every machine and run), so the
+table of an earlier commit is as reproducible as today's; its wall time is measured
+here, in the same run, by a probe that imports that commit's package from a
+temporary ``git worktree`` (before and after probes interleaved, so drifting load on a
+shared machine hits both alike).
+
+    python -m benchmarks.regimes --probe 3       # this checkout: JSON on stdout
+"""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+
+# regime codes of the kernels' table (sweepcore/_kernels/codes.py): equilibrium 0,
+# slip cycle 1, stick-slip 2. Bands as nu = v / v*.
+BANDS = (("stick-slip", 2, 0.0, np.inf),
+         ("slip cycle, v < 0.9 v*", 1, 0.0, 0.9),
+         ("slip cycle, 0.9-0.99 v*", 1, 0.9, 0.99),
+         ("slip cycle, 0.99-1 v* (hardest)", 1, 0.99, np.inf),
+         ("equilibrium, 1-1.1 v*", 0, 0.0, 1.1),
+         ("equilibrium, v > 1.1 v*", 0, 1.1, np.inf))
+
+
+def table(v, alpha1, alpha2, regime, steps) -> dict:
+    """The per-regime table of one map run (arrays over its points)."""
+    nu = v / np.sqrt(alpha1 / (3.0 * alpha2))
+    total = float(steps.sum())
+    rows = []
+    for name, code, lo, hi in BANDS:
+        sel = (regime == code) & (nu >= lo) & (nu < hi)
+        n = int(sel.sum())
+        rows.append({"regime": name, "points": n,
+                     "steps_mean": float(steps[sel].mean()) if n else None,
+                     "steps_max": float(steps[sel].max()) if n else None,
+                     "share": float(steps[sel].sum()) / total if total else None})
+    other = int(len(v) - sum(r["points"] for r in rows))
+    return {"rows": rows, "steps_total": total, "points": int(len(v)),
+            "points_other": other}
+
+
+# ------------------------------------------------------------------ the probe
+def _probe(repeats: int) -> dict:
+    """Run the map in whatever sweepcore is importable; uses only names every
+    version of the kernels has (layout columns, make_options, attractor_rows_parallel)."""
+    from sweepcore._kernels import layout as L
+    from sweepcore._kernels.attractor import attractor_rows_parallel
+    from sweepcore.options import make_options
+    v, a2 = np.linspace(0.5, 10.0, 256), np.geomspace(1e-3, 0.1, 256)
+    V, A = (x.ravel() for x in np.meshgrid(v, a2, indexing="ij"))
+    P = np.zeros((V.size, L.NP))
+    P[:, L.M], P[:, L.K], P[:, L.RY], P[:, L.A1] = 5.0, 50.0, 10.0, 1.0
+    P[:, L.V], P[:, L.A2], P[:, L.X0], P[:, L.XD0] = V, A, 0.0, V
+    if hasattr(L, "RK"):                    # the law family: r_k = r_y is eq. (40)
+        P[:, L.RK], P[:, L.VS] = 10.0, np.nan
+    o = make_options("auto", tol=1e-8)
+    out = np.empty((V.size, L.NOBS))
+    attractor_rows_parallel(P[:4], o, out[:4])
+    times = []
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        attractor_rows_parallel(P, o, out)
+        times.append(time.perf_counter() - t0)
+    commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
+                            cwd=Path(sys.modules["sweepcore"].__file__).parent).stdout.strip()
+    return {"commit": commit, "times_s": times,
+            "table": table(V, 1.0, A, out[:, L.OB_REGIME], out[:, L.OB_NSTEPS])}
+
+
+def _run_probe(src: Path, repeats: int, cache: str) -> dict:
+    env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=cache)
+    cp = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--probe",
+                         str(repeats)], env=env, cwd=src, capture_output=True, text=True,
+                        timeout=1800)
+    if cp.returncode != 0:
+        raise RuntimeError(cp.stderr[-2000:])
+    return json.loads(cp.stdout.strip().splitlines()[-1])
+
+
+def before_after(ref: str, rounds: int = 3, repeats: int = 3) -> dict:
+    """Probes of commit ``ref`` and of this checkout, interleaved ``rounds`` times
+    (each ``repeats`` timed map runs after a warm-up); each side compiles once into
+    its own private cache. The ratio is the median over rounds of before/after."""
+    try:
+        sha = subprocess.run(["git", "rev-parse", "--verify", ref + "^{commit}"], cwd=ROOT,
+                             capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return {"skipped": f"commit {ref} not in this clone"}
+    with tempfile.TemporaryDirectory(prefix="sweepcore-before-") as tmp:
+        wt = Path(tmp) / "tree"
+        subprocess.run(["git", "worktree", "add", "--detach", str(wt), sha], cwd=ROOT,
+                       check=True, capture_output=True)
+        try:
+            runs = {"before": [], "after": []}
+            for _ in range(rounds):
+                for side, src in (("before", wt), ("after", ROOT)):
+                    runs[side].append(_run_probe(src, repeats, str(Path(tmp) / side)))
+        finally:
+            subprocess.run(["git", "worktree", "remove", "--force", str(wt)], cwd=ROOT,
+                           capture_output=True)
+    med = {s: [float(np.median(r["times_s"])) for r in runs[s]] for s in runs}
+    return {"ref": ref, "commit_before": sha, "commit_after": runs["after"][0]["commit"],
+            "before": runs["before"][0]["table"], "after": runs["after"][0]["table"],
+            "steps_identical_across_rounds": all(
+                r["table"] == runs[s][0]["table"] for s in runs for r in runs[s]),
+            "median_s_before": float(np.median(med["before"])),
+            "median_s_after": float(np.median(med["after"])),
+            "speedup": float(np.median([b / a for b, a in zip(med["before"], med["after"])])),
+            "round_medians_s": med}
+
+
+if __name__ == "__main__":
+    if len(sys.argv) == 3 and sys.argv[1] == "--probe":
+        print(json.dumps(_probe(int(sys.argv[2]))))
+    else:
+        print(json.dumps(before_after(sys.argv[1] if len(sys.argv) > 1 else "cd6c8a2"),
+                         indent=1))
