@@ -9,7 +9,8 @@ half their distance as its resolution.
 Two kinds of slip cycle are told apart by whether they reach the belt speed
 (``xdot_max`` against ``v``): the small cycles of the Hopf point stay below it (their
 growth to ``xdot_max = v`` is the stick onset), the large cycles of the
-slide-slide-reversal band at small alpha2 overshoot it (``zdot > 0`` for a moment, no
+slide-slide-reversal band at small alpha2 reach or overshoot it (``zdot >= 0`` for a
+moment, no
 stick). Each transition has its own variables.
 """
 from __future__ import annotations
@@ -66,15 +67,15 @@ def _edges(inside, x):
 
 
 def reversal_cycles(ds: xr.Dataset, axis: str = "v") -> xr.DataArray:
-    """Slip cycles that overshoot the belt speed (``xdot_max > v``): the
-    slide-slide-reversal band. All False without ``xdot_max`` in ``ds``; a boolean
+    """Slip cycles that reach the belt speed (``xdot_max >= v``): the
+    slide-slide-reversal band (the Hopf point's cycles stay below it). All False without ``xdot_max`` in ``ds``; a boolean
     ``reversal`` variable of ``ds`` (a lazy sweep's, computed once) is taken as is."""
     if "reversal" in ds:
         return ds["reversal"]
     slip = ds["regime"] == codes.R_SLIP_CYCLE
     if "xdot_max" not in ds:
         return slip & False
-    return slip & (ds["xdot_max"] > ds[axis])
+    return slip & (ds["xdot_max"] >= ds[axis])
 
 
 def _labelled(da: xr.DataArray, **attrs) -> xr.DataArray:
@@ -110,12 +111,12 @@ def hopf_boundary(ds: xr.Dataset, axis: str = "v") -> xr.Dataset:
             ``v_hopf_measured +- v_hopf_resolution``.
         ``v_stick_onset``, ``v_stick_onset_resolution``
             the stick onset: where stick_slip ends, the next larger speed being a
-            slip cycle that stays below the belt speed (``xdot_max <= v``: the
+            slip cycle that stays below the belt speed (``xdot_max < v``: the
             Hopf point's cycle) or equilibrium; NaN where the map does not reach it
             (at small alpha2 it lies above the speeds of the map).
         ``v_reversal_lower``, ``v_reversal_upper`` (and ``_resolution``)
-            the edges of the band of slip cycles that overshoot the belt speed
-            (``xdot_max > v``, slide-slide reversals); NaN without such cycles or
+            the edges of the band of slip cycles that reach the belt speed
+            (``xdot_max >= v``, slide-slide reversals); NaN without such cycles or
             where the band reaches the end of the grid.
         ``v_star``
             the analytic Hopf speed sqrt(alpha1/(3 alpha2)).
@@ -159,13 +160,13 @@ def hopf_boundary(ds: xr.Dataset, axis: str = "v") -> xr.Dataset:
         "v_stick_onset": _labelled(
             stick, units=units, long_name="measured stick onset (end of stick-slip)",
             comment=rule.format(a=axis, b="stick_slip", c="a slip cycle below the "
-                                "belt speed (xdot_max <= v) or equilibrium")),
+                                "belt speed (xdot_max < v) or equilibrium")),
         "v_stick_onset_resolution": _labelled(
             stick_res, units=units, comment=half,
             long_name="resolution of the measured stick onset"),
     })
-    edge = ("midpoint between the {w} {a} with a slip cycle overshooting the belt "
-            "speed (xdot_max > v) and the {a} {o} it; NaN without one or at the "
+    edge = ("midpoint between the {w} {a} with a slip cycle reaching the belt "
+            "speed (xdot_max >= v) and the {a} {o} it; NaN without one or at the "
             "grid's end")
     for name, da, text in (("lower", band[0], edge.format(w="smallest", a=axis,
                                                           o="below")),
