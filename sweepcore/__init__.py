@@ -8,7 +8,13 @@ Public API::
     hopf_boundary,
     locate_boundaries, continue_boundary, bifurcation_diagram, slip_cycles,
     basin_stability,
-    open_result, write_netcdf, check_cf
+    open_result, write_netcdf, check_cf,
+    plot_result, plot_map, plot_lines, plot_trajectory, plot_cases, plot_friction,
+    plot_diagram, plot_hysteresis, plot_boundaries, plot_basins
+
+The plotting functions are those of :mod:`sweepcore.plot` (each returns a
+matplotlib Figure; ``sweepcore.plot.save`` writes one as PNG). They are imported
+on first use, so ``import sweepcore`` does not import matplotlib.
 """
 from .attractor import Attractor, attractor
 from .basins import basin_stability
@@ -26,7 +32,28 @@ from .sweep import sweep
 
 __version__ = _version()
 
+PLOTS = ("plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
+         "plot_friction", "plot_diagram", "plot_hysteresis", "plot_boundaries",
+         "plot_basins")
+
 __all__ = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "estimate",
            "SweepTooLarge",
            "hopf_boundary", "locate_boundaries", "continue_boundary",
-           "bifurcation_diagram", "slip_cycles", "basin_stability", "open_result", "write_netcdf", "check_cf", "__version__"]
+           "bifurcation_diagram", "slip_cycles", "basin_stability",
+           "open_result", "write_netcdf", "check_cf", *PLOTS,
+           "__version__"]
+
+
+def __getattr__(name):
+    # PEP 562: the plotting API from sweepcore.plot, imported (with matplotlib) on
+    # first use only
+    if name in PLOTS:
+        from . import plot
+        return getattr(plot, name)
+    from .options import did_you_mean
+    raise AttributeError(f"module 'sweepcore' has no attribute {name!r}"
+                         f"{did_you_mean(name, __all__)}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(PLOTS))

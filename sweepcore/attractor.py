@@ -7,7 +7,7 @@ import numpy as np
 
 from ._kernels import codes, layout
 from ._kernels.attractor import attractor_point
-from .options import check_method, make_options
+from .options import check_method, checked_keywords, make_options
 from .params import Params
 from .simulate import start_row
 from .variables import OBSERVABLES
@@ -47,6 +47,7 @@ class Attractor:
         return asdict(self)
 
 
+@checked_keywords(options=True)
 def attractor(params: Params, x0: float = 0.0, xdot0: float | None = None,
               method: str = "auto", tol: float = 1e-8, **options) -> Attractor:
     """Find the attractor reached from (x0, xdot0) and measure it on line.

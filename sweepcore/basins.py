@@ -36,7 +36,7 @@ from .cycles import (UNSTABLE, _check_no_start, clipped_area, cycle_polygon,
                      cycle_variables, inside, stability)
 from .grid import Grid
 from .io import result_path, write_netcdf
-from .options import make_options
+from .options import checked_keywords, make_options
 from .sweep import _progress_bar
 
 __all__ = ["basin_stability", "clusters", "ROUTE_NAMES", "STATUS_NAMES"]
@@ -343,6 +343,7 @@ def _spec(x0, xdot0, samples, route, sampling, seed, checks, ftol, match) -> Spe
                 _fraction_tol("ftol", ftol), _fraction_tol("match", match))
 
 
+@checked_keywords(options=True)
 def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int = 1000,
                     method: str = "auto", tol: float = 1e-8, route: str = "auto",
                     sampling: str = "uniform", seed: int = 0, checks: int = 16,

@@ -33,7 +33,7 @@ from ._kernels.cycles import MAX_CYCLES
 from ._kernels.trajectory import fresh_acc, run_trajectory
 from .grid import Grid
 from .io import result_path, write_netcdf
-from .options import make_options
+from .options import checked_keywords, make_options
 
 __all__ = ["slip_cycles", "cycle_polygon", "cycle_variables", "cycles_chunk",
            "clipped_area", "inside",
@@ -147,6 +147,7 @@ def cycle_variables(out: np.ndarray, found: np.ndarray, dims: tuple, shape: tupl
     return data
 
 
+@checked_keywords(options=True)
 def slip_cycles(grid: Grid, tol: float = 1e-8, method: str = "auto",
                 chunks: int | None = None, client=None, scheduler=None, path=None,
                 overwrite: bool = False, **options) -> xr.Dataset:

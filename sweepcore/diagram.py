@@ -25,7 +25,7 @@ from . import execute, labels, law, variables
 from ._kernels import codes, layout
 from .boundaries import locate_boundaries
 from .grid import AXES, COLUMNS, Grid
-from .options import make_options
+from .options import checked_keywords, did_you_mean, make_options
 from .params import LONG_NAMES, UNITS
 
 BRANCHES = ("up", "down")
@@ -70,6 +70,7 @@ def _unstable(base: np.ndarray, along: str, values, o) -> np.ndarray:
     return unstable_cycles(_Point(base, along), values, o)
 
 
+@checked_keywords(options=True)
 def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
                         tol: float = 1e-10, method: str = "auto", sweep: str = "both",
                         unstable: bool = True, **options) -> xr.Dataset:
@@ -109,7 +110,8 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
     if sweep not in SWEEPS:
         raise ValueError(f"sweep must be one of {tuple(SWEEPS)}, got {sweep!r}")
     if along not in AXES[:6]:
-        raise ValueError(f"along must be one of {AXES[:6]}, got {along!r}")
+        raise ValueError(f"along must be one of {AXES[:6]}, got {along!r}"
+                         f"{did_you_mean(along, AXES[:6])}")
     if not isinstance(grid, Grid):
         raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
     swept = [n for n in grid.swept if n != along]

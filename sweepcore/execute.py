@@ -34,6 +34,7 @@ import numpy as np
 from . import law
 from ._kernels.attractor import _LANES, attractor_rows, attractor_rows_parallel
 from ._kernels.cycles import slip_cycles_rows, slip_cycles_rows_parallel
+from .options import did_you_mean
 
 LOCAL_SCHEDULERS = {"threads": "threads", "processes": "processes",
                     "synchronous": "synchronous", "sync": "synchronous",
@@ -74,7 +75,9 @@ def resolve(client, scheduler):
             return "distributed", target
     if name == "scheduler":
         raise _refused(name, target, f"one of {sorted(LOCAL_SCHEDULERS)} or a "
-                                     "scheduler address 'tcp://host:port'")
+                                     "scheduler address 'tcp://host:port'",
+                       did_you_mean(target, LOCAL_SCHEDULERS)
+                       if isinstance(target, str) else "")
     hint = " (a local scheduler goes in scheduler=)" if isinstance(target, str) and \
         target in LOCAL_SCHEDULERS else ""
     raise _refused(name, target, "a distributed.Client or a scheduler address "

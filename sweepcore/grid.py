@@ -17,7 +17,8 @@ import xarray as xr
 
 from . import law
 from ._kernels import layout
-from .params import LONG_NAMES, RULES, UNITS, check_derived, check_real, did_you_mean
+from .options import checked_keywords
+from .params import LONG_NAMES, RULES, UNITS, check_derived, check_real
 
 # axes in dimension order, with their kernel column (check_real rules: params.RULES)
 AXES = law.PARAMETERS + ("x0", "xdot0")
@@ -354,4 +355,4 @@ class Grid:
         return h.hexdigest()
 
 
-Grid.__init__ = did_you_mean(Grid.__init__)
+Grid.__init__ = checked_keywords(Grid.__init__)

@@ -29,10 +29,57 @@ def version() -> str:
         return "0.1.0"
 
 
+def timestamp() -> str:
+    """Now, in UTC, ISO 8601 to the second (``2026-01-31T12:00:00+00:00``): the one
+    format of every ``history`` line."""
+    return datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+
+
+def run_statuses(ds: xr.Dataset) -> list[str]:
+    """The status of each run of a simulation file: one for a single run, one per
+    run for runs stacked along a parameter (a ``status`` variable, or the global
+    attribute with one word per run)."""
+    if "status" in ds.data_vars:
+        return [str(s) for s in np.ravel(ds["status"].values)]
+    return str(ds.attrs.get("status", "ok")).split() or ["ok"]
+
+
+def run_dims(ds: xr.Dataset) -> list[str]:
+    """The dimensions a simulation file stacks runs along (not time or event)."""
+    return [d for d in ds.dims if d not in ("time", "event") and ds.sizes[d] > 1]
+
+
+def is_geometric(values) -> bool:
+    """True when ``values`` (> 0, 3 or more) are evenly spaced in log, not linearly."""
+    a = np.asarray(values, dtype=float)
+    if a.ndim != 1 or a.size < 3 or not np.all(a > 0):
+        return False
+    dl, d = np.diff(np.log(a)), np.diff(a)
+    log_even = np.allclose(dl, dl[0], rtol=1e-6, atol=0)
+    lin_even = np.allclose(d, d[0], rtol=1e-6, atol=0)
+    return bool(log_even and not lin_even)
+
+
+def mark_spacing(ds: xr.Dataset) -> xr.Dataset:
+    """``spacing = "geometric"`` on each numeric dimension evenly spaced in log (so
+    plots, sweepcore's and the reader's, know to use a log axis), ``"linear"`` on
+    each evenly spaced one; an attribute already set is kept."""
+    for d in ds.dims:
+        c = ds[d]
+        if c.dtype.kind != "f" or c.size < 3 or "spacing" in c.attrs:
+            continue
+        d_ = np.diff(c.values)
+        if is_geometric(c.values):
+            c.attrs["spacing"] = "geometric"
+        elif np.allclose(d_, d_[0], rtol=1e-6, atol=0):
+            c.attrs["spacing"] = "linear"
+    return ds
+
+
 def provenance(title: str, call: str, source: str, comment: str) -> dict:
     """CF global attributes (section 2.6): Conventions, title, history (the time, the
     version and ``call``), source (the version and ``source``), references, comment."""
-    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    now = timestamp()
     return {
         "Conventions": "CF-1.11",
         "title": title,

@@ -6,9 +6,6 @@ kN/cm, alpha1 kN s/cm and alpha2 kN s^3/cm^3.
 from __future__ import annotations
 
 import cmath
-import difflib
-import functools
-import inspect
 import math
 import numbers
 from dataclasses import dataclass
@@ -17,6 +14,7 @@ import numpy as np
 
 from . import law
 from ._kernels import layout
+from .options import checked_keywords
 
 UNITS = {
     "m": "kN s2 cm-1", "k": "kN cm-1", "r_y": "kN", "v": "cm s-1",
@@ -278,28 +276,4 @@ class Params:
         return r
 
 
-def did_you_mean(fn):
-    """Wrap ``fn`` so that a misspelt keyword argument gets "did you mean" (difflib).
-
-    The signature is kept (``functools.wraps`` exposes the original to ``inspect``);
-    a known keyword costs one set lookup.
-    """
-    params = inspect.signature(fn).parameters.values()
-    names = [p.name for p in params if p.name != "self" and p.kind in (
-        p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
-    known = set(names)
-    owner = fn.__qualname__.removesuffix(".__init__")
-
-    @functools.wraps(fn)
-    def checked(*args, **kwargs):
-        for key in kwargs:
-            if key not in known:
-                close = difflib.get_close_matches(key, names, n=1)
-                hint = f"; did you mean {close[0]!r}?" if close else ""
-                raise TypeError(f"{owner}() got an unexpected keyword argument {key!r}"
-                                f"{hint} (allowed: {', '.join(names)})")
-        return fn(*args, **kwargs)
-    return checked
-
-
-Params.__init__ = did_you_mean(Params.__init__)
+Params.__init__ = checked_keywords(Params.__init__)

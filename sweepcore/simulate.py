@@ -10,8 +10,8 @@ from . import labels, law
 from ._kernels import codes, layout
 from ._kernels.attractor import resolve_options
 from ._kernels.trajectory import fresh_acc, run_trajectory
-from .options import check_method, make_options
-from .params import LONG_NAMES, UNITS, Params, check_real, did_you_mean
+from .options import check_method, checked_keywords, make_options
+from .params import LONG_NAMES, UNITS, Params, check_real
 
 
 def start_row(params: Params, x0: float, xdot0: float | None) -> np.ndarray:
@@ -23,7 +23,7 @@ def start_row(params: Params, x0: float, xdot0: float | None) -> np.ndarray:
     return params.row(x0, xdot0)
 
 
-@did_you_mean
+@checked_keywords
 def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None = None,
              method: str = "auto", output_dt: float | None = None, tol: float = 1e-10,
              dt: float | None = None, max_steps: int = 10_000_000,

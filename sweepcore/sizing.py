@@ -17,9 +17,11 @@ import numpy as np
 from . import law
 from . import variables
 from ._kernels import layout
+from .boundary import BOUNDARY_VARIABLES
 from .grid import Grid
 from .execute import check_chunks
 from .io import WorkingStore, chunk_shape, free_bytes, path_text
+from .options import checked_keywords
 
 CHUNK_MAX = 50_000        # default chunks hold 20 000 - 50 000 points,
 CHUNK_MIN = 20_000        # or the whole grid when it is smaller,
@@ -48,6 +50,7 @@ def _analytic_sizes(grid: Grid) -> int:
     return total
 
 
+@checked_keywords
 def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
     """Size of a sweep, before any work: points, bytes of output, memory and disk.
 
@@ -64,8 +67,9 @@ def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
     dict
         ``points``; ``output_bytes`` (the Dataset's variables, uncompressed: an
         upper bound of the file); ``memory_bytes`` the call will need (the result
-        in memory without ``path``; chunk, file block and, when ``v`` is swept, 7
-        bytes per point for the Hopf boundary with ``path``); ``disk_bytes`` (with
+        in memory without ``path``; chunk, file block and, when ``v`` is swept, 8
+        bytes per point for the measured boundaries with ``path``: the regime and
+        the reversal mask, and their work arrays); ``disk_bytes`` (with
         ``path``: the working store plus the output's upper bound, else 0);
         ``stored_bytes`` (chunks already in the working store of ``path``);
         ``memory_available`` and ``disk_free`` [bytes] (None when unknown);
@@ -87,17 +91,17 @@ def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
     output = n * (8 * n_obs + 3) + 8 * _analytic_sizes(grid)
     boundary = "v" in grid.dims and len(np.atleast_1d(grid.v)) >= 2
     if boundary:
-        output += 8 * 4 * (n // len(grid.v))
+        output += 8 * len(BOUNDARY_VARIABLES) * (n // len(grid.v))
     # one chunk: its kernel rows and results, the result's transpose, dask's copies
     working = 3 * chunk * 8 * (layout.NP + layout.NOBS)
     if path is None:
         memory = n * (8 * layout.NOBS + 4) + 8 * _analytic_sizes(grid) + working
-        memory += 7 * n if boundary else 0
+        memory += 8 * n if boundary else 0
         disk = 0
     else:
         block = math.prod(chunk_shape(grid.shape, 8)) if grid.shape else 1
         # a block of one variable read, converted and compressed at a time
-        memory = working + 3 * block * 8 + HDF5_CACHE + (7 * n if boundary else 0)
+        memory = working + 3 * block * 8 + HDF5_CACHE + (8 * n if boundary else 0)
         disk = n * 8 * layout.NOBS + output
     return {"points": n, "chunk": chunk, "output_bytes": int(output),
             "memory_bytes": int(memory), "disk_bytes": int(disk),

@@ -234,8 +234,10 @@ class _Checker:
         if not isinstance(val, str):
             self.fail(keypath, f"must be a string, got {_describe(val)}")
         if choices is not None and val not in choices:
+            close = difflib.get_close_matches(val, list(choices), n=1)
             self.fail(keypath, f"must be one of {', '.join(map(repr, choices))}, "
-                               f"got {val!r}")
+                               f"got {val!r}"
+                               + (f"; did you mean {close[0]!r}?" if close else ""))
         return val
 
     def real(self, keypath, val, name=None, **rule) -> float:

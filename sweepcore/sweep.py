@@ -71,11 +71,11 @@ from tqdm.auto import tqdm
 from . import execute, labels, law, variables
 from ._kernels import codes, layout
 from ._kernels.attractor import attractor_rows, attractor_rows_parallel
-from .boundary import BOUNDARY_VARIABLES, hopf_boundary
+from .boundary import BOUNDARY_VARIABLES, hopf_boundary, reversal_cycles
 from .grid import Grid
 from .io import WorkingStore, check_flag, chunk_shape, result_path, write_netcdf
 from .io.files import stale_temporaries
-from .options import make_options
+from .options import checked_keywords, make_options
 from .sizing import (SweepTooLarge, default_chunk, estimate, refuse_if_too_large,
                      size_text)
 
@@ -111,6 +111,7 @@ def run_chunk_parallel(grid: Grid, start: int, stop: int, o: np.ndarray) -> np.n
 
 
 # -------------------------------------------------------------------- sweep
+@checked_keywords(options=True)
 def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | None = None,
           client=None, path=None, progress: bool | None = None, scheduler=None,
           overwrite: bool = False, **options) -> xr.Dataset:
@@ -166,7 +167,8 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
     xarray.Dataset
         Dimensions: the swept axes of ``grid`` (or ``point``), with ``units`` and
         ``long_name``; fixed parameters are 0-d coordinates. Variables: every
-        observable of :data:`sweepcore.variables.OBSERVABLES` (float64), ``regime``
+        observable of :data:`sweepcore.variables.OBSERVABLES` (float64; ``n_steps``
+        int64), ``regime``
         and ``status`` (int8 flag variables), ``converged`` (int8, 1 where status is
         ok), the analytic ``q``, ``v_star``, ``x_eq``, ``omega`` over the dimensions
         they depend on, and, when ``v`` is swept with >= 2 values, the measured
@@ -259,6 +261,11 @@ def _compute_to_store(grid, o, kind, target, store, progress) -> None:
     bounds = [store.bounds(i) for i in range(store.n_chunks)]
     todo = [i for i in range(len(bounds)) if i not in finished]
     initial = sum(bounds[i][1] - bounds[i][0] for i in finished)
+    if finished and progress is not False:
+        # on stderr (not a log record): an interrupted run's user must see it
+        print(f"sweep: resuming {len(finished)} of {store.n_chunks} chunks (already "
+              f"stored in {store.directory}); computing the other {len(todo)}",
+              file=sys.stderr)
     with _progress_bar(grid.size, initial, progress) as bar:
         def handle(i, result):
             store.write(i, result)
@@ -384,7 +391,10 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
     dims = grid.dims
     data = {}
     for name, (col, *meta) in variables.OBSERVABLES.items():
-        data[name] = xr.Variable(dims, column(col), labels.attrs(*meta))
+        values = column(col)
+        if name in variables.INTEGER:
+            values = values.astype(np.int64)
+        data[name] = xr.Variable(dims, values, labels.attrs(*meta))
     status = column(layout.OB_STATUS).astype(np.int8)
     regime = column(layout.OB_REGIME).astype(np.int8)
     data["regime"] = xr.Variable(dims, regime, labels.flag_attrs(variables.REGIME))
@@ -410,8 +420,10 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
 
     if "v" in ds.dims and ds.sizes["v"] >= 2:
         # lazily: the boundary needs the regime of the whole grid, 1 byte per point
-        bd = hopf_boundary(ds[["regime"]].compute(scheduler="synchronous") if lazy
-                           else ds)
+        # (and which slip cycles overshoot the belt, 1 byte more)
+        src = ds[["regime"]].assign(reversal=reversal_cycles(ds)).compute(
+            scheduler="synchronous") if lazy else ds
+        bd = hopf_boundary(src)
         ds = ds.assign({n: bd[n].variable for n in BOUNDARY_VARIABLES})
 
     ds.attrs.update({
@@ -427,4 +439,6 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
     })
     if grid.xdot0 is None:
         ds.attrs["initial_velocity"] = "xdot0 = v: every point starts stuck on the belt"
-    return ds
+    labels.mark_spacing(ds)
+    # the belt speed last: xarray's default 2-D plot puts the last dimension on x
+    return ds.transpose(..., "v") if "v" in ds.dims else ds

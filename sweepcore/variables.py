@@ -38,6 +38,10 @@ OBSERVABLES = {
                 "all stepper calls, including rejected steps and event polishing"),
 }
 
+# observables stored as integers (int64): counts that are never NaN, so they read as
+# counts in every tool (CSV "68", not "68.0"); sticks_per_period stays float64: NaN
+# marks a point without a measured attractor
+INTEGER = ("n_steps",)
 REGIME = {
     "units": "1",
     "long_name": "attractor regime",

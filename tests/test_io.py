@@ -26,7 +26,8 @@ def test_sweep_output_passes_the_cf_check(result):
     assert check_cf(result) == []
     assert result.attrs["Conventions"] == "CF-1.11"
     assert "sweepcore" in result.attrs["history"] and "Liu" in result.attrs["references"]
-    assert result.v.attrs == {"units": "cm s-1", "long_name": "belt speed"}
+    assert result.v.attrs == {"units": "cm s-1", "long_name": "belt speed",
+                              "spacing": "linear"}
     assert result.m.dims == () and result.m.attrs["units"] == "kN s2 cm-1"
 
 

@@ -183,15 +183,21 @@ def test_sweep_needs_a_grid():
 
 
 # ------------------------------------------------------- values of a sweep
+def flat(da):
+    """A sweep variable in the grid's flat order (the grid's axis order; the file
+    puts v last for xarray's default plot)."""
+    return da.transpose(*[a for a in Grid(**MIXED).dims if a in da.dims]).values.ravel()
+
+
 def test_sweep_equals_serial_kernel_point_by_point(warm_sweep):
     o = make_options("auto", tol=1e-8)
     ds = sweep(Grid(**MIXED), progress=False)
     ref = per_point(product_rows(**MIXED), o)
     for name, (col, *_meta) in OBSERVABLES.items():
-        np.testing.assert_array_equal(ds[name].values.ravel(), ref[:, col], err_msg=name)
-    np.testing.assert_array_equal(ds.regime.values.ravel(), ref[:, layout.OB_REGIME])
-    np.testing.assert_array_equal(ds.status.values.ravel(), ref[:, layout.OB_STATUS])
-    np.testing.assert_array_equal(ds.converged.values.ravel(),
+        np.testing.assert_array_equal(flat(ds[name]), ref[:, col], err_msg=name)
+    np.testing.assert_array_equal(flat(ds.regime), ref[:, layout.OB_REGIME])
+    np.testing.assert_array_equal(flat(ds.status), ref[:, layout.OB_STATUS])
+    np.testing.assert_array_equal(flat(ds.converged),
                                   ref[:, layout.OB_STATUS] == codes.OK)
 
 
@@ -266,7 +272,7 @@ def test_analytic_arrays_equal_params_bit_for_bit():
 def test_analytic_variables_span_only_their_dimensions(paper_map):
     ds = sweep(paper_map, progress=False)
     assert ds.omega.dims == () and ds.v_star.dims == ("alpha2",)
-    assert ds.q.dims == ds.x_eq.dims == ("v", "alpha2")
+    assert ds.q.dims == ds.x_eq.dims == ("alpha2", "v")     # v last: plotted on x
     p = sc.Params(m=5.0, k=50.0, r_y=10.0, v=float(ds.v[7]), alpha1=1.0, alpha2=0.02)
     at = ds.isel(v=7).sel(alpha2=0.02)
     assert (float(at.q), float(at.x_eq), float(at.v_star)) == (p.q, p.x_eq, p.v_star)
@@ -388,7 +394,7 @@ def spy_chunks(monkeypatch, path, interrupt_after=None):
 
 
 def test_interrupted_sweep_resumes_computing_only_missing_chunks(paper_map, tmp_path,
-                                                                 monkeypatch):
+                                                                 monkeypatch, capsys):
     path = tmp_path / "map.nc"
     store = WorkingStore.location(path)
     first = spy_chunks(monkeypatch, path, interrupt_after=3)
@@ -397,7 +403,9 @@ def test_interrupted_sweep_resumes_computing_only_missing_chunks(paper_map, tmp_
     assert len(first) == 3 and not path.exists() and store.is_dir()
 
     resumed = spy_chunks(monkeypatch, path)
-    sweep(paper_map, chunks=10, path=path, progress=False)
+    capsys.readouterr()
+    sweep(paper_map, chunks=10, path=path)      # says so (no bar off a terminal)
+    assert "sweep: resuming 3 of 8 chunks" in capsys.readouterr().err
     assert sorted(resumed) == sorted(set(range(0, paper_map.size, 10)) - set(first))
     assert path.exists() and not store.exists()
 
@@ -500,3 +508,46 @@ def test_boundary_needs_a_swept_speed():
         hopf_boundary(ds)
     with pytest.raises(ValueError, match="axis='speed' is not a dimension"):
         hopf_boundary(ds, axis="speed")
+
+
+def test_stick_onset_and_reversal_band_are_separate_variables():
+    """Synthetic rows: a reversal band (slip cycles overshooting the belt,
+    xdot_max > v) between stick-slip runs is not the stick onset, which is where
+    stick-slip gives way to a slip cycle below the belt speed or equilibrium."""
+    S, C, E = codes.R_STICK_SLIP, codes.R_SLIP_CYCLE, codes.R_EQUILIBRIUM
+    v = np.array([1.0, 2.0, 3.0, 4.0, 5.0, 6.0])
+    regimes = [[S, C, C, S, C, E],       # band 1.5-3.5, onset 4.5
+               [S, S, C, C, C, C],       # band from 2.5 to the grid's end: no onset
+               [S, S, S, C, C, E],       # no band: onset 3.5
+               [C, C, S, S, S, S]]       # band from the grid's start, no onset
+    over = np.array([[0, 1, 1, 0, 0, 0], [0, 0, 1, 1, 1, 1], [0, 0, 0, 0, 0, 0],
+                     [1, 1, 0, 0, 0, 0]], bool)
+    ds = synthetic_map(regimes, v)
+    ds["xdot_max"] = (("alpha2", "v"), np.where(over, 1.01, 0.99) * v)
+    bd = hopf_boundary(ds)
+    np.testing.assert_array_equal(bd.v_stick_onset, [4.5, np.nan, 3.5, np.nan])
+    np.testing.assert_array_equal(bd.v_reversal_lower, [1.5, 2.5, np.nan, np.nan])
+    np.testing.assert_array_equal(bd.v_reversal_upper, [3.5, np.nan, np.nan, 2.5])
+    np.testing.assert_array_equal(bd.v_reversal_upper_resolution,
+                                  [0.5, np.nan, np.nan, 0.5])
+
+
+def test_map_stick_onset_is_the_grazing_of_the_hopf_cycle():
+    """On the paper's slider the measured stick onset is 0.8945 v* (the located
+    curve, benchmarks/boundaries.py; averaging: sqrt(4/5)) to the grid resolution
+    on every row where it lies inside the map, NaN where it lies above the map's
+    speeds, never the reversal band's edge at small alpha2 (3.7-4.7 cm/s)."""
+    a2 = np.geomspace(1e-3, 1e-2, 8)
+    ds = sweep(Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, v=np.linspace(0.5, 10, 40),
+                    alpha2=a2), progress=False)
+    onset = 0.8945 * ds.v_star
+    inside = onset < 10.0
+    assert inside.sum() >= 4 and (~inside).sum() >= 2
+    err = abs(ds.v_stick_onset - onset).where(inside)
+    assert (err <= ds.v_stick_onset_resolution + 1e-3 * ds.v_star).where(inside,
+                                                                         True).all()
+    assert ds.v_stick_onset.where(~inside).isnull().all()
+    # the band is where slip cycles overshoot the belt, at small alpha2 only
+    band = ds.v_reversal_lower.isel(alpha2=0)
+    assert 3.0 < band < 5.0
+    assert ds.v_reversal_lower.isel(alpha2=-1).isnull()

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import xarray as xr
 
-from ..grid import COLUMNS, Grid
-from ..options import make_options
+from ..grid import AXES, COLUMNS, Grid
+from ..options import checked_keywords, did_you_mean, make_options
 from .dataset import _dataset
 from .drive import _drive, _together
 from .fold import cycle_boundaries
@@ -94,6 +94,7 @@ def _history():
             "graze_width": math.inf}
 
 
+@checked_keywords(options=True)
 def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
                       bracket=None, xtol: float = 1e-9, scan: int = 32,
                       offset: float = 5e-3, tol: float = 1e-10, method: str = "auto",
@@ -146,7 +147,8 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
     if other.swept != (over,):
         raise ValueError(f"continue_boundary needs {over!r} swept and every other "
                          f"parameter fixed (apart from {along!r}); swept: "
-                         f"{other.swept}")
+                         f"{other.swept}"
+                         f"{'' if over in AXES else did_you_mean(over, AXES[:6])}")
     start = _start(grid)
     xs = np.asarray(other.axis(over))
     base = other.rows(0, other.size)

@@ -17,7 +17,7 @@ import xarray as xr
 from .. import execute
 from .._kernels import codes, layout
 from ..grid import AXES, COLUMNS, Grid
-from ..options import make_options
+from ..options import checked_keywords, did_you_mean, make_options
 from ..params import UNITS, check_real
 from .dataset import _dataset
 from .drive import _drive, _together
@@ -216,7 +216,8 @@ def _scan_values(grid: Grid, along: str, bracket, scan: int) -> np.ndarray:
 
 def _check_search(along, xtol, offset):
     if along not in AXES[:6]:
-        raise ValueError(f"along must be one of {AXES[:6]}, got {along!r}")
+        raise ValueError(f"along must be one of {AXES[:6]}, got {along!r}"
+                         f"{did_you_mean(along, AXES[:6])}")
     for name, val in (("xtol", xtol), ("offset", offset)):
         if isinstance(val, bool) or not isinstance(val, (int, float)) or \
                 not (math.isfinite(val) and val > 0):
@@ -278,6 +279,7 @@ def locate_chunk(base: np.ndarray, along: str, values: np.ndarray, xtol: float,
     return results
 
 
+@checked_keywords(options=True)
 def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 1e-9,
                       scan: int = 32, offset: float = 5e-3, tol: float = 1e-10,
                       method: str = "auto", chunks: int | None = None, client=None,

@@ -17,11 +17,11 @@ the commands print about a result); here, :func:`main` and its error handling.
 from __future__ import annotations
 
 import argparse
-import difflib
 import os
 import sys
 import traceback
 
+from ..options import did_you_mean
 from .commands import COMPILE_MESSAGE, SimulationFailed, UsageError
 from .parser import build_parser, set_threads
 
@@ -125,8 +125,7 @@ def unknown_option(parser, argv) -> tuple[str, str] | None:
             skip = "=" not in token and (name if name in known else matches[0]) \
                 in takes_value
             continue
-        close = difflib.get_close_matches(name, known, n=1, cutoff=0.6)
-        hint = f"; did you mean {close[0]}?" if close else ""
+        hint = did_you_mean(name, [o for o in known if o.startswith("--")], quote="")
         where = f"sweepcore {command}" if command else "sweepcore"
         return command, (f"unknown option {name}{hint} (see {where} --help)")
     return None

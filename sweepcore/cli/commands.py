@@ -10,7 +10,8 @@ from pathlib import Path
 import numpy as np
 
 from ..execute import LOCAL_SCHEDULERS
-from ..labels import version
+from ..labels import run_statuses, timestamp, version
+from ..options import did_you_mean
 from .summaries import (basin_lines, boundary_lines, describe, describe_basins,
                         describe_boundaries, regime_line, simulation_summary)
 
@@ -54,13 +55,19 @@ def announce_compile(command: str, dask: bool, quiet: bool) -> None:
 
 # ---------------------------------------------------------------- commands
 def _resolve_outputs(args, default: str, study_png) -> tuple[Path, Path | None]:
-    """The result file and picture of a command that runs a study (run, boundary):
-    ``-o``, else ``default`` (the study's path, or a name after it); no picture with
-    ``--no-png`` or a study's ``png = false``; else ``--png``, else the study's png
-    file, else the result's path with .png."""
+    """The result file and picture of a command that runs a study (run, boundary).
+
+    ``-o`` replaces the study's outputs as a whole: the result is ``-o`` and its
+    picture ``--png``, else the result's path with .png (the study's own picture
+    path is then not used: it may name a directory of the study's place). Without
+    ``-o``: ``default`` (the study's path, or a name after the study) and ``--png``,
+    else the study's png file, else the result's path with .png. No picture with
+    ``--no-png`` or (without ``-o``) a study's ``png = false``."""
     out = Path(args.output or default)
     if out.suffix != ".nc":
         raise UsageError(f"output must end in .nc, got {str(out)!r}")
+    if args.output:
+        study_png = None
     if args.no_png or (args.png is None and study_png is False):
         png = None
     elif args.png is not None:
@@ -149,8 +156,7 @@ def label_with_study(ds, study, command: str):
 
 def _command_line(args) -> str:
     """``history`` line: time, version and the command as typed."""
-    now = time.strftime("%Y-%m-%dT%H:%M:%S%z")
-    return f"{now} sweepcore {version()}: " + shlex.join(["sweepcore", *args.argv])
+    return f"{timestamp()} sweepcore {version()}: " + shlex.join(["sweepcore", *args.argv])
 
 
 def cmd_plot(args) -> int:
@@ -162,29 +168,27 @@ def cmd_plot(args) -> int:
     if out.suffix.lower() != ".png":
         raise UsageError(f"picture must end in .png, got {str(out)!r}")
     _check_directories(out)
-    if "time" in ds.dims and ds.attrs.get("status", "ok") != "ok":
-        raise UsageError(f"{args.result} holds a failed simulation (status "
-                         f"{ds.attrs['status']}): nothing to draw")
+    failed = [s for s in run_statuses(ds) if s != "ok"] if "time" in ds.dims else []
+    if failed and len(failed) == len(run_statuses(ds)):
+        what = "a failed simulation" if len(failed) == 1 else "only failed simulations"
+        raise UsageError(f"{args.result} holds {what} (status {' '.join(failed)}): "
+                         "nothing to draw")
     kwargs = {}
     if "time" not in ds.dims:
         kwargs = {k: getattr(args, k) for k in ("x", "y") if getattr(args, k)}
         swept = [d for d in ds.dims if ds.sizes[d] > 1 and ds[d].dtype.kind in "iuf"]
         for key, dim in kwargs.items():
             if dim not in swept:
-                raise UsageError(f"--{key} {dim}: not a swept axis of {args.result} "
-                                 f"(swept: {', '.join(swept)})")
+                raise UsageError(f"--{key} {dim}: not a swept axis of {args.result}"
+                                 f"{did_you_mean(dim, swept)} (swept: "
+                                 f"{', '.join(swept) or 'none'})")
         if len(swept) < 2 and kwargs:
             raise UsageError("--x/--y apply to maps; this result has one swept axis")
         if kwargs.get("x") and kwargs.get("x") == kwargs.get("y"):
             raise UsageError(f"--x and --y are both {args.x}: give two different swept "
                              f"axes (swept: {', '.join(swept)})")
         if args.variables:
-            names = [s.strip() for s in args.variables.split(",") if s.strip()]
-            missing = [n for n in names if n not in ds]
-            if missing:
-                raise UsageError(f"--variables: {', '.join(missing)} not in "
-                                 f"{args.result} (has {', '.join(ds.data_vars)})")
-            kwargs["variables"] = names
+            kwargs["variables"] = _variable_names(args, ds, ("regime", *ds.data_vars))
         elif "study" in ds.attrs:
             from ..study import StudyError, parse_study
             try:
@@ -284,12 +288,7 @@ def cmd_export(args) -> int:
         raise UsageError(f"--csv must end in .csv, got {str(out)!r}")
     _check_directories(out)
     if args.variables:
-        names = [n.strip() for n in args.variables.split(",") if n.strip()]
-        missing = [n for n in names if n not in ds.data_vars]
-        if missing:
-            raise UsageError(f"--variables: {', '.join(missing)} not in {args.result} "
-                             f"(has {', '.join(ds.data_vars)})")
-        ds = ds[names]
+        ds = ds[_variable_names(args, ds, list(ds.data_vars))]
     tables = csv_tables(ds)
     written = []
     for suffix, frame in tables.items():
@@ -338,6 +337,20 @@ def _frame(ds):
     return frame.rename(columns=columns)
 
 
+def _variable_names(args, ds, known) -> list[str]:
+    """The names of ``--variables a,b``, each a variable of the result (``known``):
+    an unknown one is refused with the closest name and the list."""
+    names = [n.strip() for n in args.variables.split(",") if n.strip()]
+    if not names:
+        raise UsageError("--variables: give at least one name")
+    known = list(dict.fromkeys(known))
+    for name in names:
+        if name not in known:
+            raise UsageError(f"--variables: {name!r} is not a variable of {args.result}"
+                             f"{did_you_mean(name, known)} (has {', '.join(known)})")
+    return names
+
+
 def _open(path):
     from ..io import open_result
     try:
@@ -363,6 +376,9 @@ def cmd_boundary(args) -> int:
     if (args.scheduler or args.chunks) and (b["continuation"] or b["diagram"]):
         raise UsageError("--scheduler and --chunks apply to located boundaries, not to "
                          "a continuation or a diagram (sequential by nature)")
+    over = args.over or b.get("over")
+    if over and not over.endswith(".nc"):
+        raise UsageError(f"--over must name a .nc map, got {over!r}")
     _check_directories(out, png)
     from ..io import result_path
     result_path(out)    # sweep's rules: no symbolic link, FIFO, read-only file, ...
@@ -377,8 +393,8 @@ def cmd_boundary(args) -> int:
     ds = _boundary_result(grid, study, b, args)
     elapsed = time.perf_counter() - t0
     ds = label_with_study(ds, study, _command_line(args))
-    if b.get("over"):
-        ds.attrs["over"] = b["over"]
+    if over:
+        ds.attrs["over"] = over
     write_netcdf(ds, out)
     if not args.quiet:
         print(f"wrote {out} ({elapsed:.1f} s)")

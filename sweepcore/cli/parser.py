@@ -77,18 +77,30 @@ def build_parser() -> argparse.ArgumentParser:
                "sweepcore simulate --m 5 --k 50 --r-y 10 --v 5 --png fig3.png. "
                f"Output variables and codes: {doc('variables.md')}. "
                "Exit codes: 0 ok, 1 failure, 2 refused input.")
-    parser.add_argument("--threads", type=_thread_count, metavar="N",
-                        help="numba threads (sets NUMBA_NUM_THREADS and friends); "
-                             "default: numba's (all cores)")
-    parser.add_argument("--traceback", action="store_true",
-                        help="show the full traceback of an error")
+    _add_global_options(parser, argparse.SUPPRESS)
+    parser.set_defaults(threads=None, traceback=False)
     parser.add_argument("--version", action="version", version=f"sweepcore {version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, (summary, description, add_options) in SUBCOMMANDS.items():
         p = sub.add_parser(name, help=summary, description=description)
         add_options(p)
+        # before or after the subcommand alike: `sweepcore run --threads 1 S.toml`
+        _add_global_options(p.add_argument_group("global options"), argparse.SUPPRESS)
         p.set_defaults(func=getattr(commands, f"cmd_{name}"))
     return parser
+
+
+def _add_global_options(p, default) -> None:
+    """--threads and --traceback, accepted before and after the subcommand.
+
+    Their ``default`` is ``argparse.SUPPRESS`` on both parsers, so an option given
+    on one is not overwritten by the other's default (the top-level parser's
+    ``set_defaults`` supplies the values when neither gives one)."""
+    p.add_argument("--threads", type=_thread_count, metavar="N", default=default,
+                   help="numba threads (sets NUMBA_NUM_THREADS and friends); "
+                        "default: numba's (all cores)")
+    p.add_argument("--traceback", action="store_true", default=default,
+                   help="show the full traceback of an error")
 
 
 def _add_study_options(p, output: str, png: str, scheduler: str, chunks: str,
@@ -187,6 +199,8 @@ def _boundary_options(p):
         scheduler="as for run (not for continuation or diagrams)",
         chunks="points per task (not for continuation or diagrams)",
         quiet="no summary")
+    p.add_argument("--over", metavar="MAP.nc",
+                   help="map to draw the curves over; default [boundary] over")
     p.add_argument("--sweep", choices=("up", "down", "both"),
                    help="direction of a diagram's scan (default [boundary] sweep, "
                         "else both: up, then down)")

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._kernels import codes
 from ..boundaries import LOCATED
-from ..labels import parameter
+from ..labels import parameter, run_dims, run_statuses
 
 
 def _units(var) -> str:
@@ -50,6 +50,10 @@ def describe(ds) -> str:
         c = ds[d]
         vals = c.values
         spacing = c.attrs.get("spacing", "")
+        if vals.dtype.kind not in "iuf":        # a categorical axis (names)
+            lines.append(f"    {d:8s} {vals.size} values: "
+                         + ", ".join(str(v) for v in vals))
+            continue
         name = f"{c.attrs.get('long_name', '')} [{c.attrs.get('units', '')}]"
         lines.append(f"    {d:8s} {name}: {vals.size} values in [{vals.min():.6g}, {vals.max():.6g}]"
                      + (f" ({spacing})" if spacing else ""))
@@ -101,7 +105,27 @@ def _boundary_lines(ds) -> list[str]:
             if sel.any() else "")
     if res is not None and res.size:
         text += f" (grid resolution +-{np.max(res):.3g})"
-    return [text] if text else []
+    return ([text] if text else []) + _onset_lines(ds, vs)
+
+
+def _onset_lines(ds, vs) -> list[str]:
+    """The measured stick onset (as a multiple of v*) and the reversal band's edges,
+    each on the rows where the map holds it."""
+    lines = []
+    if "v_stick_onset" in ds:
+        on = ds["v_stick_onset"].values
+        ok = np.isfinite(on)
+        ratio = (ds["v_stick_onset"] / vs).values[ok]
+        lines.append(f"  measured stick onset: {int(ok.sum())} of {ok.size} rows"
+                     + (f"; v_stick_onset / v* in [{ratio.min():.4g}, {ratio.max():.4g}]"
+                        if ok.any() else ""))
+    for edge in ("lower", "upper"):
+        name = f"v_reversal_{edge}"
+        if name in ds and np.isfinite(ds[name].values).any():
+            val = ds[name].values[np.isfinite(ds[name].values)]
+            lines.append(f"  reversal band, {edge} edge: {val.size} rows, "
+                         f"[{val.min():.4g}, {val.max():.4g}] cm s-1")
+    return lines
 
 
 def _describe_simulation(ds) -> str:
@@ -114,23 +138,48 @@ def _describe_simulation(ds) -> str:
                                       if np.isfinite(parameter(ds, n))),
              f"  start: x0 = {parameter(ds, 'x0'):.6g} cm, "
              f"xdot0 = {parameter(ds, 'xdot0'):.6g} cm s-1",
-             f"  method: {a.get('method', '?')}, status: {a.get('status', '?')}, "
-             f"steps: {a.get('n_steps', '?')}"]
+             *_run_lines(ds)]
     if "event_kind" in ds:
         counts = [(n, c) for n, c in _flag_counts(ds["event_kind"]) if c]
         lines.append("  events: " + (", ".join(f"{n} {c}" for n, c in counts)
                                      if counts else "none"))
-    x = ds.x.values
-    tail = (t >= t[-1] - 0.2 * (t[-1] - t[0])) & np.isfinite(x)
-    if tail.any():
-        lines.append(f"  x over the last 20 % of the run: [{x[tail].min():.6g}, "
-                     f"{x[tail].max():.6g}] cm")
-    else:
-        lines.append("  x over the last 20 % of the run: no valid sample (the run "
-                     "stopped early)")
+    if not run_dims(ds):
+        lines.append(f"  x over the last 20 % of the run: {_tail_range(ds)}")
     if "history" in a:
         lines.append(f"  history: {a['history']}")
     return "\n".join(lines)
+
+
+def _tail_range(ds) -> str:
+    """The range of x over the last 20 % of one run [cm]."""
+    t = ds.time.values
+    x = ds.x.transpose("time", ...).values
+    tail = (t >= t[-1] - 0.2 * (t[-1] - t[0])) & np.isfinite(x)
+    if not tail.any():
+        return "no valid sample (the run stopped early)"
+    return f"[{x[tail].min():.6g}, {x[tail].max():.6g}] cm"
+
+
+def _run_lines(ds) -> list[str]:
+    """Method, status and steps of a simulation; one line per run for runs stacked
+    along a parameter (the parameter's values, each run's status and, when the file
+    holds them per run, its steps)."""
+    a = ds.attrs
+    dims = run_dims(ds)
+    if not dims:
+        return [f"  method: {a.get('method', '?')}, status: {a.get('status', '?')}, "
+                f"steps: {a.get('n_steps', '?')}"]
+    d = dims[0]
+    statuses = run_statuses(ds)
+    steps = ds["n_steps"].values if "n_steps" in ds.data_vars else [None] * ds.sizes[d]
+    lines = [f"  {ds.sizes[d]} runs along {d} ({ds[d].attrs.get('units', '?')}), method: "
+             f"{a.get('method', '?')}"]
+    for i, value in enumerate(ds[d].values):
+        status = statuses[i] if len(statuses) == ds.sizes[d] else "?"
+        step = "" if steps[i] is None else f", steps: {int(steps[i])}"
+        lines.append(f"    {d} = {value:.6g}: status: {status}{step}; x over the "
+                     f"last 20 % of the run: {_tail_range(ds.isel({d: i}))}")
+    return lines
 
 
 def simulation_summary(ds, p) -> str:

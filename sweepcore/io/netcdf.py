@@ -17,6 +17,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..options import checked_keywords
 from .files import describe_oserror, path_text, temporary_name, write_failed
 
 COMPLEVEL = 4
@@ -69,6 +70,7 @@ def estimated_bytes(ds: xr.Dataset) -> int:
     return int(sum(v.size * v.dtype.itemsize for v in ds.variables.values()))
 
 
+@checked_keywords
 def write_netcdf(ds: xr.Dataset, path) -> Path:
     """Write ``ds`` to ``path`` (netCDF4, compressed) atomically.
 
@@ -174,6 +176,7 @@ def _skeleton(ds: xr.Dataset) -> xr.Dataset:
     return out
 
 
+@checked_keywords
 def open_result(path) -> xr.Dataset:
     """Read a result file into memory (the file is closed on return).
 
@@ -220,6 +223,7 @@ def open_result(path) -> xr.Dataset:
 
 
 # ---------------------------------------------------------------- CF check
+@checked_keywords
 def check_cf(ds: xr.Dataset) -> list[str]:
     """Problems with the CF metadata of a sweep Dataset (empty list: none found).
 

@@ -8,6 +8,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 
 from .._kernels import codes
+from ..options import checked_keywords
 from .maps import _plane, map_panel
 from .style import REGIME_COLOURS, SYMBOLS, axis_scale, fmt, label, sweep_title
 
@@ -23,6 +24,7 @@ def _style(ds, j: int) -> dict:
     return dict(color=REGIME_COLOURS.get(regime, "k"), ls=_DASHES[rank % 4])
 
 
+@checked_keywords
 def plot_basins(ds: xr.Dataset, x: str | None = None, y: str | None = None,
                 title: str | None = None, reference=None) -> Figure:
     """The basin fractions of a :func:`sweepcore.basin_stability` result.

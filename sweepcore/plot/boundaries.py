@@ -10,6 +10,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from .._kernels import codes
+from ..options import checked_keywords
 from .maps import map_panel
 from .style import REGIME_COLOURS, axis_scale, fixed_parameters, label
 
@@ -21,6 +22,7 @@ _MARKS = (
 )
 
 
+@checked_keywords
 def plot_diagram(ds: xr.Dataset, title: str | None = None) -> Figure:
     """A bifurcation diagram (:func:`sweepcore.diagram.bifurcation_diagram`).
 
@@ -82,6 +84,7 @@ def plot_diagram(ds: xr.Dataset, title: str | None = None) -> Figure:
     return fig
 
 
+@checked_keywords
 def plot_boundaries(ds: xr.Dataset, over: xr.Dataset | None = None,
                     title: str | None = None) -> Figure:
     """Located boundary curves (:func:`sweepcore.locate_boundaries` or
@@ -125,10 +128,15 @@ def plot_boundaries(ds: xr.Dataset, over: xr.Dataset | None = None,
         ax.set_xlabel(label(xr.Variable((), 0.0, {"units": "cm s-1",
                                                    "long_name": "belt speed"}), "v"))
         ax.set_ylabel(label(ds[p], p))
-    regimes = ax.get_legend()          # the regime map's own legend, kept
-    ax.legend(fontsize=8, loc="upper right", framealpha=0.85)
+    # one legend: the curves, then the regime map's colours (its own legend sits
+    # below the panel, where this figure's layout has no room for it)
+    handles, names = ax.get_legend_handles_labels()
+    regimes = ax.get_legend()
     if regimes is not None:
-        ax.add_artist(regimes)
+        handles += list(regimes.legend_handles)
+        names += [f"regime: {t.get_text()}" for t in regimes.get_texts()]
+        regimes.remove()
+    ax.legend(handles, names, fontsize=8, loc="upper right", framealpha=0.85)
     ax.set_title("located boundaries", fontsize=10)
     if "v_star" not in ds:     # searched along another parameter than v
         raise ValueError("boundary curves are drawn for boundaries along v; this "

@@ -7,6 +7,7 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from .._kernels import codes
+from ..options import checked_keywords
 from .style import fixed_parameters, label
 
 # per scan: colour, marker, and the side of the jump arrow
@@ -27,6 +28,7 @@ def _runs(regime: np.ndarray):
     return list(zip(bounds[:-1], bounds[1:]))
 
 
+@checked_keywords
 def plot_hysteresis(ds: xr.Dataset, variable: str = "amplitude",
                     title: str | None = None) -> Figure:
     """Stable and unstable branches of a diagram

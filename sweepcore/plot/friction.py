@@ -7,8 +7,10 @@ import numpy as np
 from matplotlib.figure import Figure
 
 from .. import law
+from ..options import checked_keywords
 
 
+@checked_keywords
 def plot_friction(r_y: float, alpha1: float, alpha2: float,
                   zdot_max: float | None = None, r_k: float | None = None,
                   v_s: float | None = None) -> Figure:

@@ -9,6 +9,7 @@ from matplotlib.lines import Line2D
 
 from .. import labels
 from .._kernels import codes
+from ..options import checked_keywords
 from .style import (REGIME_COLOURS, axis_scale, flag_axis, fmt, label, regime_codes,
                     sweep_title)
 
@@ -26,6 +27,7 @@ def _observable_reference(ds: xr.Dataset, dim: str, name: str):
 _MARKERS = "osD^vP"
 
 
+@checked_keywords
 def plot_lines(ds: xr.Dataset, dim: str, variables=("amplitude", "mean"),
                title: str | None = None, series: str | None = None) -> Figure:
     """Observables of a 1-D sweep against ``dim``, points coloured by regime.

@@ -13,6 +13,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from .. import law
+from ..options import checked_keywords
 from .style import (REGIME_COLOURS, SYMBOLS, axis_scale, fmt, is_geometric, label,
                     pretty_units, regime_codes, sweep_title)
 
@@ -54,6 +55,7 @@ def _plane(ds: xr.Dataset, x: str | None, y: str | None):
     return ds, x, y, facet, note
 
 
+@checked_keywords
 def plot_map(ds: xr.Dataset, x: str | None = None, y: str | None = None,
              variables=("regime", "amplitude"), title: str | None = None,
              boundary: bool = True) -> Figure:
@@ -85,10 +87,11 @@ def plot_map(ds: xr.Dataset, x: str | None = None, y: str | None = None,
     fig = Figure(figsize=(5.6 * n + 0.6, 5.0 * len(rows) + 0.4), layout="constrained")
     axs = np.atleast_2d(fig.subplots(len(rows), n, sharex=True, sharey=True))
     curves = {}
+    shared = _shared_scales(ds, variables) if facet else {}
     for row_axs, sub in zip(axs, rows):
         overlays = _overlays(sub, x, y) if boundary else []
         for ax, name in zip(row_axs, variables):
-            map_panel(fig, ax, sub, name, x, y)
+            map_panel(fig, ax, sub, name, x, y, **shared.get(name, {}))
             for draw in overlays:
                 # on the regime map the measured boundaries are the colour edges
                 if name != "regime" or draw.analytic:
@@ -105,6 +108,20 @@ def plot_map(ds: xr.Dataset, x: str | None = None, y: str | None = None,
                    ncol=min(len(curves), 2))
     fig.suptitle((title or sweep_title(ds)) + note, fontsize=10)
     return fig
+
+
+def _shared_scales(ds: xr.Dataset, variables) -> dict:
+    """``{name: {"vmin", "vmax"}}``: one colour scale per variable over every row of
+    a faceted map, so that a colour means the same value in each row (a variable
+    uniform over the whole map keeps its own "uniform" panel)."""
+    out = {}
+    for name in variables:
+        if name == "regime" or ds[name].dtype.kind not in "iuf":
+            continue
+        data = np.ma.masked_invalid(ds[name].values.astype(float))
+        if data.count() and _uniform(data) is None:
+            out[name] = {"vmin": float(data.min()), "vmax": float(data.max())}
+    return out
 
 
 def map_panel(fig: Figure, ax, ds: xr.Dataset, name: str, x: str, y: str,
@@ -258,7 +275,7 @@ def _measured_boundaries(ds, x, y) -> list:
 
     Taken from the result when the sweep stored them, else measured here.
     """
-    names = ("v_hopf_measured", "v_stick_onset")
+    names = ("v_hopf_measured", "v_stick_onset", "v_reversal_lower", "v_reversal_upper")
     if all(n in ds for n in names):
         bd = ds
     else:
@@ -273,7 +290,11 @@ def _measured_boundaries(ds, x, y) -> list:
         "v_hopf_measured": dict(color="black", ls="-", lw=1.3,
                                 label="measured boundary: cycle | equilibrium"),
         "v_stick_onset": dict(color="#CC79A7", ls="-", lw=1.3,
-                              label="measured end of stick-slip"),
+                              label="measured stick onset (end of stick-slip)"),
+        # one legend entry for both edges (the legend keeps one handle per label)
+        **{f"v_reversal_{e}": dict(color="#009E73", ls="--", lw=1.2,
+                                   label="measured edges of the slide-slide-reversal "
+                                         "band") for e in ("lower", "upper")},
     }
     found = []
     for name in names:
@@ -282,6 +303,9 @@ def _measured_boundaries(ds, x, y) -> list:
             continue
         b = b.sortby(other)
         vals, coord = b.values, b[other].values
+        style = dict(styles[name])
+        if coord.size < 5:      # a few values of the other axis: points, not a line
+            style.update(ls="", marker="o", ms=5)
         found.append(_Overlay(*((vals, coord) if x == "v" else (coord, vals)),
-                              Line2D([], [], **styles[name])))
+                              Line2D([], [], **style)))
     return found

@@ -7,6 +7,8 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
+from ..labels import run_dims, run_statuses
+from ..options import checked_keywords
 from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
 from .branches import plot_hysteresis
@@ -16,6 +18,7 @@ from .style import SYMBOLS, flag_axis, fmt, label
 from .trajectories import plot_cases, plot_trajectory
 
 
+@checked_keywords(also=(plot_trajectory, plot_lines, plot_map))
 def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
     """The natural picture of a result Dataset (simulation, 1-D or 2-D sweep).
 
@@ -30,20 +33,24 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
             return plot_hysteresis(ds)     # coexisting attractors
         return plot_diagram(ds)
     if kind == "boundaries":
-        # drawn over the map named by the study ([boundary] over), when it exists
-        over = ds.attrs.get("over")
-        return plot_boundaries(ds, over=xr.open_dataset(over)
-                               if over and Path(over).is_file() else None)
+        return plot_boundaries(ds, over=over_map(ds))
     if "time" in ds.dims:
-        if ds.attrs.get("status", "ok") != "ok":
-            raise ValueError(f"a failed simulation (status {ds.attrs['status']}): its "
+        statuses = run_statuses(ds)
+        if all(s != "ok" for s in statuses):
+            raise ValueError(f"a failed simulation (status {' '.join(statuses)}): its "
                              "samples after the failure are NaN, nothing to draw")
-        extra = [d for d in ds.dims if d not in ("time", "event") and ds.sizes[d] > 1]
+        extra = run_dims(ds)
         if extra:          # several runs stacked along a parameter: one row each
             d = extra[0]
             runs = [ds.isel({d: i}) for i in range(ds.sizes[d])]
+            if len(statuses) != len(runs):
+                statuses = ["ok"] * len(runs)
+            eqs = ds["x_eq"].values if "x_eq" in ds and ds["x_eq"].dims == (d,) \
+                else None
             return plot_cases(runs, [f"${SYMBOLS.get(d, d)}$ = {fmt(r[d])}"
-                                     for r in runs], title=ds.attrs.get("title"))
+                                     + ("" if s == "ok" else f" (status {s})")
+                                     for r, s in zip(runs, statuses)],
+                              title=ds.attrs.get("title"), equilibria=eqs)
         return plot_trajectory(ds, **kwargs)
     dims = [d for d in ds.dims if ds.sizes[d] > 1]
     if not dims:
@@ -60,6 +67,25 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
         return plot_lines(ds, numeric[0], series=series[0] if series else None,
                           **kwargs)
     return plot_map(ds, **kwargs)
+
+
+def over_map(ds: xr.Dataset) -> xr.Dataset | None:
+    """The map a boundaries result is drawn over (its ``over`` attribute, the
+    study's ``[boundary] over`` or ``sweepcore boundary --over``), when it exists:
+    the path as recorded (relative to where the command runs), else a file of that
+    name beside the result file. None without one."""
+    over = ds.attrs.get("over")
+    if not over:
+        return None
+    candidates = [Path(over)]
+    source = ds.encoding.get("source")
+    if source:
+        candidates.append(Path(source).parent / Path(over).name)
+    for path in candidates:
+        if path.is_file():
+            from ..io import open_result
+            return open_result(path)
+    return None
 
 
 def _plot_variables(ds: xr.Dataset, max_panels: int = 6) -> Figure:

@@ -11,6 +11,7 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from .._kernels import codes
+from ..labels import is_geometric  # noqa: F401  (re-exported by sweepcore.plot)
 
 # colour-blind-safe (Okabe-Ito) colours, one per regime code
 REGIME_COLOURS = {
@@ -89,17 +90,6 @@ def flag_axis(ax, var, axis: str = "y") -> bool:
     set_ticks(values, names[:len(values)])
     set_lim(min(values) - 0.5, max(values) + 0.5)
     return True
-
-
-def is_geometric(values) -> bool:
-    """True when ``values`` (> 0, 3 or more) are evenly spaced in log, not linearly."""
-    a = np.asarray(values, dtype=float)
-    if a.ndim != 1 or a.size < 3 or not np.all(a > 0):
-        return False
-    dl, d = np.diff(np.log(a)), np.diff(a)
-    log_even = np.allclose(dl, dl[0], rtol=1e-6, atol=0)
-    lin_even = np.allclose(d, d[0], rtol=1e-6, atol=0)
-    return bool(log_even and not lin_even)
 
 
 def axis_scale(ds: xr.Dataset, dim: str) -> str:

@@ -7,6 +7,7 @@ import xarray as xr
 from matplotlib.figure import Figure
 
 from ..labels import parameter
+from ..options import checked_keywords
 from .style import SYMBOLS, label
 
 _EVENT_STYLE = {
@@ -44,6 +45,7 @@ def _mark_events(ax, events: dict, v: float, relative: bool) -> None:
                                                   f" \u00d7{len(t)}"})
 
 
+@checked_keywords
 def plot_trajectory(ds: xr.Dataset, title: str | None = None) -> Figure:
     """Fig. 3 of the paper for one simulation: histories and both phase planes.
 
@@ -90,6 +92,7 @@ def _trajectory_title(ds: xr.Dataset) -> str:
     return f"Single slider: {p}; {start}; method {ds.attrs.get('method', '?')}"
 
 
+@checked_keywords
 def plot_cases(runs, labels, title: str | None = None,
                equilibria=None) -> Figure:
     """Fig. 5 of the paper: x(t), xdot(t) and (x, xdot) for several runs (one row each).
