@@ -185,7 +185,7 @@ def cmd_plot(args) -> int:
         if len(swept) < 2 and kwargs:
             raise UsageError("--x/--y apply to maps; this result has one swept axis")
         if kwargs.get("x") and kwargs.get("x") == kwargs.get("y"):
-            raise UsageError(f"--x and --y are both {args.x}: give two different swept "
+            raise UsageError(f"--x and --y are both {args.x}: a map needs two different "
                              f"axes (swept: {', '.join(swept)})")
         if args.variables:
             kwargs["variables"] = _variable_names(args, ds, ("regime", *ds.data_vars))
