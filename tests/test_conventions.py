@@ -54,11 +54,44 @@ def test_traceback_after_the_subcommand_and_defaults():
     assert args.threads is None and args.traceback is False
 
 
-def test_run_with_threads_after_the_subcommand(tmp_path, monkeypatch, capsys):
+@pytest.fixture
+def thread_settings(monkeypatch):
+    """Environment and numba thread count restored after a ``--threads`` run."""
+    import os
+
+    import numba
+    from sweepcore.cli.parser import THREAD_VARIABLES
+    for name in THREAD_VARIABLES:
+        if name in os.environ:
+            monkeypatch.setenv(name, os.environ[name])
+        else:
+            monkeypatch.delenv(name, raising=False)
+    n = numba.get_num_threads()
+    yield
+    numba.set_num_threads(n)
+
+
+def test_run_with_threads_after_the_subcommand(tmp_path, monkeypatch, capsys,
+                                               thread_settings):
+    """In a process whose numba threads already run (the suite's), --threads limits
+    them without touching NUMBA_NUM_THREADS, which numba re-reads at every
+    compilation and would refuse (a later compile raised)."""
+    import os
+
+    import numba
+    from sweepcore._kernels import layout
+    from sweepcore._kernels.attractor import attractor_rows_parallel
+    from sweepcore.options import make_options
+    attractor_rows_parallel(np.zeros((2, layout.NP)), make_options(),
+                            np.zeros((2, layout.NOBS)))      # the pool runs
+    before = os.environ.get("NUMBA_NUM_THREADS")
     monkeypatch.chdir(tmp_path)
     (tmp_path / "s.toml").write_text(SMALL.replace("out/", ""))
     assert main(["run", "--threads", "1", "s.toml", "-q"]) == 0
     assert (tmp_path / "small.nc").is_file()
+    assert os.environ.get("NUMBA_NUM_THREADS") == before
+    assert numba.get_num_threads() == 1
+    numba.njit(lambda x: x + 1)(1)          # a compilation after it still works
 
 
 def test_output_option_replaces_the_study_outputs_as_a_whole(tmp_path, monkeypatch,

@@ -225,24 +225,33 @@ def newton_decision(a0, a1, dP, xe, e1, e2, rtol_h0, rtol_h1, rtol_int, tol, lx,
         # Newton step from a0 (the map is smooth along one itinerary; the return
         # before a0 may be the partial one from the start); a jump never more than
         # halves or doubles the distance to x_eq
-        a_new = a0 + F / gap
-        r = (a_new - xe) / (a1 - xe)
-        if r < 0.5:
-            a_new = xe + 0.5 * (a1 - xe)
-        elif r > 2.0:
-            a_new = xe + 2.0 * (a1 - xe)
+        a_new = _clamped(a0 + F / gap, a1, xe)
         if abs(a_new - a1) > 0.1 * tol * lx:
-            e_next = 4.0 * err0 * err0 / abs(a1 - xe)
-            if not fine and need >= 0.1 * tol and 4.0 * e_next * e_next <= \
-                    accept * abs(a1 - xe):
-                # Newton's error squares (relative to the cycle's size, within a
-                # factor 4): the iterate after next is likely accepted. Its residual
-                # and the jump to it both need the lowered tolerance (within 10x of
-                # the user's), so the return from a_new is computed at it; the
-                # earlier ones keep the user's tolerance.
+            if not fine and need >= 0.1 * tol and _last_two(err0, a1 - xe, accept):
                 rtol_int = tight
             return NEWTON_JUMP, a_new, rtol_int, newton_rest, err0
     return FOLLOW, 0.0, rtol_int, newton_rest, err0
+
+
+@kernel(inline="always")
+def _clamped(a_new, a1, xe):
+    """A Newton target that never more than halves or doubles the distance to x_eq."""
+    r = (a_new - xe) / (a1 - xe)
+    if r < 0.5:
+        return xe + 0.5 * (a1 - xe)
+    if r > 2.0:
+        return xe + 2.0 * (a1 - xe)
+    return a_new
+
+
+@kernel(inline="always")
+def _last_two(err0, size, accept):
+    """Whether the iterate after the next is likely accepted: Newton's error squares
+    relative to the cycle's ``size`` (within a factor 4). Its residual and the jump to
+    it both need the lowered tolerance, so the return from the next iterate is
+    computed at it; the earlier ones keep the user's tolerance."""
+    e_next = 4.0 * err0 * err0 / abs(size)
+    return 4.0 * e_next * e_next <= accept * abs(size)
 
 
 @kernel

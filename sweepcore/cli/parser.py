@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import sys
 from pathlib import Path
 
 from ..labels import version
@@ -21,14 +20,20 @@ def set_threads(n: int) -> None:
     """Limit numba (and BLAS/OpenMP) to ``n`` threads, in this process and children.
 
     The environment variables are set for worker processes; numba, already imported
-    by ``sweepcore``, is reconfigured before its thread pool starts.
+    by ``sweepcore``, is reconfigured before its thread pool starts. Once the pool
+    runs (``main`` called again in one process), NUMBA_NUM_THREADS is left alone:
+    numba re-reads it at every compilation and refuses a value other than the
+    pool's; ``numba.set_num_threads`` limits the threads used instead.
     """
+    import numba
+    from numba.np.ufunc import parallel
+    launched = bool(getattr(parallel, "_is_initialized", False))
     for name in THREAD_VARIABLES:
-        os.environ[name] = str(n)
-    if "numba" in sys.modules:
-        import numba
+        if not (launched and name == "NUMBA_NUM_THREADS"):
+            os.environ[name] = str(n)
+    if not launched:
         numba.config.reload_config()
-        numba.set_num_threads(min(n, numba.config.NUMBA_NUM_THREADS))
+    numba.set_num_threads(min(n, numba.config.NUMBA_NUM_THREADS))
 
 
 def _positive_int(text: str) -> int:
