@@ -35,9 +35,9 @@ from pathlib import Path
 import numpy as np
 
 from .options import METHODS
-from . import law
 from .params import LONG_NAMES, RULES, UNITS, check_real
 from .study_basins import basins_table
+from .study_boundary import boundary_table
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -410,86 +410,6 @@ def _plot(ck: _Checker, doc: dict, axes: dict) -> dict:
     return out
 
 
-BOUNDARY_KEYS = ("along", "bracket", "xtol", "scan", "offset", "tol", "continuation",
-                 "diagram", "sweep", "over", "path", "png")
-BOUNDARY_ALONG = law.PARAMETERS
-
-
-def _boundary(ck: _Checker, doc: dict, axes: dict) -> dict:
-    """The ``[boundary]`` table of ``sweepcore boundary`` (docs/studies.md); ``{}``
-    when the study has none (``sweepcore boundary`` then validates the defaults)."""
-    if "boundary" not in doc:
-        return {}
-    table = ck.table(doc, "boundary")
-    ck.known(table, BOUNDARY_KEYS, ("boundary",))
-    kp = lambda key: ("boundary", key)   # noqa: E731
-    out = {"along": "v", "xtol": 1e-9, "scan": 32, "offset": 5e-3, "tol": 1e-10,
-           "continuation": None, "diagram": False, "over": None, "path": None,
-           "png": None, "bracket": None, "sweep": "both"}
-    if "along" in table:
-        out["along"] = ck.string(kp("along"), table["along"], BOUNDARY_ALONG)
-    along = out["along"]
-    if "bracket" in table:
-        val = table["bracket"]
-        if not isinstance(val, list) or len(val) != 2:
-            ck.fail(kp("bracket"), f"must be an array [lo, hi] of two numbers "
-                                   f"[{UNITS[along]}], got {_describe(val)}")
-        lo, hi = (ck.real(kp("bracket"), x, name=along) for x in val)
-        if not lo < hi:
-            ck.fail(kp("bracket"), f"needs lo < hi, got {val!r}")
-        if along == "v" and not lo > 0.0:
-            ck.fail(kp("bracket"), f"along v the bracket must lie in v > 0, got "
-                                   f"lo = {lo!r}")
-        out["bracket"] = (lo, hi)
-    elif along not in axes or axes[along].values.size < 2:
-        ck.fail(("boundary",), f"give bracket = [lo, hi] or sweep {along!r} in [axes] "
-                               "(its range is the default bracket)")
-    for key in ("xtol", "offset", "tol"):
-        if key in table:
-            x = ck.real(kp(key), table[key], positive=True)
-            limit = {"xtol": math.inf, "offset": 0.1, "tol": 1.0}[key]
-            if not x < limit:
-                ck.fail(kp(key), f"must be a number in (0, {limit:g}), got "
-                                 f"{table[key]!r}")
-            out[key] = x
-    if "scan" in table:
-        out["scan"] = ck.integer(kp("scan"), table["scan"], minimum=3)
-    swept = [n for n, a in axes.items() if a.values.size > 1 and n != along]
-    if "continuation" in table:
-        name = ck.string(kp("continuation"), table["continuation"], swept or ["(none)"])
-        others = [n for n in swept if n != name]
-        if others:
-            ck.fail(kp("continuation"), f"continuation along {name!r} needs every other "
-                                        f"parameter fixed; also swept: "
-                                        f"{', '.join(others)}")
-        if along != "v":
-            ck.fail(kp("continuation"), f"continuation follows boundaries along v "
-                                        f"only, got along = {along!r}")
-        out["continuation"] = name
-    if "diagram" in table:
-        val = table["diagram"]
-        if not isinstance(val, bool):
-            ck.fail(kp("diagram"), f"must be true or false, got {_describe(val)}")
-        if val and swept:
-            ck.fail(kp("diagram"), f"a diagram along {along!r} needs every other "
-                                   f"parameter fixed; swept: {', '.join(swept)}")
-        if val and out["continuation"]:
-            ck.fail(kp("diagram"), "choose a diagram or a continuation, not both")
-        out["diagram"] = val
-    if "sweep" in table:
-        out["sweep"] = ck.string(kp("sweep"), table["sweep"], ("up", "down", "both"))
-        if not out["diagram"]:
-            ck.fail(kp("sweep"), "the scan direction applies to a diagram "
-                                 "(diagram = true)")
-    for key, suffix in (("over", ".nc"), ("path", ".nc"), ("png", ".png")):
-        if key in table:
-            name = ck.string(kp(key), table[key])
-            if not name.endswith(suffix):
-                ck.fail(kp(key), f"must end in {suffix}, got {name!r}")
-            out[key] = name
-    return out
-
-
 def parse_study(text: str, path: str | Path | None = None) -> Study:
     """Validate the TOML ``text`` of a study (``path`` only names it in errors).
 
@@ -516,7 +436,7 @@ def parse_study(text: str, path: str | Path | None = None) -> Study:
     solver = _solver(ck, doc)
     output = _output(ck, doc)
     plot = _plot(ck, doc, axes)
-    boundary = _boundary(ck, doc, axes)
+    boundary = boundary_table(ck, doc, axes)
     basins = basins_table(ck, doc, axes)
     return Study(path=Path(path) if path is not None else None, text=text, title=title,
                  description=description, axes=axes, method=solver["method"],

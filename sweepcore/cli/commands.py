@@ -107,7 +107,6 @@ def cmd_run(args) -> int:
 
 
 def _run(args, study, grid, out, png) -> int:
-    from ..io import write_netcdf
     from ..sweep import sweep
 
     if not args.quiet:
@@ -122,15 +121,26 @@ def _run(args, study, grid, out, png) -> int:
     ds = sweep(grid, method=study.method, tol=study.tol,
                chunks=args.chunks or study.chunks, scheduler=args.scheduler, path=out,
                progress=False if args.quiet else None, **study.options)
+    return _finish(ds, study, args, out, png, t0, grid.size,
+                   lambda d: [regime_line(d)], study.plot)
+
+
+def _finish(ds, study, args, out, png, t0, n, summary, plot=None, attrs=None) -> int:
+    """Label the result of a study with the study, the command and ``attrs``, write
+    it and its picture, and say so (``n`` points, the ``summary`` lines)."""
+    from ..io import write_netcdf
+
     elapsed = time.perf_counter() - t0
     ds = label_with_study(ds, study, _command_line(args))
+    ds.attrs.update(attrs or {})
     write_netcdf(ds, out)
     if not args.quiet:
-        print(f"wrote {out} ({grid.size} points in {elapsed:.1f} s)")
-        print(regime_line(ds))
+        print(f"wrote {out} ({'' if n is None else f'{n} points in '}{elapsed:.1f} s)")
+        for line in summary(ds):
+            print(line)
     if png is not None:
         from ..plot import plot_result, save
-        save(plot_result(ds, **study.plot), png)
+        save(plot_result(ds, **(plot or {})), png)
         if not args.quiet:
             print(f"wrote {png}")
     return 0
@@ -362,7 +372,6 @@ def _open(path):
 def cmd_boundary(args) -> int:
     """``sweepcore boundary``: boundaries, their continuation or a diagram."""
     from ..grid import Grid
-    from ..io import write_netcdf
     from ..study import load_study
 
     study = load_study(args.study)
@@ -391,21 +400,8 @@ def cmd_boundary(args) -> int:
         png = None
     t0 = time.perf_counter()
     ds = _boundary_result(grid, study, b, args)
-    elapsed = time.perf_counter() - t0
-    ds = label_with_study(ds, study, _command_line(args))
-    if over:
-        ds.attrs["over"] = over
-    write_netcdf(ds, out)
-    if not args.quiet:
-        print(f"wrote {out} ({elapsed:.1f} s)")
-        for line in boundary_lines(ds):
-            print(line)
-    if png is not None:
-        from ..plot import plot_result, save
-        save(plot_result(ds), png)
-        if not args.quiet:
-            print(f"wrote {png}")
-    return 0
+    return _finish(ds, study, args, out, png, t0, None, boundary_lines,
+                   attrs={"over": over} if over else {})
 
 
 def _no_curves(grid, b) -> str | None:
@@ -442,7 +438,6 @@ def cmd_basins(args) -> int:
     """``sweepcore basins``: basin fractions over the study's grid ([basins])."""
     from ..basins import basin_stability
     from ..grid import Grid
-    from ..io import write_netcdf
     from ..study import load_study, parse_study
 
     study = load_study(args.study)
@@ -460,16 +455,4 @@ def cmd_basins(args) -> int:
                          method=study.method, tol=study.tol,
                          chunks=args.chunks or study.chunks, scheduler=args.scheduler,
                          progress=False if args.quiet else None, **study.options)
-    elapsed = time.perf_counter() - t0
-    ds = label_with_study(ds, study, _command_line(args))
-    write_netcdf(ds, out)
-    if not args.quiet:
-        print(f"wrote {out} ({grid.size} points in {elapsed:.1f} s)")
-        for line in basin_lines(ds):
-            print(line)
-    if png is not None:
-        from ..plot import plot_result, save
-        save(plot_result(ds), png)
-        if not args.quiet:
-            print(f"wrote {png}")
-    return 0
+    return _finish(ds, study, args, out, png, t0, grid.size, basin_lines)

@@ -190,13 +190,12 @@ def simulation_summary(ds, p) -> str:
             f"x_eq = {p.x_eq:.6g} cm (eq. 43)")
 
 
-def describe_boundaries(ds) -> str:
-    """``sweepcore info`` of a boundaries or bifurcation-diagram result."""
-    kind = ds.attrs["sweepcore_kind"].replace("_", " ")
-    shape = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items())
-    lines = [f"  {kind} ({shape})"]
+def _axis_lines(ds, skip=()) -> list[str]:
+    """One line per swept float axis (name, units, count, range) and the fixed
+    parameters, for the summaries of results other than sweeps."""
+    lines = []
     for d in ds.dims:
-        if ds[d].dtype.kind == "f":
+        if d not in skip and ds[d].dtype.kind == "f":
             v = ds[d].values
             lines.append(f"    {d:8s} {ds[d].attrs.get('long_name', '')} "
                          f"[{ds[d].attrs.get('units', '')}]: {v.size} values in "
@@ -205,6 +204,14 @@ def describe_boundaries(ds) -> str:
     if fixed:
         lines.append("  fixed: " + ", ".join(f"{n} = {float(ds[n]):.6g}{_units(ds[n])}"
                                              for n in fixed))
+    return lines
+
+
+def describe_boundaries(ds) -> str:
+    """``sweepcore info`` of a boundaries or bifurcation-diagram result."""
+    kind = ds.attrs["sweepcore_kind"].replace("_", " ")
+    shape = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items())
+    lines = [f"  {kind} ({shape})", *_axis_lines(ds)]
     lines.extend(boundary_lines(ds))
     for key in ("tol", "history"):
         if key in ds.attrs:
@@ -290,17 +297,8 @@ def describe_basins(ds) -> str:
     """``sweepcore info`` of a basin-stability result."""
     shape = ", ".join(f"{d}: {n}" for d, n in ds.sizes.items()
                       if d not in ("attractor", "cycle"))
-    lines = [f"  basin stability ({shape or 'one point'})"]
-    for d in ds.dims:
-        if d not in ("attractor", "cycle") and ds[d].dtype.kind == "f":
-            v = ds[d].values
-            lines.append(f"    {d:8s} {ds[d].attrs.get('long_name', '')} "
-                         f"[{ds[d].attrs.get('units', '')}]: {v.size} values in "
-                         f"[{v.min():.6g}, {v.max():.6g}]")
-    fixed = [n for n in ds.coords if ds[n].ndim == 0]
-    if fixed:
-        lines.append("  fixed: " + ", ".join(f"{n} = {float(ds[n]):.6g}{_units(ds[n])}"
-                                             for n in fixed))
+    lines = [f"  basin stability ({shape or 'one point'})",
+             *_axis_lines(ds, skip=("attractor", "cycle"))]
     lines.extend(basin_lines(ds))
     if "history" in ds.attrs:
         text = str(ds.attrs["history"]).replace("\n", "\n" + " " * 12)
