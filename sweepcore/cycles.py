@@ -74,8 +74,8 @@ def _options(grid, method, tol, options) -> np.ndarray:
         raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
     if method == "gps":
         raise ValueError("method='gps' follows its own discrete map: the cycles are "
-                         "fixed points of the ODE's return map; use 'auto', 'dopri5' "
-                         "or 'rk4'")
+                         "fixed points of the ODE's return map; use 'auto', 'dopri5', "
+                         "'dop853' or 'rk4'")
     o = make_options(method, tol=tol, **options)
     if method == "exact":
         r_k = grid.axis("r_k")
@@ -163,7 +163,7 @@ def slip_cycles(grid: Grid, tol: float = 1e-8, method: str = "auto",
         (the residual of the fixed point, verified on returns computed at
         ``tol |1 - mu| / 2``, mu the multiplier).
     method : str
-        "auto", "dopri5", "rk4", or "exact" for a piecewise-linear law; not "gps"
+        "auto", "dopri5", "dop853", "rk4", or "exact" for a piecewise-linear law; not "gps"
         (its discrete map has its own cycles).
     chunks, client, scheduler
         As :func:`sweepcore.sweep`: one task per chunk of points.

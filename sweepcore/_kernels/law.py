@@ -403,7 +403,8 @@ def certified_rest(x, zd, p):
     sqrt(2E/m)``; if ``W < |v|`` (no sticking) and ``c + S > 0`` for every such w, E
     decreases, the set is invariant and the motion converges to x_eq (LaSalle).
     The polynomial part of S is exact, ``-alpha1 + alpha2 (3 v^2 - 3 v w + w^2)``,
-    least at ``w = W`` (its minimum in w lies at 1.5 |v| > W); the Stribeck term's
+    least at ``w = sgn(v) W`` for alpha2 >= 0 (its minimum in w lies at 1.5 v,
+    outside ``|w| <= W``; Params and Grid refuse alpha2 < 0); the Stribeck term's
     slope is monotone, least at one end of ``|s + |v|| <= W``. A margin of 1e-12 of
     the terms' size keeps rounding from deciding.
     """

@@ -20,7 +20,7 @@ XD0 = 10     # start velocity [cm/s]
 NP = 11
 
 # option row o
-O_METHOD = 0     # method code (codes.EXACT, GPS, RK4, DOPRI5)
+O_METHOD = 0     # method code (the row of stepper.METHODS; -1: "auto")
 O_RTOL = 1       # relative tolerance of the adaptive method / convergence tolerance
 O_DT = 2         # fixed step of gps and rk4 [s]; <= 0 means 0.02 * 2 pi / omega
 O_MAX_STEPS = 3  # step budget of one run (accepted + rejected + polish steps)
