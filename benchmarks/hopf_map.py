@@ -28,6 +28,7 @@ import numpy as np
 
 from . import common
 from .common import log
+from sweepcore._kernels import layout
 from sweepcore._kernels.layout import (NOBS, OB_AMPLITUDE, OB_FLOQUET, OB_REGIME, OB_STATUS,
                                        OB_X_MAX)
 
@@ -359,8 +360,9 @@ def run(profile, outdir):
                        "regimes": default["regimes"]}
     save_fields(outdir, outs[1e-8])
     from . import regimes
-    res["regimes"] = {"this_run": regimes.table(P[:, 3], 1.0, P[:, 5], outs[1e-8][:, OB_REGIME],
-                                                outs[1e-8][:, 10])}
+    res["regimes"] = {"this_run": regimes.table(
+        P[:, layout.V], P[:, layout.A1], P[:, layout.A2], outs[1e-8][:, OB_REGIME],
+        outs[1e-8][:, layout.OB_NSTEPS])}
     if profile.get("regimes_before"):
         log(f"  steps by regime and wall time, this checkout against "
             f"{profile['regimes_before']} (interleaved probes)")

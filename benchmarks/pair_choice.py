@@ -36,11 +36,11 @@ RTOLS = (1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11)
 
 
 def _rhs(m, k, r_y, v, a1, a2):
-    def f(_t, y):
-        zd = y[1]
-        ra = -r_y - a1 * zd + a2 * zd ** 3          # eq. (40) with sgn(zd) = -1
-        return [zd + v, (-k * y[0] - ra) / m]       # eq. (41)
-    return f
+    """The sliding field (x, zdot) of the peers' independent solver, slip with
+    sgn(zdot) = -1 (eqs. 40-41), without its third component (the integral of x)."""
+    from benchmarks.peers import _slide_rhs
+    f3 = _slide_rhs(m, k, r_y, v, a1, a2, -1.0)
+    return lambda t, y: f3(t, (y[0], y[1], 0.0))[:2]
 
 
 def one_point(v, a2):

@@ -229,10 +229,15 @@ def next_event(st, p, o, w, acc):
 
 
 @kernel
-def _at_rest(st, p, w):
-    """The equilibrium certificate holds at the present state (ODE methods only)."""
-    return w[W_ODE] > 0.0 and st[S_MODE] != codes.STICK and \
-        certified_rest(st[S_X], st[S_ZD], p)
+def _rested(st, p, w, out):
+    """Where the equilibrium certificate holds at the present state (ODE methods
+    only), answer ``out`` with the equilibrium and return True."""
+    if w[W_ODE] > 0.0 and st[S_MODE] != codes.STICK and \
+            certified_rest(st[S_X], st[S_ZD], p):
+        answer_rest(out, x_eq(p), w[W_T_OFF] + st[S_T], codes.R_EQUILIBRIUM, False,
+                    st[S_N])
+        return True
+    return False
 
 
 @kernel
@@ -261,10 +266,7 @@ def on_event(ev, st, p, o, w, acc, out):
     v = p[V]
     t = st[S_T]
     if ev == codes.EV_STOP_TIME:
-        if _at_rest(st, p, w):
-            answer_rest(out, x_eq(p), w[W_T_OFF] + t, codes.R_EQUILIBRIUM, False, st[S_N])
-            return True
-        return False
+        return _rested(st, p, w, out)
     if v == 0.0 and ev == codes.EV_STICK:
         answer_rest(out, st[S_X], w[W_T_OFF] + t, codes.R_STUCK, True, st[S_N])
         return True
@@ -275,13 +277,9 @@ def on_event(ev, st, p, o, w, acc, out):
     if not ((ev == codes.EV_XMAX and v > 0.0) or (ev == codes.EV_XMIN and v < 0.0)
             or (v == 0.0 and ev == codes.EV_NORMAL_STOP and st[S_X] > 0.0)):
         note_event(w, p, ev, st[S_X], w[W_MODE0], st[S_MODE])
-        if (ev == codes.EV_XMIN or ev == codes.EV_XMAX) and _at_rest(st, p, w):
-            # the other extremum: half a period sooner for a fast decay
-            answer_rest(out, x_eq(p), w[W_T_OFF] + t, codes.R_EQUILIBRIUM, False, st[S_N])
-            return True
-        return False
-    if _at_rest(st, p, w):
-        answer_rest(out, x_eq(p), w[W_T_OFF] + t, codes.R_EQUILIBRIUM, False, st[S_N])
+        # the other extremum too: half a period sooner for a fast decay
+        return (ev == codes.EV_XMIN or ev == codes.EV_XMAX) and _rested(st, p, w, out)
+    if _rested(st, p, w, out):
         return True
     push_section(w, acc, st[S_X], t)
     if w[W_CONSERVATIVE] > 0.0:
