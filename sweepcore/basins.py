@@ -34,7 +34,7 @@ from ._kernels import codes, layout
 from ._kernels.cycles import LOWEST, MAX_CYCLES
 from .cycles import (UNSTABLE, _check_no_start, clipped_area, cycle_polygon,
                      cycle_variables, inside, stability)
-from .grid import Grid
+from .grid import Grid, checked_grid
 from .io import result_path, write_netcdf
 from .options import checked_keywords, make_options
 from .sweep import _progress_bar
@@ -414,8 +414,7 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
         slip_cycles`: ``n_cycles``, ``cycle_amplitude``, ``cycle_floquet`` > 1 for
         the unstable cycle that bounds the basins, ...).
     """
-    if not isinstance(grid, Grid):
-        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
+    checked_grid(grid)
     spec = _spec(x0, xdot0, samples, route, sampling, seed, checks, ftol, match)
     if method == "gps" and route == "exact":
         raise ValueError("route='exact' needs the ODE's return map; method='gps' "

@@ -31,7 +31,7 @@ from ._kernels import codes, layout
 from ._kernels.attractor import resolve_options
 from ._kernels.cycles import MAX_CYCLES
 from ._kernels.trajectory import fresh_acc, run_trajectory
-from .grid import Grid
+from .grid import Grid, checked_grid
 from .io import result_path, write_netcdf
 from .options import checked_keywords, make_options
 
@@ -70,8 +70,7 @@ def cycles_chunk(grid: Grid, start: int, stop: int, o: np.ndarray,
 
 
 def _options(grid, method, tol, options) -> np.ndarray:
-    if not isinstance(grid, Grid):
-        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
+    checked_grid(grid)
     if method == "gps":
         raise ValueError("method='gps' follows its own discrete map: the cycles are "
                          "fixed points of the ODE's return map; use 'auto', 'dopri5', "

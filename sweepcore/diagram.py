@@ -24,7 +24,7 @@ import xarray as xr
 from . import execute, labels, law, variables
 from ._kernels import codes, layout
 from .boundaries import locate_boundaries
-from .grid import AXES, COLUMNS, Grid
+from .grid import AXES, COLUMNS, Grid, checked_grid
 from .options import checked_keywords, did_you_mean, make_options
 from .params import LONG_NAMES, UNITS
 
@@ -112,8 +112,7 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
     if along not in AXES[:6]:
         raise ValueError(f"along must be one of {AXES[:6]}, got {along!r}"
                          f"{did_you_mean(along, AXES[:6])}")
-    if not isinstance(grid, Grid):
-        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
+    checked_grid(grid)
     swept = [n for n in grid.swept if n != along]
     values = grid.axis(along)
     if not isinstance(values, np.ndarray) or values.size < 2 or swept:

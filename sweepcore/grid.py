@@ -356,3 +356,11 @@ class Grid:
 
 
 Grid.__init__ = checked_keywords(Grid.__init__)
+
+
+def checked_grid(grid) -> Grid:
+    """``grid`` itself, refused with a TypeError naming its type unless it is a
+    :class:`Grid` (the first check of every function that takes one)."""
+    if not isinstance(grid, Grid):
+        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
+    return grid

@@ -18,7 +18,7 @@ from . import law
 from . import variables
 from ._kernels import layout
 from .boundary import BOUNDARY_VARIABLES
-from .grid import Grid
+from .grid import Grid, checked_grid
 from .execute import check_chunks
 from .io import WorkingStore, chunk_shape, free_bytes, path_text
 from .options import checked_keywords
@@ -80,8 +80,7 @@ def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
     TypeError, ValueError
         As :func:`sweepcore.sweep` for the same ``grid``, ``chunks`` and ``path``.
     """
-    if not isinstance(grid, Grid):
-        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
+    checked_grid(grid)
     check_chunks(chunks, " (points per chunk)")        # sweep's own rule
     if path is not None:
         path = path_text(path)

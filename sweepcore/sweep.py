@@ -72,7 +72,7 @@ from . import execute, labels, law, variables
 from ._kernels import codes, layout
 from ._kernels.attractor import attractor_rows, attractor_rows_parallel
 from .boundary import BOUNDARY_VARIABLES, hopf_boundary, reversal_cycles
-from .grid import Grid
+from .grid import Grid, checked_grid
 from .io import WorkingStore, check_flag, chunk_shape, result_path, write_netcdf
 from .io.files import stale_temporaries
 from .options import checked_keywords, make_options
@@ -325,8 +325,7 @@ def _checked_arguments(grid, method, tol, chunks, options, overwrite,
                        progress) -> np.ndarray:
     """Validate everything but the path before work starts; return the kernel
     option row."""
-    if not isinstance(grid, Grid):
-        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
+    checked_grid(grid)
     # a string would count as true: overwrite="no" would replace a read-only file
     check_flag("overwrite", overwrite)
     check_flag("progress", progress, none=True)

@@ -16,7 +16,7 @@ import xarray as xr
 
 from .. import execute
 from .._kernels import codes, layout
-from ..grid import AXES, COLUMNS, Grid
+from ..grid import AXES, COLUMNS, Grid, checked_grid
 from ..options import checked_keywords, did_you_mean, make_options
 from ..params import UNITS, check_real
 from .dataset import _dataset
@@ -186,8 +186,7 @@ def _locate_point(pt: _Point, values: np.ndarray, xtol: float, offset: float, st
 
 # ------------------------------------------------------------------ arguments
 def _scan_values(grid: Grid, along: str, bracket, scan: int) -> np.ndarray:
-    if not isinstance(grid, Grid):
-        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
+    checked_grid(grid)
     ax = grid.axis(along)
     if bracket is None:
         if not isinstance(ax, np.ndarray):
@@ -229,8 +228,7 @@ def _check_search(along, xtol, offset):
 
 def _other_grid(grid: Grid, along: str, placeholder: float) -> Grid:
     """``grid`` with ``along`` fixed (its rows carry a placeholder there)."""
-    if not isinstance(grid, Grid):
-        raise TypeError(f"grid must be a sweepcore.Grid, got {type(grid).__name__}")
+    checked_grid(grid)
     if grid.mode != "product":
         raise ValueError("locate_boundaries needs a product Grid (Grid(...)), not "
                          "Grid.points")
