@@ -5,8 +5,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from . import execute
 from ._kernels import codes, layout
-from ._kernels.attractor import attractor_point
 from .options import check_method, checked_keywords, make_options
 from .params import Params
 from .simulate import start_row
@@ -80,8 +80,10 @@ def attractor(params: Params, x0: float = 0.0, xdot0: float | None = None,
     """
     row = start_row(params, x0, xdot0)
     check_method(method, params)
-    out = np.empty(layout.NOBS)
-    attractor_point(row, make_options(method, tol=tol, **options), out)
+    out = np.empty((1, layout.NOBS))
+    execute.attractors(row[None, :], (params.friction_law,),
+                       make_options(method, tol=tol, **options), out, parallel=False)
+    out = out[0]
     status = int(out[layout.OB_STATUS])
     vals = {name: float(out[col]) for name, (col, *_rest) in OBSERVABLES.items()}
     vals["n_steps"] = int(vals["n_steps"])

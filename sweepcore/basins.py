@@ -119,12 +119,11 @@ def _starts(spec, flat: int):
     return X.ravel(), Y.ravel()
 
 
-def _length_scale(row) -> float:
-    return row[layout.RY] / row[layout.K] + abs(row[layout.V]) * math.sqrt(
-        row[layout.M] / row[layout.K])
+def _length_scale(row, laws) -> float:
+    return float(law.length_scale(row, laws)[0])
 
 
-def _run(rows, starts, o, parallel):
+def _run(rows, starts, o, parallel, laws):
     """Attractor rows of every start: ``rows[i]`` with the starts ``starts[i]``."""
     counts = [len(s[0]) for s in starts]
     P = np.repeat(np.asarray(rows), counts, axis=0)
@@ -133,7 +132,7 @@ def _run(rows, starts, o, parallel):
         P[:, layout.XD0] = np.concatenate([s[1] for s in starts])
     out = np.empty((P.shape[0], layout.NOBS))
     if P.shape[0]:
-        execute.attractors(P, o, out, parallel)
+        execute.attractors(P, laws, o, out, parallel)
     return np.split(out, np.cumsum(counts)[:-1])
 
 
@@ -185,7 +184,7 @@ def _tally(out, lx, spec):
 
 
 # ------------------------------------------------------------------ exact route
-def _polygon(row, cycle, o, spec):
+def _polygon(row, cycle, o, spec, laws):
     """``(fraction, error, x, y)`` of the cycle's interior in the box, or None when
     the polygon cannot be drawn. ``error``: the change of the clipped area from n/2
     to n samples (shoelace areas of a smooth curve converge as h^2, so that change
@@ -194,19 +193,19 @@ def _polygon(row, cycle, o, spec):
     below ``ftol`` (or ``MAX_POINTS`` is reached)."""
     n = FIRST_POINTS
     while True:
-        x, y, gap, ok = cycle_polygon(row, cycle, o, n)
+        x, y, gap, ok = cycle_polygon(row, cycle, o, n, law.row_law(row, laws))
         if not ok:
             return None
         fine, perimeter = clipped_area(x, y, spec.box)
         coarse, _ = clipped_area(x[::2], y[::2], spec.box)
-        shift = o[layout.O_RTOL] * _length_scale(row) + gap
+        shift = o[layout.O_RTOL] * _length_scale(row, laws) + gap
         error = (abs(fine - coarse) + perimeter * shift) / spec.area
         if error <= spec.ftol or n >= MAX_POINTS:
             return fine / spec.area, error, x, y
         n *= 4
 
 
-def _plan(row, cycles, n_found, o, spec, flat):
+def _plan(row, cycles, n_found, o, spec, flat, laws):
     """What the exact route needs for one point: ``None`` (it does not apply), or
     ``(fraction, error, starts_inside, starts_outside, resolved)``."""
     if n_found > 1 or np.nanmax(cycles[:, layout.OB_NSTEPS]) >= o[layout.O_MAX_STEPS]:
@@ -214,15 +213,15 @@ def _plan(row, cycles, n_found, o, spec, flat):
     omega = math.sqrt(row[layout.K] / row[layout.M])
     if n_found == 0:
         # one basin; a cycle below the scan's lowest rung encloses at most this
-        lost = math.pi * omega * (LOWEST * _length_scale(row)) ** 2 / spec.area
+        lost = math.pi * omega * (LOWEST * _length_scale(row, laws)) ** 2 / spec.area
         return 0.0, lost, ([], []), _uniform(spec, flat, spec.checks, 1), True
     if stability(cycles[0]) != UNSTABLE:
         return None
-    drawn = _polygon(row, cycles[0], o, spec)
+    drawn = _polygon(row, cycles[0], o, spec, laws)
     if drawn is None:
         return None
     fraction, error, x, y = drawn
-    xe = law.derived("x_eq", law.from_row(row))
+    xe = law.derived("x_eq", law.from_row(row, law.row_law(row, laws)))
     a = cycles[0, layout.OB_X_MAX if row[layout.V] > 0 else layout.OB_X_MIN]
     within = (xe + np.array([0.25, 0.5, 0.75]) * (a - xe), np.zeros(3))
     if not inside(x, y, np.array([xe]), np.array([0.0]))[0]:
@@ -279,16 +278,16 @@ def basin_chunk(grid: Grid, start: int, stop: int, o: np.ndarray, spec: Spec,
     if spec.route != "sampled":
         cyc = np.empty((n, MAX_CYCLES, layout.NOBS))
         found = np.zeros(n, np.int64)
-        execute.cycles(rows, o, cyc, found, parallel)
-        plans = [_plan(rows[i], cyc[i], found[i], o, spec, f)
+        execute.cycles(rows, grid.laws, o, cyc, found, parallel)
+        plans = [_plan(rows[i], cyc[i], found[i], o, spec, f, grid.laws)
                  for i, f in enumerate(flats)]
         todo = [i for i in range(n) if plans[i] is not None]
         runs = _run(np.repeat(rows[todo], 2, axis=0),
-                    [plans[i][k] for i in todo for k in (2, 3)], o, parallel)
+                    [plans[i][k] for i in todo for k in (2, 3)], o, parallel, grid.laws)
         cycles = [{"cycles": cyc[i], "n_cycles": int(found[i])} for i in range(n)]
         for j, i in enumerate(todo):
             results[i] = _verdict(plans[i], runs[2 * j], runs[2 * j + 1],
-                                  _length_scale(rows[i]), spec)
+                                  _length_scale(rows[i], grid.laws), spec)
             if spec.route == "auto" and results[i] and \
                     results[i]["status"] == NOT_RESOLVED:
                 results[i] = None                     # sampled instead
@@ -298,9 +297,10 @@ def basin_chunk(grid: Grid, start: int, stop: int, o: np.ndarray, spec: Spec,
                    for r in results]
     todo = [i for i in range(n) if results[i] is None]
     if todo:
-        runs = _run(rows[todo], [_starts(spec, flats[i]) for i in todo], o, parallel)
+        runs = _run(rows[todo], [_starts(spec, flats[i]) for i in todo], o, parallel,
+                    grid.laws)
         for i, out in zip(todo, runs):
-            results[i] = _tally(out, _length_scale(rows[i]), spec)
+            results[i] = _tally(out, _length_scale(rows[i], grid.laws), spec)
     if spec.route != "sampled":        # the scan's cycles, beside the fractions
         for r, c in zip(results, cycles):
             r.update(c)
@@ -505,7 +505,8 @@ def _dataset(grid, results, spec, o, method, tol, call) -> xr.Dataset:
                                    "attractors of that regime at a point)"})
     ds = xr.Dataset(data, coords)
     for name in ("q", "x_eq", "v_star"):
-        da = labels.analytic(name, {k: ds[k] for k in coords if k != "attractor"}, dims)
+        da = labels.analytic(name, {k: ds[k] for k in coords if k != "attractor"}, dims,
+                             grid.laws)
         ds[name] = xr.Variable(da.dims, da.data, da.attrs)
     (xl, xh), (yl, yh) = spec.box
     ds.attrs.update({

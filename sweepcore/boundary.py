@@ -178,5 +178,7 @@ def hopf_boundary(ds: xr.Dataset, axis: str = "v") -> xr.Dataset:
         out[f"v_reversal_{name}_resolution"] = _labelled(
             band[1 if name == "lower" else 3], units=units, comment=half,
             long_name=f"resolution of the reversal band's {name} edge")
-    out["v_star"] = labels.analytic("v_star", ds)
+    # the analytic value: the result's own (a law object's is in the file), or from
+    # the analytic law's parameters
+    out["v_star"] = ds["v_star"] if "v_star" in ds else labels.analytic("v_star", ds)
     return out

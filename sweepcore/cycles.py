@@ -26,14 +26,14 @@ import math
 import numpy as np
 import xarray as xr
 
-from . import execute, labels, variables
+from . import compiled, execute, labels, variables
 from ._kernels import codes, layout
-from ._kernels.attractor import resolve_options
 from ._kernels.cycles import MAX_CYCLES
-from ._kernels.trajectory import fresh_acc, run_trajectory
+from ._kernels.trajectory import fresh_acc
 from .grid import Grid, checked_grid
 from .io import result_path, write_netcdf
-from .options import checked_keywords, make_options
+from .laws import ANALYTIC
+from .options import check_method, checked_keywords, make_options
 
 __all__ = ["slip_cycles", "cycle_polygon", "cycle_variables", "cycles_chunk",
            "clipped_area", "inside",
@@ -65,7 +65,7 @@ def cycles_chunk(grid: Grid, start: int, stop: int, o: np.ndarray,
     P = grid.rows(start, stop)
     out = np.empty((stop - start, MAX_CYCLES, layout.NOBS))
     found = np.zeros(stop - start, np.int64)
-    execute.cycles(P, o, out, found, parallel)
+    execute.cycles(P, grid.laws, o, out, found, parallel)
     return out, found
 
 
@@ -76,12 +76,7 @@ def _options(grid, method, tol, options) -> np.ndarray:
                          "fixed points of the ODE's return map; use 'auto', 'dopri5', "
                          "'dop853' or 'rk4'")
     o = make_options(method, tol=tol, **options)
-    if method == "exact":
-        r_k = grid.axis("r_k")
-        stribeck = r_k is not None and np.any(np.asarray(r_k) != np.asarray(grid.r_y))
-        if np.any(np.asarray(grid.alpha2) != 0.0) or stribeck:
-            raise ValueError("method='exact' needs a piecewise-linear law (alpha2 = 0, "
-                             "no Stribeck term) at every point; use 'auto'")
+    check_method(method, grid)
     return o
 
 
@@ -191,7 +186,7 @@ def slip_cycles(grid: Grid, tol: float = 1e-8, method: str = "auto",
     ds = xr.Dataset({k: v for k, v in data.items() if k != "cycle"},
                     {**coords, "cycle": data["cycle"]})
     for name in ("q", "x_eq", "v_star"):
-        da = labels.analytic(name, {k: ds[k] for k in coords}, grid.dims)
+        da = labels.analytic(name, {k: ds[k] for k in coords}, grid.dims, grid.laws)
         ds[name] = xr.Variable(da.dims, da.data, da.attrs)
     ds.attrs.update({
         **labels.provenance(
@@ -208,7 +203,8 @@ def slip_cycles(grid: Grid, tol: float = 1e-8, method: str = "auto",
 
 
 # ------------------------------------------------------------------ polygon
-def cycle_polygon(row: np.ndarray, cycle: np.ndarray, o: np.ndarray, points: int):
+def cycle_polygon(row: np.ndarray, cycle: np.ndarray, o: np.ndarray, points: int,
+                  law=ANALYTIC):
     """One slip cycle in the (x, xdot) plane: ``(x, xdot, gap, ok)``.
 
     The motion is started on the cycle's section point (x_max at rest; x_min for
@@ -224,6 +220,7 @@ def cycle_polygon(row: np.ndarray, cycle: np.ndarray, o: np.ndarray, points: int
     row : kernel parameter row of the point (layout M ... XD0).
     cycle : observables row of the cycle (from the scan).
     o : option row (make_options); resolved here for the point.
+    law : the row's law (a law object, or the analytic family).
     points : samples of the polygon (the repeated end point not included).
     """
     p = np.array(row, dtype=np.float64)
@@ -234,13 +231,14 @@ def cycle_polygon(row: np.ndarray, cycle: np.ndarray, o: np.ndarray, points: int
     if not (math.isfinite(period) and period > 0.0 and math.isfinite(p[layout.X0])):
         nan = np.full(points, np.nan)
         return nan, nan, math.nan, False
-    oo = resolve_options(p, o)
+    oo, _status = compiled.options(p, law, o)
     t = np.linspace(0.0, period, points + 1)
     x = np.empty(points + 1)
     zd = np.empty(points + 1)
     mode = np.empty(points + 1, np.int64)
     ev = [np.empty(4), np.empty(4, np.int64), np.empty(4), np.empty(4)]
-    n_ev, status, _n = run_trajectory(p, oo, t, x, zd, mode, *ev, fresh_acc())
+    n_ev, status, _n, _m = compiled.trajectory(p, law, oo, t, x, zd, mode, *ev,
+                                               fresh_acc())
     xd = zd + v
     gap = float(np.hypot(x[-1] - x[0], xd[-1] - xd[0]))
     ok = status == codes.OK and n_ev == 0 and bool(np.isfinite(x).all())

@@ -16,6 +16,7 @@ stored as their own branch, the ``unstable_*`` variables.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -36,7 +37,7 @@ UNSTABLE_VARIABLES = ("x_max", "x_min", "mean", "amplitude", "floquet", "xdot_ma
                       "period")
 
 
-def _follow(base: np.ndarray, col: int, values, start, o) -> np.ndarray:
+def _follow(base: np.ndarray, col: int, values, start, o, laws) -> np.ndarray:
     """Observables (len(values), NOBS) along ``values``, each point started from the
     previous attractor (x_max, at rest; stick-slip: stuck on the belt at x_min);
     ``start`` (x0, xdot0 or NaN) for the first and after a point without an
@@ -48,7 +49,7 @@ def _follow(base: np.ndarray, col: int, values, start, o) -> np.ndarray:
         row[0, col] = u
         row[0, layout.X0] = x0
         row[0, layout.XD0] = row[0, layout.V] if np.isnan(xd0) else xd0
-        execute.attractors(row, o, out[i:i + 1], parallel=False)
+        execute.attractors(row, laws, o, out[i:i + 1], parallel=False)
         x0, xd0 = _next_start(out[i], start)
     return out
 
@@ -62,12 +63,12 @@ def _next_start(obs: np.ndarray, start):
     return obs[layout.OB_X_MAX], 0.0
 
 
-def _unstable(base: np.ndarray, along: str, values, o) -> np.ndarray:
+def _unstable(base: np.ndarray, along: str, values, o, laws) -> np.ndarray:
     """Observables (len(values), NOBS) of the largest unstable slip cycle at each
     value (NaN where none): :func:`sweepcore.boundaries.fold.unstable_cycles`."""
     from .boundaries.fold import unstable_cycles
     from .boundaries.point import _Point
-    return unstable_cycles(_Point(base, along), values, o)
+    return unstable_cycles(_Point(base, along, laws=laws), values, o)
 
 
 @checked_keywords(options=True)
@@ -120,18 +121,17 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
                          f"other parameter fixed; swept: {grid.swept}")
     values = np.sort(values)
     o = make_options(method, tol=tol, **options)
-    kw = {n: grid.axis(n) for n in AXES}
-    kw[along] = float(values[0])
-    base = Grid(**kw).rows(0, 1)[0]
+    at_first = dataclasses.replace(grid, **{along: float(values[0])})
+    base = at_first.rows(0, 1)[0]
     x0, xd0 = grid.axis("x0"), grid.axis("xdot0")
     start = (x0, math.nan if xd0 is None else xd0)
     col = COLUMNS[along]
     scans = []
     if sweep != "down":
-        scans.append(_follow(base, col, values, start, o))
+        scans.append(_follow(base, col, values, start, o, grid.laws))
     if sweep != "up":
         first = _next_start(scans[0][-1], start) if scans else start
-        scans.append(_follow(base, col, values[::-1], first, o)[::-1])
+        scans.append(_follow(base, col, values[::-1], first, o, grid.laws)[::-1])
     cols = np.stack(scans)                      # (branch, along, NOBS)
 
     dims = ("branch", along)
@@ -142,7 +142,7 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
     for name, meta in (("regime", variables.REGIME), ("status", variables.STATUS)):
         c = layout.OB_REGIME if name == "regime" else layout.OB_STATUS
         data[name] = (dims, cols[:, :, c].astype(np.int8), labels.flag_attrs(meta))
-    coords = {n: v for n, v in Grid(**kw).coords().items()
+    coords = {n: v for n, v in at_first.coords().items()
               if n not in (along, "x0", "xdot0")}
     coords[along] = xr.Variable(along, values, {"units": UNITS[along],
                                                 "long_name": LONG_NAMES[along]})
@@ -150,7 +150,7 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
         "units": "1", "long_name": "direction of the scan (each point started "
                                    "from the previous attractor)"})
     if unstable:
-        cyc = _unstable(base, along, values, o)
+        cyc = _unstable(base, along, values, o, grid.laws)
         for name in UNSTABLE_VARIABLES:
             c, units, long_name, *rest = variables.OBSERVABLES[name]
             data["unstable_" + name] = ((along,), cyc[:, c], labels.attrs(
@@ -159,13 +159,13 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
                 "largest slip cycle with Floquet multiplier > 1 (cycle scan of the "
                 "return map); NaN where there is none"))
     ds = xr.Dataset(data, coords)
-    ds["v_star"] = labels.analytic("v_star", ds).variable
+    ds["v_star"] = labels.analytic("v_star", ds, laws=grid.laws).variable
     ds["hopf_criticality"] = xr.Variable((), law.criticality_code(
-        float(labels.analytic("first_lyapunov", ds))), labels.flags(
+        float(labels.analytic("first_lyapunov", ds, laws=grid.laws))), labels.flags(
         law.CRITICALITY, "kind of the Hopf point v_star (sign of the first Lyapunov "
                          "coefficient)"))
     if boundaries:
-        found = locate_boundaries(Grid(**{**kw, along: values}), along=along,
+        found = locate_boundaries(dataclasses.replace(grid, **{along: values}), along=along,
                                   tol=min(tol, 1e-10), method=method, **options)
         for name in ("v_hopf", "v_stick_onset", "v_hopf_subcritical", "v_fold"):
             ds[name] = xr.Variable((), float(found[name].values), found[name].attrs)

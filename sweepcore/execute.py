@@ -24,16 +24,11 @@ cycles, ``sweepcore/_kernels/cycles.py``).
 from __future__ import annotations
 
 import contextlib
-import itertools
 import uuid
-from concurrent.futures import ThreadPoolExecutor
 
-import numba
 import numpy as np
 
-from . import law
-from ._kernels.attractor import _LANES, attractor_rows, attractor_rows_parallel
-from ._kernels.cycles import slip_cycles_rows, slip_cycles_rows_parallel
+from . import compiled, law
 from .options import did_you_mean
 
 LOCAL_SCHEDULERS = {"threads": "threads", "processes": "processes",
@@ -196,50 +191,20 @@ def _run_distributed(client, todo, task, handle):
 
 
 # ------------------------------------------------------- one batch of attractors
-_POOL = []
+def attractors(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray,
+               parallel: bool) -> None:
+    """The attractor of every row of P (its law ``laws[P[:, LAW]]``) into ``out``,
+    on every numba thread if ``parallel`` (:func:`sweepcore.compiled.attractors`),
+    with the points the kernels cannot resolve flagged
+    (:func:`sweepcore.law.flag_unresolvable`)."""
+    compiled.attractors(P, laws, o, out, parallel)
+    law.flag_unresolvable(P, o, out, laws)
 
 
-def attractors(P: np.ndarray, o: np.ndarray, out: np.ndarray, parallel: bool) -> None:
-    """``attractor_rows`` over the rows of P, on every numba thread if ``parallel``.
-
-    Waking numba's thread pool costs ~2 ms a call, more than a small batch of
-    attractors, and the parallel kernel deals its ``_LANES`` lanes to the threads
-    in contiguous blocks, so a batch of fewer rows than lanes runs on one thread
-    only: batches below ``threads * _LANES`` rows are shared by Python threads
-    instead, row by row (the kernel releases the GIL).
-    """
-    _batched(attractor_rows, attractor_rows_parallel, P, o, (out,), parallel)
-    law.flag_unresolvable(P, o, out)
-
-
-def cycles(P: np.ndarray, o: np.ndarray, out: np.ndarray, found: np.ndarray,
+def cycles(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray, found: np.ndarray,
            parallel: bool) -> None:
-    """``slip_cycles_rows`` over the rows of P (``out`` of shape (n, MAX_CYCLES,
-    NOBS), ``found`` (n,) int64), shared out as :func:`attractors` does."""
-    _batched(slip_cycles_rows, slip_cycles_rows_parallel, P, o, (out, found), parallel)
+    """Every slip cycle of the rows of P (``out`` of shape (n, MAX_CYCLES, NOBS),
+    ``found`` (n,) int64), as :func:`attractors`."""
+    compiled.cycles(P, laws, o, out, found, parallel)
     for j in range(out.shape[1]):       # every cycle slot of an unresolvable point
-        law.flag_unresolvable(P, o, out[:, j, :])
-
-
-def _batched(serial, parallel_kernel, P, o, outs, parallel: bool) -> None:
-    """``serial(P, o, *outs)`` on every numba thread if ``parallel`` (the rule of
-    :func:`attractors`); ``outs`` are indexed by row like P."""
-    n = P.shape[0]
-    threads = numba.get_num_threads() if parallel else 1
-    if threads == 1 or n == 1:
-        serial(P, o, *outs)
-    elif n >= threads * _LANES:
-        parallel_kernel(P, o, *outs)
-    else:
-        if not _POOL:
-            _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="sweepcore"))
-        # each thread takes the next row when done (their costs differ ~10x)
-        P = np.ascontiguousarray(P)
-        rows = itertools.count()
-
-        def work(_):
-            for i in rows:
-                if i >= n:
-                    return
-                serial(P[i:i + 1], o, *(a[i:i + 1] for a in outs))
-        list(_POOL[0].map(work, range(min(threads, n))))
+        law.flag_unresolvable(P, o, out[:, j, :], laws)

@@ -17,8 +17,11 @@ import xarray as xr
 
 from . import law
 from ._kernels import layout
+from .laws import ANALYTIC, LAW_DIM
+from .laws import analytic as _analytic
 from .options import checked_keywords
-from .params import LONG_NAMES, RULES, UNITS, check_derived, check_real
+from .params import (LONG_NAMES, RULES, UNITS, check_derived, check_law, check_real,
+                     law_ranges)
 
 # axes in dimension order, with their kernel column (check_real rules: params.RULES)
 AXES = law.PARAMETERS + ("x0", "xdot0")
@@ -147,6 +150,11 @@ class Grid:
         (default): r_k = r_y, no Stribeck term (the paper's law).
     v_s : float, 1-D array or None
         Stribeck speed [cm/s], > 0; required when r_k is given.
+    law : law object or list of them, optional
+        A friction law given as an object (:mod:`sweepcore.laws`) instead of the
+        analytic parameters r_y, alpha1, alpha2, r_k, v_s (which are then not
+        given); a list of them is a dimension ``law``, first, labelled by the laws'
+        names (distinct).
     mode : {"product", "points"}
         "product" (default): the array axes span an outer product, one dimension per
         array axis in the order of the parameters above. "points": the array axes
@@ -165,21 +173,35 @@ class Grid:
 
     m: object
     k: object
-    r_y: object
-    v: object
-    alpha1: object = 0.0
-    alpha2: object = 0.0
+    r_y: object = None
+    v: object = None
+    alpha1: object = None
+    alpha2: object = None
     x0: object = 0.0
     xdot0: object = None
     c: object = 0.0
     r_k: object = None
     v_s: object = None
+    law: object = None
     mode: str = field(default="product", kw_only=True)
 
     def __post_init__(self):
         if self.mode not in ("product", "points"):
             raise ValueError(f"mode must be 'product' or 'points', got {self.mode!r}")
+        if self.v is None:
+            raise TypeError("Grid() missing the belt speed v [cm s-1]")
+        if self.law is not None:
+            object.__setattr__(self, "law", self._checked_laws())
+        elif self.r_y is None:
+            raise TypeError("Grid() missing the friction bound r_y [kN] (or law "
+                            "objects: law=)")
+        else:
+            for name in ("alpha1", "alpha2"):
+                if getattr(self, name) is None:
+                    object.__setattr__(self, name, 0.0)
         for name in AXES:
+            if self.law is not None and name in _analytic.PARAMETERS:
+                continue
             value = _check_axis(name, getattr(self, name), unique=self.mode == "product")
             object.__setattr__(self, name, value)
         if self.mode == "points":
@@ -204,28 +226,63 @@ class Grid:
                 continue
             val = np.atleast_1d(val)
             ranges[name] = (float(val.min()), float(val.max()))
-        check_derived("Grid", ranges)
+        if self.law is None:
+            check_derived("Grid", ranges)
+        for one in (self.laws if self.law is not None else ()):
+            check_derived("Grid", law_ranges(one, ranges))
+
+    def _checked_laws(self):
+        """The law given: one law object, or a tuple of them (a dimension)."""
+        analytic = {n: getattr(self, n) for n in _analytic.PARAMETERS}
+        many = isinstance(self.law, (list, tuple))
+        laws = tuple(self.law) if many else (self.law,)
+        if many and not laws:
+            raise ValueError("law is an empty list: give at least one law")
+        for one in laws:
+            check_law("Grid", one, analytic)
+        names = [one.name for one in laws]
+        if len(set(names)) < len(names):
+            dup = next(n for n in names if names.count(n) > 1)
+            raise ValueError(f"the laws of a Grid must have distinct names (they label "
+                             f"the law dimension), got {dup!r} twice")
+        if many and self.mode == "points":
+            raise ValueError("Grid.points takes one law; sweep several laws with "
+                             "Grid(..., law=[...]) (a law dimension)")
+        return laws if many else laws[0]
+
+    @property
+    def laws(self) -> tuple:
+        """The laws of the grid's rows (``layout.LAW`` indexes them): the analytic
+        family, one law object, or the law dimension's."""
+        if self.law is None:
+            return (ANALYTIC,)
+        return self.law if isinstance(self.law, tuple) else (self.law,)
 
     @classmethod
-    def points(cls, m, k, r_y, v, alpha1=0.0, alpha2=0.0, x0=0.0, xdot0=None, c=0.0,
-               r_k=None, v_s=None) -> Grid:
+    def points(cls, m, k, r_y=None, v=None, alpha1=None, alpha2=None, x0=0.0, xdot0=None,
+               c=0.0, r_k=None, v_s=None, law=None) -> Grid:
         """Scattered parameter sets: equal-length 1-D arrays, read index by index.
 
         Scalars are shared by every point. The result has one dimension, ``point``.
         """
-        return cls(m, k, r_y, v, alpha1, alpha2, x0, xdot0, c, r_k, v_s, mode="points")
+        return cls(m, k, r_y, v, alpha1, alpha2, x0, xdot0, c, r_k, v_s, law,
+                   mode="points")
 
     # ------------------------------------------------------------------ shape
     def axis(self, name: str):
-        """The validated value of one axis: float, read-only 1-D array or None."""
+        """The validated value of one axis: float, read-only 1-D array or None (the
+        law dimension: its tuple of laws)."""
+        if name == LAW_DIM and isinstance(self.law, tuple):
+            return self.law
         if name not in AXES:
             raise KeyError(f"unknown axis {name!r}; axes are {AXES}")
         return getattr(self, name)
 
     @property
     def swept(self) -> tuple[str, ...]:
-        """Names of the array axes, in dimension order."""
-        return tuple(n for n in AXES if isinstance(self.axis(n), np.ndarray))
+        """Names of the array axes, in dimension order (``law`` first)."""
+        laws = (LAW_DIM,) if isinstance(self.law, tuple) else ()
+        return laws + tuple(n for n in AXES if isinstance(self.axis(n), np.ndarray))
 
     @property
     def fixed(self) -> tuple[str, ...]:
@@ -256,7 +313,12 @@ class Grid:
 
     def __repr__(self) -> str:
         parts = []
+        if self.law is not None:
+            parts.append(f"law={[one.name for one in self.laws]!r}"
+                         if isinstance(self.law, tuple) else f"law={self.law!r}")
         for name in AXES:
+            if self.law is not None and name in _analytic.PARAMETERS:
+                continue
             val = self.axis(name)
             if isinstance(val, np.ndarray):
                 parts.append(f"{name}=<{val.size} values in [{val.min():.6g}, "
@@ -291,13 +353,14 @@ class Grid:
         for name in AXES:
             val = self.axis(name)
             col = COLUMNS[name]
-            if val is None:     # start stuck on the belt; no Stribeck term
-                P[:, col] = {"xdot0": P[:, layout.V], "r_k": P[:, layout.RY],
-                             "v_s": np.nan}[name]
+            if val is None:     # start stuck on the belt; no Stribeck term; a law object
+                P[:, col] = P[:, layout.V] if name == "xdot0" else \
+                    P[:, layout.RY] if name == "r_k" and self.law is None else np.nan
             elif isinstance(val, np.ndarray):
                 P[:, col] = val[index[name]]
             else:
                 P[:, col] = val
+        P[:, layout.LAW] = index[LAW_DIM] if LAW_DIM in index else 0.0
         return P
 
     def block(self, start: int, stop: int) -> tuple[Grid, int, int]:
@@ -311,7 +374,7 @@ class Grid:
             return self, start, stop
         cut = {n: self.axis(n)[start:stop] if n in self.swept else self.axis(n)
                for n in AXES}
-        return Grid.points(**cut), 0, stop - start
+        return Grid.points(**cut, law=self.law), 0, stop - start
 
     # ---------------------------------------------------------------- labels
     def coords(self) -> dict[str, xr.Variable]:
@@ -325,10 +388,13 @@ class Grid:
             out[POINT_DIM] = xr.Variable(
                 POINT_DIM, np.arange(self.size),
                 {"units": "1", "long_name": "parameter set index"})
+        if isinstance(self.law, tuple):
+            out[LAW_DIM] = xr.Variable(LAW_DIM, np.array([one.name for one in self.law]),
+                                       {"long_name": "friction law (sweepcore.laws)"})
         for name in AXES:
             val = self.axis(name)
             attrs = {"units": UNITS[name], "long_name": LONG_NAMES[name]}
-            if val is None and name == "r_k":     # the law's parameter, = r_y
+            if val is None and name == "r_k" and self.law is None:   # = r_y
                 val = self.axis("r_y")
                 attrs["comment"] = "r_k = r_y: no Stribeck term (eq. 40)"
             if val is None:
@@ -344,6 +410,9 @@ class Grid:
     def fingerprint(self) -> str:
         """SHA-256 of the grid's exact values (for matching a resumed sweep)."""
         h = hashlib.sha256(self.mode.encode())
+        for one in (self.laws if self.law is not None else ()):
+            h.update(b"law")
+            h.update(one.fingerprint())
         for name in AXES:
             val = self.axis(name)
             h.update(name.encode())

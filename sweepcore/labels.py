@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 
 from . import law, variables
+from .laws import ANALYTIC, LAW_DIM
 
 REFERENCE = ('C.-S. Liu, "Coulomb friction applied to analyze the cutting vibration '
              'of tool on workpiece"')
@@ -118,31 +119,38 @@ def parameter(ds: xr.Dataset, name: str) -> float:
 
 
 # ------------------------------------------------------------ analytic variables
-def _over(coords, name: str, formula) -> xr.DataArray:
+def _over(coords, name: str, formula, laws=(ANALYTIC,)) -> xr.DataArray:
     """``formula(source)`` over the coordinates that ``law.derived(name)`` takes,
-    broadcast by dimension name (dask arrays stay lazy)."""
-    _column, names = law.DERIVED[name]
+    broadcast by dimension name (dask arrays stay lazy); with several ``laws`` (the
+    ``law`` dimension of ``coords``) one law at a time, stacked along ``law``."""
+    if len(laws) > 1:
+        return xr.concat([_over(coords, name, formula, (one,)) for one in laws],
+                         dim=LAW_DIM)
+    one = laws[0]
+    names = law.names_of(name, {"law": None if one is ANALYTIC else one})
     given = [n for n in names if n in coords]      # absent: the law's default
-    return xr.apply_ufunc(lambda *vals: formula(dict(zip(given, vals))),
+    extra = {} if one is ANALYTIC else {"law": one}
+    return xr.apply_ufunc(lambda *vals: formula({**dict(zip(given, vals)), **extra}),
                           *(coords[n] for n in given), keep_attrs=False,
                           dask="parallelized", output_dtypes=[np.float64])
 
 
-def analytic(name: str, coords, dims=None) -> xr.DataArray:
+def analytic(name: str, coords, dims=None, laws=(ANALYTIC,)) -> xr.DataArray:
     """Analytic variable ``name`` (a key of ``variables.ANALYTIC``) of
     :mod:`sweepcore.law` over ``coords`` (a Dataset, or a mapping of DataArrays or
     Variables: then a Variable), labelled from ``variables.ANALYTIC``; its
-    dimensions in the order of ``dims``."""
-    da = _over(coords, name, lambda src: law.derived(name, src))
+    dimensions in the order of ``dims``; ``laws`` the grid's laws (a ``law``
+    dimension where there are several)."""
+    da = _over(coords, name, lambda src: law.derived(name, src), laws)
     if dims is not None:
         da = da.transpose(*(d for d in dims if d in da.dims))
     da.attrs = attrs(*variables.ANALYTIC[name])
     return da
 
 
-def stick_onset_estimate(coords) -> xr.DataArray:
+def stick_onset_estimate(coords, laws=(ANALYTIC,)) -> xr.DataArray:
     """The averaging estimate of the stick onset (:func:`sweepcore.law.
     stick_onset_estimate`) over ``coords``, on the dimensions of ``v_star``."""
-    da = _over(coords, "v_star", law.stick_onset_estimate)
+    da = _over(coords, "v_star", law.stick_onset_estimate, laws)
     da.attrs = attrs(*variables.STICK_ONSET_ESTIMATE)
     return da

@@ -2,19 +2,16 @@
 
 Every Python room (Params, Grid, sweep, simulate, boundaries, plot, benchmarks)
 reads q, x_eq, the Hopf speeds and the friction force from here, and this module
-reads them from the kernels' law (``sweepcore/_kernels/law.py``): one definition,
-evaluated by the same compiled code in the kernels and in Python.
+evaluates them with the kernels' law interface (``sweepcore/_kernels/law.py``): one
+definition, the same compiled code in the kernels and in Python.
 
 A *source* is anything that holds the parameters by name: a
 :class:`sweepcore.Params`, a mapping (dict of numbers or arrays), an
 ``xarray.Dataset`` (its coordinates broadcast by dimension name) or a kernel row
 (``from_row``). Missing optional parameters take their defaults (no damping, no
-Stribeck term).
-
-The law (friction force on the slider while sliding with relative speed s):
-``F(s) = sgn(s) (r_k + (r_y - r_k) exp(-|s|/v_s)) - alpha1 s + alpha2 s^3``, and
-viscous damping ``c`` on the slider: ``m x'' + c x' + k x + r_a = 0``. ``r_k = r_y``
-is eq. (40) of Liu's paper.
+Stribeck term). Its law is the analytic family (parameters r_y, alpha1, alpha2,
+r_k, v_s: :mod:`sweepcore.laws.analytic`), or the law object under ``"law"``
+(:mod:`sweepcore.laws`), whose own data replace those parameters.
 """
 from __future__ import annotations
 
@@ -22,18 +19,23 @@ import numpy as np
 
 from ._kernels import law as _law
 from ._kernels import layout
+from .laws import ANALYTIC, FrictionLaw
+from .laws import analytic as _analytic
 
-# parameters of the slider and its law, in the order of the API
+# the slider's parameters; a law's come after them in the API's order
+SLIDER = ("m", "k", "v", "c")
 PARAMETERS = ("m", "k", "r_y", "v", "alpha1", "alpha2", "c", "r_k", "v_s")
-COLUMNS = {"m": layout.M, "k": layout.K, "r_y": layout.RY, "v": layout.V,
-           "alpha1": layout.A1, "alpha2": layout.A2, "c": layout.C, "r_k": layout.RK,
-           "v_s": layout.VS}
-# optional parameters: None means "the default": r_k = r_y (no Stribeck term), and
-# then v_s does not enter (NaN in kernel rows: any use would show as NaN)
-DEFAULTS = {"alpha1": 0.0, "alpha2": 0.0, "c": 0.0, "r_k": None, "v_s": None}
+COLUMNS = {"m": layout.M, "k": layout.K, "v": layout.V, "c": layout.C,
+           **_analytic.COLUMNS}
+# optional parameters: None means "the default" (sweepcore.laws.analytic.DEFAULTS);
+# law None: the analytic family
+DEFAULTS = {"c": 0.0, **_analytic.DEFAULTS, "law": None}
 
 # name -> (kernel column, the parameters it depends on). A sweep stores each over the
-# dimensions of those parameters only (q does not vary along k).
+# dimensions of those parameters only (q does not vary along k); a law object stands
+# for the analytic parameters (and adds the law's dimension, where there is one). The
+# Hopf speeds are those of a belt moving forwards (v > 0): for v < 0 they are the
+# mirrored law's, the same for a law odd in the relative speed.
 _Q = ("m", "v", "alpha1", "alpha2", "c", "r_y", "r_k", "v_s")
 _HOPF = ("alpha1", "alpha2", "c", "r_y", "r_k", "v_s")
 DERIVED = {
@@ -50,7 +52,7 @@ CRITICALITY = {0: "none", 1: "supercritical", 2: "subcritical", 3: "degenerate"}
 
 def value(source, name: str):
     """Parameter ``name`` of ``source`` (mapping, Dataset or attributes); a missing
-    optional parameter gives its default (None for r_k and v_s)."""
+    optional parameter gives its default (None for r_k, v_s and law)."""
     try:
         got = source[name]
     except (KeyError, TypeError, IndexError):
@@ -63,15 +65,77 @@ def value(source, name: str):
                    f"{type(source).__name__} does not hold")
 
 
-def from_row(row) -> dict:
-    """A source made of a kernel parameter row (layout ``sweepcore._kernels.layout``)."""
-    return {name: float(row[col]) for name, col in COLUMNS.items()}
+def law_of(source) -> FrictionLaw:
+    """The law of ``source``: its law object, or the analytic family."""
+    try:
+        got = value(source, "law")
+    except KeyError:
+        got = None
+    if got is None:
+        return ANALYTIC
+    if hasattr(got, "dims"):                      # a Dataset's law coordinate
+        raise TypeError("a source with a law dimension holds law names, not laws: "
+                        "pass the laws (laws=) where the function takes them")
+    return got
 
 
-def evaluate(name: str, *arrays) -> np.ndarray:
-    """Quantity ``name`` from the arrays of its parameters ``DERIVED[name][1]``, in
-    that order (numpy broadcasting; None for r_k: r_y, for v_s: not given)."""
+def names_of(name: str, source) -> tuple[str, ...]:
+    """The parameters ``DERIVED[name]`` depends on for the law of ``source``."""
+    names = DERIVED[name][1]
+    if law_of(source) is ANALYTIC:
+        return names
+    return tuple(n for n in names if n in SLIDER)
+
+
+def from_row(row, law=None) -> dict:
+    """A source made of a kernel parameter row (layout ``sweepcore._kernels.layout``)
+    and its law object (None: the analytic family)."""
+    names = PARAMETERS if law is None or law is ANALYTIC else SLIDER
+    out = {name: float(row[COLUMNS[name]]) for name in names}
+    if law is not None and law is not ANALYTIC:
+        out["law"] = law
+    return out
+
+
+def row_law(row, laws=(ANALYTIC,)) -> FrictionLaw:
+    """The law of a kernel row: ``laws[row[LAW]]``."""
+    return laws[int(row[layout.LAW])]
+
+
+def length_scale(P: np.ndarray, laws=(ANALYTIC,)) -> np.ndarray:
+    """The kernels' length scale of each row [cm] (``_kernels.law.length_scale``):
+    the static bound over k plus ``|v|/omega``."""
+    P = np.atleast_2d(P)
+    which = P[:, layout.LAW].astype(np.intp)
+    static = np.zeros(P.shape[0])
+    for i, law in enumerate(laws):
+        rows = which == i
+        if rows.any():
+            static[rows] = law.static_bound(P[rows])
+    k, m = P[:, layout.K], P[:, layout.M]
+    return static / k + np.abs(P[:, layout.V]) / np.sqrt(k / m)
+
+
+def rows_of(arrays: dict, shape, law=None) -> np.ndarray:
+    """Kernel rows (n, layout.NP) of parameter arrays (broadcast to ``shape``)."""
+    P = np.zeros((int(np.prod(shape)), layout.NP))
+    for n, a in arrays.items():
+        P[:, COLUMNS[n]] = np.broadcast_to(np.asarray(a, np.float64), shape).ravel()
+    if law is None or law is ANALYTIC:
+        if "r_k" in arrays and "r_y" not in arrays:
+            P[:, layout.RY] = P[:, layout.RK]
+    return P
+
+
+def evaluate(name: str, *arrays, law=None) -> np.ndarray:
+    """Quantity ``name`` from the arrays of its parameters (``names_of``: for the
+    analytic family ``DERIVED[name][1]``, in that order; for a law object the
+    slider's among them), numpy broadcasting (None for r_k: r_y, for v_s: not
+    given)."""
+    law = ANALYTIC if law is None else law
     which, names = DERIVED[name]
+    if law is not ANALYTIC:
+        names = tuple(n for n in names if n in SLIDER)
     args = dict(zip(names, arrays))
     if "r_k" in args and args["r_k"] is None:
         args["r_k"] = args["r_y"]
@@ -79,12 +143,12 @@ def evaluate(name: str, *arrays) -> np.ndarray:
         args["v_s"] = np.nan
     arrs = {n: np.asarray(a, np.float64) for n, a in args.items()}
     shape = np.broadcast_shapes(*(a.shape for a in arrs.values()))
-    P = np.zeros((int(np.prod(shape)), layout.NP))
-    for n, a in arrs.items():
-        P[:, COLUMNS[n]] = np.broadcast_to(a, shape).ravel()
+    P = rows_of(arrs, shape, law)
     out = np.empty(P.shape[0])
-    if P.shape[0]:
-        _law.derived_rows(P, which, out)
+    for _code, rows, lw in law.kernel_groups(P):
+        sub = np.empty(rows.size)
+        _law.derived_rows(np.ascontiguousarray(P[rows]), lw, which, sub)
+        out[rows] = sub
     return out.reshape(shape)
 
 
@@ -92,7 +156,8 @@ def derived(name: str, source):
     """Derived quantity ``name`` (a key of ``DERIVED``) of ``source``: a float for
     numbers, a numpy array for arrays (broadcast), a DataArray over the dimensions of
     the parameters it depends on for an ``xarray.Dataset`` or DataArrays."""
-    names = DERIVED[name][1]
+    law = law_of(source)
+    names = names_of(name, source)
     no_stribeck = "r_k" in names and value(source, "r_k") is None
     vals = [_r_y_or_zero(source) if n == "r_y" and no_stribeck else value(source, n)
             for n in names]
@@ -104,10 +169,10 @@ def derived(name: str, source):
             full = [None] * len(names)
             for i, a in zip(given, arrs):
                 full[i] = a
-            return evaluate(name, *full)
+            return evaluate(name, *full, law=law)
         return xr.apply_ufunc(fn, *(vals[i] for i in given), dask="parallelized",
                               output_dtypes=[np.float64])
-    out = evaluate(name, *vals)
+    out = evaluate(name, *vals, law=law)
     return float(out) if out.ndim == 0 else out
 
 
@@ -127,26 +192,17 @@ def criticality_code(l1):
 
 
 def friction(zdot, source, phase=None):
-    """Friction force r_a on the slider while sliding [kN] (the kernels' ``friction``,
+    """Friction force r_a on the slider while sliding [kN] (the kernels' law,
     vectorised). ``phase`` is the sign of zdot (+1, -1); by default ``sign(zdot)``."""
-    zdot = np.asarray(zdot, np.float64)
-    s = np.sign(zdot) if phase is None else np.asarray(phase, np.float64)
-    r_y = np.asarray(value(source, "r_y"), np.float64)
-    r_k = value(source, "r_k")
-    d = 0.0 if r_k is None else r_y - np.asarray(r_k, np.float64)
-    lev = r_y
-    if np.any(d != 0.0):
-        with np.errstate(invalid="ignore"):
-            stribeck = d * np.expm1(-np.abs(zdot) / np.asarray(value(source, "v_s"),
-                                                                np.float64))
-        lev = np.where(d == 0.0, r_y, r_y + stribeck)
-    return (lev * s - value(source, "alpha1") * zdot
-            + value(source, "alpha2") * zdot * zdot * zdot)
+    law = law_of(source)
+    if law is ANALYTIC:
+        return _analytic.force(zdot, source, value, phase)
+    return law.force(zdot, phase)
 
 
 def stick_force(x, source):
     """Friction force on the slider while stuck [kN]: ``-(k x + c v)`` (it holds the
-    slider at belt speed; sticking lasts while its size is at most r_y)."""
+    slider at belt speed while it lies between the law's static limits)."""
     return -(value(source, "k") * np.asarray(x, np.float64)
              + value(source, "c") * value(source, "v"))
 
@@ -155,8 +211,10 @@ def stick_onset_estimate(source):
     """First-order averaging estimate ``2 v*/sqrt(5)`` of the belt speed [cm/s] below
     which a slip cycle of the polynomial law reaches belt speed (sticks): the
     averaged cycle's velocity amplitude ``2 sqrt(v*^2 - v^2)`` reaches v. NaN for a
-    law with a Stribeck term (no such closed form)."""
+    law with a Stribeck term or a law object (no such closed form)."""
     est = 2.0 / np.sqrt(5.0) * derived("v_star", source)
+    if law_of(source) is not ANALYTIC:
+        return est * np.nan
     r_k = value(source, "r_k")
     if r_k is None:
         return est
@@ -182,35 +240,40 @@ TIME_SCALE_MAX = 1e78
 WEAK = 2.0
 
 
-def unresolvable(P: np.ndarray, o: np.ndarray) -> np.ndarray:
-    """Rows of the parameter rows ``P`` (layout ``_kernels.layout``) whose attractor
-    the kernels cannot resolve with the option row ``o``, as a bool array.
+def unresolvable(P: np.ndarray, o: np.ndarray, laws=(ANALYTIC,)) -> np.ndarray:
+    """Rows of the parameter rows ``P`` (layout ``_kernels.layout``; their laws are
+    ``laws[P[:, LAW]]``) whose attractor the kernels cannot resolve with the option
+    row ``o``, as a bool array.
 
     Two magnitudes: (1) the friction law changes a motion by less per natural
     period than the driver's touch tolerance ``g`` (``driver.touch_tol``: 20 tol
-    for the adaptive pairs dopri5 and dop853, ``graze`` for the others), so a slowly growing or decaying motion
-    that touches the belt is taken for a reset cycle: ``0 < pi zeta <= WEAK g``
-    with ``zeta = max(|c|, |alpha1|, 3 alpha2 v^2, |r_y - r_k|/v_s) / (m omega)``,
-    an upper bound of the law's slope per ``m omega`` (``|q|/omega`` is one value
-    of it). ``zeta = 0`` (constant friction, no damping: neutral circles) is
-    resolved exactly, and a static belt (``v = 0``) has no cycle through the
-    breakaway point to mistake. (2) ``1/omega > TIME_SCALE_MAX``.
+    for the adaptive pairs dopri5 and dop853, ``graze`` for the others), so a slowly
+    growing or decaying motion that touches the belt is taken for a reset cycle:
+    ``0 < pi zeta <= WEAK g`` with ``zeta = max(|c|, S) / (m omega)``, S the law's
+    bound of ``|F'|`` at the row's speeds (``slope_scale``; for the analytic family
+    ``max(|alpha1|, 3 alpha2 v^2, |r_y - r_k|/v_s)``), an upper bound of the law's
+    slope per ``m omega`` (``|q|/omega`` is one value of it). ``zeta = 0`` (constant
+    friction, no damping: neutral circles) is resolved exactly, and a static belt
+    (``v = 0``) has no cycle through the breakaway point to mistake. (2)
+    ``1/omega > TIME_SCALE_MAX``.
     """
     from ._kernels.stepper import ADAPTIVE, TOUCH_FACTOR
     from ._kernels import codes
 
     P = np.atleast_2d(np.asarray(P, np.float64))
     m, k, v = P[:, layout.M], P[:, layout.K], P[:, layout.V]
+    which = P[:, layout.LAW].astype(np.intp)
+    slope = np.zeros(P.shape[0])
+    linear = np.zeros(P.shape[0], bool)
+    for i, law in enumerate(laws):
+        rows = which == i
+        if rows.any():
+            slope[rows] = law.slope_scale(P[rows])
+            linear[rows] = law.closed_form(P[rows])
     with np.errstate(all="ignore"):
         root_m, root_k = np.sqrt(m), np.sqrt(k)
-        d = P[:, layout.RY] - P[:, layout.RK]
-        slope = np.maximum.reduce([
-            np.abs(P[:, layout.C]), np.abs(P[:, layout.A1]),
-            3.0 * np.abs(P[:, layout.A2]) * v * v,
-            np.where(d != 0.0, np.abs(d) / P[:, layout.VS], 0.0)])
-        zeta = slope / (root_m * root_k)                   # m omega = sqrt(k m)
+        zeta = np.maximum(np.abs(P[:, layout.C]), slope) / (root_m * root_k)
         method = int(o[layout.O_METHOD])
-        linear = (P[:, layout.A2] == 0.0) & (d == 0.0)     # kernel's piecewise_linear
         if method < 0:          # auto: the closed form, else one of the adaptive pairs
             pairs = max(f for f, a in zip(TOUCH_FACTOR, ADAPTIVE) if a)
             factor = np.where(linear, TOUCH_FACTOR[codes.EXACT], pairs)
@@ -222,13 +285,14 @@ def unresolvable(P: np.ndarray, o: np.ndarray) -> np.ndarray:
     return weak | slow
 
 
-def flag_unresolvable(P: np.ndarray, o: np.ndarray, out: np.ndarray) -> None:
+def flag_unresolvable(P: np.ndarray, o: np.ndarray, out: np.ndarray,
+                      laws=(ANALYTIC,)) -> None:
     """Give the observable rows ``out`` of :func:`unresolvable` points the status
     ``unresolvable_scale`` and the regime ``failed`` (their numbers are kept, as
     the search returned them: estimates without digits to trust)."""
     from ._kernels import codes
 
-    bad = unresolvable(P, o)
+    bad = unresolvable(P, o, laws)
     if bad.any():
         out[bad, layout.OB_STATUS] = codes.SCALE
         out[bad, layout.OB_REGIME] = codes.R_FAILED

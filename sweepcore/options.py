@@ -24,13 +24,20 @@ MAX_STEPS_CAP = 2**53   # largest integer a float64 option row holds exactly
 GRAZE_MAX = 1e-6
 
 
-def check_method(method: str, params) -> None:
-    """Refuse a closed-form method for a law that has none, naming the parameters."""
-    if method in CLOSED_FORM and not (params.alpha2 == 0.0 and params.r_k == params.r_y):
-        raise ValueError(
-            f"method={method!r} needs a piecewise-linear law (the sliding phase has a "
-            "closed form only without cubic and Stribeck terms: alpha2 = 0 and r_k = "
-            f"r_y); got alpha2={params.alpha2!r}, r_k={params.r_k!r}, r_y={params.r_y!r}")
+def check_method(method: str, where) -> None:
+    """Refuse a closed-form method where a point's law has none: ``where`` is a
+    ``Params`` or a ``Grid``; the law's own rule decides (``closed_form_grid``) and
+    names what stands in the way."""
+    if method not in CLOSED_FORM:
+        return
+    law = where.friction_law if hasattr(where, "friction_law") else None
+    laws = (law,) if law is not None else where.laws
+    for one in laws:
+        why = one.closed_form_grid(where)
+        if why:
+            raise ValueError(f"method={method!r} needs a piecewise-linear law at "
+                             f"every point (the sliding phase has a closed form only "
+                             f"then); {why}")
 
 
 def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = None,

@@ -14,6 +14,8 @@ import numpy as np
 
 from . import law
 from ._kernels import layout
+from .laws import ANALYTIC, OBJECTS
+from .laws import analytic as _analytic
 from .options import checked_keywords
 
 UNITS = {
@@ -127,6 +129,28 @@ def check_derived(where: str, ranges: dict) -> None:
                          "choose units in which the magnitudes are moderate")
 
 
+def check_law(where: str, law_object, analytic: dict) -> None:
+    """Refuse a law that is not a law object, or analytic parameters beside it."""
+    if isinstance(law_object, OBJECTS):
+        given = [f"{n}={v!r}" for n, v in analytic.items() if v is not None]
+        if given:
+            raise ValueError(f"{where}: law= replaces the analytic law's parameters "
+                             f"(r_y, alpha1, alpha2, r_k, v_s); got {', '.join(given)} "
+                             f"beside law={law_object!r}")
+        return
+    names = ", ".join(cls.__name__ for cls in OBJECTS)
+    raise TypeError(f"law must be a friction law object ({names}; sweepcore.laws), "
+                    f"got {law_object!r} of type {type(law_object).__name__}")
+
+
+def law_ranges(law_object, ranges: dict) -> dict:
+    """``check_derived``'s ranges for a law object: its static bound stands for r_y
+    and its slope bound for alpha1 (magnitudes only)."""
+    one = np.zeros((1, layout.NP))
+    return {**ranges, "r_y": (float(law_object.static_bound(one)[0]),) * 2,
+            "alpha1": (float(law_object.slope_scale(one)[0]),) * 2, "alpha2": (0.0, 0.0)}
+
+
 @dataclass(frozen=True)
 class Params:
     """One slider on the belt (Liu, Fig. 1) and its friction law.
@@ -144,6 +168,7 @@ class Params:
         Stiffness [kN/cm], > 0.
     r_y : float
         Static friction bound [kN], >= 0: the largest force sticking holds (= F(0+)).
+        Required unless ``law`` is given.
     v : float
         Belt speed [cm/s], any finite value: ``v < 0`` is the mirror image of
         ``-v``, ``v = 0`` a static belt.
@@ -158,27 +183,49 @@ class Params:
         (exponential Stribeck law). Default ``r_y``: no Stribeck term.
     v_s : float, optional
         Stribeck speed [cm/s], > 0; required when ``r_k != r_y``.
+    law : TableLaw or LeineLaw, optional
+        A friction law given as an object (:mod:`sweepcore.laws`) instead of the
+        analytic family: then r_y, alpha1, alpha2, r_k and v_s are not given (the law
+        holds its own data), and the damping c stays the slider's.
 
     Raises
     ------
     TypeError, ValueError
         A parameter that is not a finite real number in its range, a missing v_s,
-        or magnitudes whose derived quantities (omega, q, x_eq, the length scale)
-        overflow.
+        analytic parameters beside ``law``, or magnitudes whose derived quantities
+        (omega, q, x_eq, the length scale) overflow.
     """
 
     m: float
     k: float
-    r_y: float
-    v: float
-    alpha1: float = 0.0
-    alpha2: float = 0.0
+    r_y: float | None = None
+    v: float | None = None
+    alpha1: float | None = None
+    alpha2: float | None = None
     c: float = 0.0
     r_k: float | None = None
     v_s: float | None = None
+    law: object = None
 
     def __post_init__(self):
-        for name in ("m", "k", "r_y", "v", "alpha1", "alpha2", "c"):
+        if self.v is None:
+            raise TypeError("Params() missing the belt speed v [cm s-1]")
+        for name in ("m", "k", "v", "c"):
+            object.__setattr__(self, name, check_real(name, getattr(self, name),
+                                                      **RULES[name]))
+        if self.law is not None:
+            check_law("Params", self.law, {n: getattr(self, n)
+                                           for n in _analytic.PARAMETERS})
+            check_derived("Params", law_ranges(self.law, {
+                n: (getattr(self, n),) * 2 for n in ("m", "k", "v", "c")}))
+            return
+        if self.r_y is None:
+            raise TypeError("Params() missing the friction bound r_y [kN] (or a law "
+                            "object: law=)")
+        for name in ("alpha1", "alpha2"):
+            if getattr(self, name) is None:
+                object.__setattr__(self, name, 0.0)
+        for name in ("r_y", "alpha1", "alpha2"):
             object.__setattr__(self, name, check_real(name, getattr(self, name),
                                                       **RULES[name]))
         for name in ("r_k", "v_s"):
@@ -191,15 +238,21 @@ class Params:
             raise ValueError(f"v_s (Stribeck speed [cm s-1]) is required when r_k "
                              f"differs from r_y; got r_k={self.r_k!r}, r_y={self.r_y!r}")
         check_derived("Params", {n: (v, v) for n, v in self.values().items()
-                                 if v is not None})
+                                 if v is not None and n != "law"})
+
+    @property
+    def friction_law(self):
+        """The law object: ``law``, or the analytic family (``sweepcore.laws``)."""
+        return ANALYTIC if self.law is None else self.law
 
     def values(self) -> dict:
-        """The parameters by name (v_s None when not given)."""
-        return {n: getattr(self, n) for n in law.PARAMETERS}
+        """The parameters by name (v_s None when not given; the law's parameters None
+        and ``law`` the object for a law object)."""
+        return {n: getattr(self, n) for n in law.PARAMETERS + ("law",)}
 
     def __getitem__(self, name: str):
         """``params["m"]``: a Params is a source of the friction law (``sweepcore.law``)."""
-        if name not in law.PARAMETERS:
+        if name not in law.PARAMETERS and name != "law":
             raise KeyError(name)
         return getattr(self, name)
 
@@ -266,13 +319,15 @@ class Params:
         return (0.5 * (q + d), 0.5 * (q - d))
 
     def row(self, x0: float, xdot0: float) -> np.ndarray:
-        """The kernel's flat parameter row (layout.py); v_s NaN when not given."""
+        """The kernel's flat parameter row (layout.py); v_s NaN when not given (and
+        the analytic columns NaN for a law object); its law is the call's first."""
         r = np.zeros(layout.NP)
         for name, col in law.COLUMNS.items():
             val = getattr(self, name)
             r[col] = np.nan if val is None else val
         r[layout.X0] = x0
         r[layout.XD0] = xdot0
+        r[layout.LAW] = 0.0
         return r
 
 

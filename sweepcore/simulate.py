@@ -6,10 +6,9 @@ import math
 import numpy as np
 import xarray as xr
 
-from . import labels, law
+from . import compiled, labels, law
 from ._kernels import codes, layout
-from ._kernels.attractor import resolve_options
-from ._kernels.trajectory import fresh_acc, run_trajectory
+from ._kernels.trajectory import fresh_acc
 from .options import check_method, checked_keywords, make_options
 from .params import LONG_NAMES, UNITS, Params, check_real
 
@@ -76,8 +75,8 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
             or max_events < 1:
         raise ValueError(f"max_events must be an integer >= 1, got {max_events!r}")
     check_method(method, params)
-    o = resolve_options(row, make_options(method, tol=tol, dt=dt, max_steps=max_steps,
-                                          gps_a=gps_a, graze=graze))
+    o, _status = compiled.options(row, params.friction_law, make_options(
+        method, tol=tol, dt=dt, max_steps=max_steps, gps_a=gps_a, graze=graze))
     t = np.arange(n) * output_dt
     if t[-1] < t_end:
         t = np.append(t, t_end)
@@ -88,7 +87,8 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
         mode = np.empty(t.shape, np.int64)
         ev = [np.empty(cap), np.empty(cap, np.int64), np.empty(cap), np.empty(cap)]
         acc = fresh_acc()
-        n_ev, status, n_steps = run_trajectory(row, o, t, xs, zds, mode, *ev, acc)
+        n_ev, status, n_steps, _meth = compiled.trajectory(row, params.friction_law, o,
+                                                           t, xs, zds, mode, *ev, acc)
         if n_ev <= cap or cap >= max_events:
             break
         cap = min(max_events, 2 * n_ev)
@@ -158,8 +158,9 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
         coords={"time": ("time", t, TIME),
                 # the slider and its start: scalar coordinates with units, as in a sweep
                 **{name: ((), value, {"units": UNITS[name], "long_name": LONG_NAMES[name]})
-                   for name, value in zip(UNITS, row)
-                   if not (name == "v_s" and params.v_s is None)}},
+                   for name, value in {**params.values(), "x0": row[layout.X0],
+                                       "xdot0": row[layout.XD0]}.items()
+                   if value is not None and name != "law"}},
         attrs={
             **labels.provenance("sweepcore single-slider simulation",
                                 "sweepcore.simulate()",
@@ -168,6 +169,7 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
             "method": method,
             "status": codes.STATUS_NAMES[status],
             "n_steps": n_steps,
+            **params.friction_law.attrs(),
         },
     )
     if status != codes.OK:

@@ -345,13 +345,6 @@ def _solver(ck: _Checker, doc: dict) -> dict:
         else:  # dt, max_periods > 0; gps_a any finite length
             rule = {} if key == "gps_a" else {"positive": True}
             out["options"][key] = ck.real(kp, val, **rule)
-    if out["method"] == "exact":
-        a2 = doc.get("axes", {}).get("alpha2", 0.0)
-        nonzero = (a2 != 0.0) if not isinstance(a2, (dict, list)) else True
-        if nonzero:
-            ck.fail(("solver", "method"), "method 'exact' needs alpha2 = 0 everywhere "
-                                          "(closed-form arcs exist only for constant "
-                                          "friction); use 'auto'")
     return out
 
 
@@ -438,11 +431,18 @@ def parse_study(text: str, path: str | Path | None = None) -> Study:
     plot = _plot(ck, doc, axes)
     boundary = boundary_table(ck, doc, axes)
     basins = basins_table(ck, doc, axes)
-    return Study(path=Path(path) if path is not None else None, text=text, title=title,
-                 description=description, axes=axes, method=solver["method"],
-                 tol=solver["tol"], chunks=solver["chunks"], options=solver["options"],
-                 output_path=output["path"], png=output["png"], plot=plot,
-                 boundary=boundary, basins=basins)
+    study = Study(path=Path(path) if path is not None else None, text=text, title=title,
+                  description=description, axes=axes, method=solver["method"],
+                  tol=solver["tol"], chunks=solver["chunks"], options=solver["options"],
+                  output_path=output["path"], png=output["png"], plot=plot,
+                  boundary=boundary, basins=basins)
+    if study.method != "auto":
+        from .options import check_method
+        try:
+            check_method(study.method, study.grid())
+        except ValueError as err:
+            ck.fail(("solver", "method"), f"{err}; use 'auto'")
+    return study
 
 
 def load_study(path: str | Path) -> Study:

@@ -70,12 +70,11 @@ from tqdm.auto import tqdm
 
 from . import execute, labels, law, variables
 from ._kernels import codes, layout
-from ._kernels.attractor import attractor_rows, attractor_rows_parallel
 from .boundary import BOUNDARY_VARIABLES, hopf_boundary, reversal_cycles
 from .grid import Grid, checked_grid
 from .io import WorkingStore, check_flag, chunk_shape, result_path, write_netcdf
 from .io.files import stale_temporaries
-from .options import checked_keywords, make_options
+from .options import check_method, checked_keywords, make_options
 from .sizing import (SweepTooLarge, default_chunk, estimate, refuse_if_too_large,
                      size_text)
 
@@ -85,29 +84,21 @@ _log = logging.getLogger(__name__)
 
 
 # ----------------------------------------------------------------- one chunk
-def _observables(kernel, grid: Grid, start: int, stop: int, o: np.ndarray) -> np.ndarray:
-    out = np.empty((stop - start, layout.NOBS))
-    rows = grid.rows(start, stop)
-    kernel(rows, o, out)
-    law.flag_unresolvable(rows, o, out)
-    return out
-
-
 def run_chunk(grid: Grid, start: int, stop: int, o: np.ndarray,
               parallel: bool = False) -> np.ndarray:
     """Observables ``(stop - start, layout.NOBS)`` of flat points [start, stop).
 
-    Serial kernel (releases the GIL): the task that dask schedulers run;
-    ``parallel`` (the direct path) runs :func:`run_chunk_parallel` instead.
+    Serial kernels (they release the GIL): the task that dask schedulers run;
+    ``parallel`` (the direct path) uses numba's threads over the points.
     """
-    if parallel:
-        return run_chunk_parallel(grid, start, stop, o)
-    return _observables(attractor_rows, grid, start, stop, o)
+    out = np.empty((stop - start, layout.NOBS))
+    execute.attractors(grid.rows(start, stop), grid.laws, o, out, parallel)
+    return out
 
 
 def run_chunk_parallel(grid: Grid, start: int, stop: int, o: np.ndarray) -> np.ndarray:
     """As :func:`run_chunk`, with numba threads over the points (no-dask path)."""
-    return _observables(attractor_rows_parallel, grid, start, stop, o)
+    return run_chunk(grid, start, stop, o, parallel=True)
 
 
 # -------------------------------------------------------------------- sweep
@@ -330,10 +321,7 @@ def _checked_arguments(grid, method, tol, chunks, options, overwrite,
     check_flag("overwrite", overwrite)
     check_flag("progress", progress, none=True)
     o = make_options(method, tol=tol, **options)
-    alpha2 = np.atleast_1d(grid.alpha2)
-    if method == "exact" and (alpha2 != 0.0).any():
-        raise ValueError("method='exact' needs alpha2 == 0 at every point; got "
-                         f"alpha2={float(alpha2[alpha2 != 0.0][0])!r}")
+    check_method(method, grid)
     execute.check_chunks(chunks, " (points per chunk)")
     return o
 
@@ -414,13 +402,13 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
                                   dims=c.dims) if c.ndim else c.variable
                   for a, c in inputs.items()}
     for name in variables.ANALYTIC:
-        da = labels.analytic(name, inputs, dims)      # a Variable where inputs are
+        da = labels.analytic(name, inputs, dims, grid.laws)   # a Variable where inputs are
         ds[name] = xr.Variable(da.dims, da.data, da.attrs)
 
     if "v" in ds.dims and ds.sizes["v"] >= 2:
         # lazily: the boundary needs the regime of the whole grid, 1 byte per point
         # (and which slip cycles overshoot the belt, 1 byte more)
-        src = ds[["regime"]].assign(reversal=reversal_cycles(ds)).compute(
+        src = ds[["regime", "v_star"]].assign(reversal=reversal_cycles(ds)).compute(
             scheduler="synchronous") if lazy else ds
         bd = hopf_boundary(src)
         ds = ds.assign({n: bd[n].variable for n in BOUNDARY_VARIABLES})

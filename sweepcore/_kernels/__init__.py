@@ -17,7 +17,7 @@ import pathlib
 
 from numba.core import config as _config
 
-_sources = sorted(pathlib.Path(__file__).parent.glob("*.py"))
+_sources = sorted(pathlib.Path(__file__).parent.rglob("*.py"))
 SOURCE_HASH = hashlib.sha256(b"".join(p.read_bytes() for p in _sources)).hexdigest()[:16]
 if not os.environ.get("NUMBA_CACHE_DIR"):
     _base = os.environ.get("SWEEPCORE_CACHE_DIR") or os.path.join(

@@ -23,21 +23,20 @@ kernel below says what it reads and writes.
 import math
 
 import numpy as np
-from numba import prange
-
 from .jit import kernel
 
 from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
-from .law import breakaway, certified_rest, normal_form_valid, piecewise_linear, x_eq
-from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, A1,
-                     A2, ACC_CYC, ACC_LAST, ACC_SEC, ACC_STEP, C, K, M, MAXED, MINNED, NA,
+from .law import (breakaway, certified_rest, conservative, normal_form_valid,
+                  piecewise_linear, x_eq)
+from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN,
+                     ACC_CYC, ACC_LAST, ACC_SEC, ACC_STEP, K, M, MAXED, MINNED, NA,
                      NACC, NO, NOBS, NP, NS, NW, O_DT, O_GPS_A, O_LV, O_LX, O_MAX_STEPS,
                      O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
                      OB_FLOQUET, OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS,
                      OB_STICK_FRACTION, OB_STICKS_PER_PERIOD, OB_T_SETTLE, OB_VAMPLITUDE,
-                     OB_X_MAX, OB_X_MIN, OB_XDOT_MAX, RK, RY, S_MODE, S_N, S_T, S_X, S_ZD,
+                     OB_X_MAX, OB_X_MIN, OB_XDOT_MAX, S_MODE, S_N, S_T, S_X, S_ZD,
                      SUMMED, V, W_A, W_CONSERVATIVE, W_E, W_E_REST, W_FD_SLOPE, W_ERR_JUMP, W_LX, W_MODE0, W_N_EV, W_N_SEC,
                      W_NEWTON_REST, W_NF_FLOOR, W_NF_OK, W_ODE, W_OMEGA, W_ON_NF, W_RESET_SEEN, W_RTOL,
                      W_RTOLH, W_SALT, W_SALTH, W_T_BUDGET, W_T_CYC, W_T_LAST, W_T_NAT, W_T_OFF,
@@ -49,12 +48,12 @@ from .sections import (ACCEPT, ACCEPT_FLOOR, ACCEPT_NF, NEUTRAL, NF_JUMP,
                        newton_decision, note_event, own_map_step, push_section,
                        static_belt_decision, undo_jump)
 from .return_map import return_slope
-from .stepper import CLOSED_FORM, auto_method
+from .stepper import CLOSED_FORM
 
 EPS = np.finfo(np.float64).eps
 
-__all__ = ["RTOL_FLOOR", "attractor_point", "attractor_rows", "attractor_rows_parallel",
-           "resolve_options", "method_status"]
+__all__ = ["RTOL_FLOOR", "attractor_point", "attractor_rows", "resolve_options",
+           "method_status"]
 
 
 # ------------------------------------------------------------- the answers
@@ -136,14 +135,14 @@ def answer_failure(out, w, acc, status, n_steps, unbounded):
 
 # ------------------------------------------------------------------ set-up
 @kernel
-def resolve_options(p, o_in):
-    """Per-point option row: 'auto' method, default dt and GPS shift resolved."""
+def resolve_options(meth, p, lw, o_in):
+    """Per-point option row: the method (a compile-time code: "auto" is resolved per
+    point before the call, ``sweepcore.options.auto_methods``), default dt and GPS
+    shift resolved."""
     o = o_in.copy()
     omega = math.sqrt(p[K] / p[M])
-    lx, lv = scales(p)
-    if o[O_METHOD] < 0.0:
-        o[O_METHOD] = auto_method(piecewise_linear(p), o[O_RTOL],
-                                  EPS * lx * omega / max(lv, 1e-300))
+    lx, lv = scales(p, lw)
+    o[O_METHOD] = meth
     if not o[O_DT] > 0.0:
         o[O_DT] = 2.0 * math.pi / omega / 50.0
     o[O_LX] = lx
@@ -154,11 +153,10 @@ def resolve_options(p, o_in):
 
 
 @kernel
-def method_status(p, o):
+def method_status(meth, p, lw, o):
     """A priori refusal: closed forms need a piecewise-linear law; fixed steps must
     resolve 1/omega."""
-    meth = int(o[O_METHOD])
-    if CLOSED_FORM[meth] and not piecewise_linear(p):
+    if CLOSED_FORM[meth] and not piecewise_linear(p, lw):
         return codes.BAD_METHOD
     if (meth == codes.GPS or meth == codes.RK4) and \
             o[O_DT] * math.sqrt(p[K] / p[M]) > 1.0:
@@ -167,43 +165,41 @@ def method_status(p, o):
 
 
 @kernel
-def setup(p, o, st, w, acc):
+def setup(meth, p, lw, o, st, w, acc):
     """Fill ``w`` and ``acc`` for a search from the start in p; start the driver.
 
     A start exactly at the breakaway point is a reset; a start at rest (xdot = 0)
     beyond x_eq is itself a section point (a continuation started on a known cycle
     then costs one return less)."""
-    meth = int(o[O_METHOD])
     v = p[V]
     omega = math.sqrt(p[K] / p[M])
     w[:] = 0.0
     w[W_TOL] = o[O_RTOL]
-    w[W_LX] = scales(p)[0]
+    w[W_LX] = scales(p, lw)[0]
     w[W_OMEGA] = omega
     w[W_T_NAT] = 2.0 * math.pi / omega
     w[W_T_BUDGET] = o[O_MAX_TIME] * w[W_T_NAT]
-    w[W_XS] = breakaway(p)
+    w[W_XS] = breakaway(p, lw)
     w[W_E_REST] = -1.0
     w[W_FD_SLOPE] = np.nan
     w[W_ODE] = 0.0 if meth == codes.GPS else 1.0
-    w[W_NF_OK] = 1.0 if normal_form_valid(p) and meth != codes.GPS else 0.0
-    w[W_CONSERVATIVE] = 1.0 if p[A1] == 0.0 and p[A2] == 0.0 and p[C] == 0.0 \
-        and p[RY] == p[RK] else 0.0
+    w[W_NF_OK] = 1.0 if normal_form_valid(p, lw) and meth != codes.GPS else 0.0
+    w[W_CONSERVATIVE] = 1.0 if conservative(p, lw) else 0.0
     w[W_RTOL] = o[O_RTOL]
     for i in range(NACC):
         clear(acc[i])
-    init_state(st, p[X0], p[XD0], p, o)
+    init_state(st, p[X0], p[XD0], p, lw, o)
     if v != 0.0 and st[S_ZD] == 0.0 and st[S_MODE] != codes.STICK and st[S_X] == w[W_XS]:
         w[W_RESET_SEEN] = 1.0
     if v != 0.0 and st[S_MODE] != codes.STICK and st[S_ZD] == -v and \
-            (st[S_X] - x_eq(p)) * v > 0.0:
+            (st[S_X] - x_eq(p, lw)) * v > 0.0:
         w[W_N_SEC] = 1.0
         w[W_A + 3] = st[S_X]
 
 
 # ------------------------------------------------------------ the events
 @kernel
-def next_event(st, p, o, w, acc):
+def next_event(meth, st, p, lw, o, w, acc):
     """Advance the driver to its next event and add the interval to the cycle's and
     the section's accumulators. Clocks: st[S_T] is local and set back to 0 after
     every stick (absolute times after a stick of 2e5 s or 1e15 s would eat the
@@ -213,13 +209,13 @@ def next_event(st, p, o, w, acc):
     w[W_MODE0] = st[S_MODE]
     step_acc = acc[ACC_STEP]
     if st[S_MODE] == codes.STICK:
-        ev, status = advance(st, p, o, step_acc, np.inf)
+        ev, status = advance(meth, st, p, lw, o, step_acc, np.inf)
         if ev == codes.EV_SLIP:
             w[W_T_OFF] += st[S_T]
             st[S_T] = 0.0
     else:
         t_start = st[S_T]
-        ev, status = advance(st, p, o, step_acc,
+        ev, status = advance(meth, st, p, lw, o, step_acc,
                              t_start + min(w[W_T_NAT], w[W_T_BUDGET] - w[W_T_SLIDE]))
         w[W_T_SLIDE] += st[S_T] - t_start
     _merge(acc[ACC_CYC], step_acc)
@@ -229,12 +225,12 @@ def next_event(st, p, o, w, acc):
 
 
 @kernel
-def _rested(st, p, w, out):
+def _rested(st, p, lw, w, out):
     """Where the equilibrium certificate holds at the present state (ODE methods
     only), answer ``out`` with the equilibrium and return True."""
     if w[W_ODE] > 0.0 and st[S_MODE] != codes.STICK and \
-            certified_rest(st[S_X], st[S_ZD], p):
-        answer_rest(out, x_eq(p), w[W_T_OFF] + st[S_T], codes.R_EQUILIBRIUM, False,
+            certified_rest(st[S_X], st[S_ZD], p, lw):
+        answer_rest(out, x_eq(p, lw), w[W_T_OFF] + st[S_T], codes.R_EQUILIBRIUM, False,
                     st[S_N])
         return True
     return False
@@ -261,12 +257,12 @@ def on_reset(st, p, w, acc, out):
 
 
 @kernel
-def on_event(ev, st, p, o, w, acc, out):
+def on_event(meth, ev, st, p, lw, o, w, acc, out):
     """Dispatch a phase event or a section; returns True when ``out`` is answered."""
     v = p[V]
     t = st[S_T]
     if ev == codes.EV_STOP_TIME:
-        return _rested(st, p, w, out)
+        return _rested(st, p, lw, w, out)
     if v == 0.0 and ev == codes.EV_STICK:
         answer_rest(out, st[S_X], w[W_T_OFF] + t, codes.R_STUCK, True, st[S_N])
         return True
@@ -276,20 +272,20 @@ def on_event(ev, st, p, o, w, acc, out):
     # sections: maxima of x (minima for v < 0, so that v -> -v is an exact mirror)
     if not ((ev == codes.EV_XMAX and v > 0.0) or (ev == codes.EV_XMIN and v < 0.0)
             or (v == 0.0 and ev == codes.EV_NORMAL_STOP and st[S_X] > 0.0)):
-        note_event(w, p, ev, st[S_X], w[W_MODE0], st[S_MODE])
+        note_event(w, p, lw, ev, st[S_X], w[W_MODE0], st[S_MODE])
         # the other extremum too: half a period sooner for a fast decay
-        return (ev == codes.EV_XMIN or ev == codes.EV_XMAX) and _rested(st, p, w, out)
-    if _rested(st, p, w, out):
+        return (ev == codes.EV_XMIN or ev == codes.EV_XMAX) and _rested(st, p, lw, w, out)
+    if _rested(st, p, lw, w, out):
         return True
     push_section(w, acc, st[S_X], t)
     if w[W_CONSERVATIVE] > 0.0:
-        action = neutral_decision(w, p)
+        action = neutral_decision(w, p, lw)
         regime = codes.R_NEUTRAL
     elif v == 0.0:
         action = static_belt_decision(w, o)
         regime = codes.R_SLIP_CYCLE
     elif w[W_N_SEC] >= 2.0:
-        return slip_section(st, p, o, w, acc, out)
+        return slip_section(meth, st, p, lw, o, w, acc, out)
     else:
         return False
     if action == ACCEPT:
@@ -300,52 +296,52 @@ def on_event(ev, st, p, o, w, acc, out):
 
 
 @kernel
-def slip_section(st, p, o, w, acc, out):
+def slip_section(meth, st, p, lw, o, w, acc, out):
     """At a section of a slip motion: undo a Newton step that left its itinerary,
     let the normal form decide where it is valid, else ``newton_decision``; carry
     out the action. gps, whose map is not the ODE's, is solved on its own map
     (``own_map_step``). Returns True when ``out`` is answered."""
-    xe = x_eq(p)
+    xe = x_eq(p, lw)
     if w[W_ODE] == 0.0:
         n_steps = acc[ACC_LAST][A_DT] / o[O_DT]        # steps of the last return
         sigma = 4.0 * math.sqrt(n_steps) * EPS * (w[W_LX] + abs(w[W_A + 3]))
         action, value = own_map_step(st, p, w, acc, xe, sigma)
-        return action >= TERMINAL and finish(action, value, st, p, w, acc, out)
+        return action >= TERMINAL and finish(action, value, st, p, lw, w, acc, out)
     undone, after_jump = undo_jump(st, p, w, acc)
     if undone:
         return False
-    dP = return_slope(p, w[W_A + 2], w[W_A + 3], acc[ACC_LAST], w[W_SALTH + 1])
+    dP = return_slope(p, lw, w[W_A + 2], w[W_A + 3], acc[ACC_LAST], w[W_SALTH + 1])
     nf_here = w[W_NF_OK] > 0.0 and w[W_E + 2] == 0
     a_nf = np.nan
     if nf_here:
-        action, a_nf = nf_step(st, p, w, acc)
+        action, a_nf = nf_step(st, p, lw, w, acc)
         if action == NF_JUMP:
             return False
         if action == REST:
-            return finish(REST, dP, st, p, w, acc, out)
+            return finish(REST, dP, st, p, lw, w, acc, out)
     action, value, rtol, rest, err0 = newton_decision(
         w[W_A + 2], w[W_A + 3], dP, xe, w[W_E + 1], w[W_E + 2], w[W_RTOLH],
         w[W_RTOLH + 1], w[W_RTOL], w[W_TOL], w[W_LX], after_jump, w[W_ERR_JUMP],
         w[W_NEWTON_REST], nf_here, w[W_ON_NF] > 0.0, a_nf)
     if action == NF_JUMP:
-        nf_jump(st, p, o, w, acc, value)
+        nf_jump(st, p, lw, o, w, acc, value)
         return False
     apply_decision(st, p, o, w, acc, action, value, rtol, rest, err0)
     if action < TERMINAL:
         return False
-    return finish(action, value, st, p, w, acc, out)
+    return finish(action, value, st, p, lw, w, acc, out)
 
 
 @kernel
-def finish(action, value, st, p, w, acc, out):
+def finish(action, value, st, p, lw, w, acc, out):
     """Write the answer of a slip section's terminal action; returns True."""
     last = acc[ACC_LAST]
     n = st[S_N]
     if action == REST:
-        answer_rest(out, x_eq(p), w[W_T_OFF] + st[S_T], codes.R_EQUILIBRIUM, False, n)
+        answer_rest(out, x_eq(p, lw), w[W_T_OFF] + st[S_T], codes.R_EQUILIBRIUM, False, n)
     elif action == ACCEPT_NF:
         answer_cycle(out, last, w[W_T_LAST], w[W_OMEGA], codes.R_SLIP_CYCLE,
-                     nf_multiplier(p, last[A_DT]), w[W_NF_FLOOR] > 0.0, p, n)
+                     nf_multiplier(p, lw, last[A_DT]), w[W_NF_FLOOR] > 0.0, p, n)
     elif action == NEUTRAL:
         answer_cycle(out, last, w[W_T_LAST], w[W_OMEGA], codes.R_UNCONVERGED, value, True, p, n)
     else:
@@ -355,8 +351,8 @@ def finish(action, value, st, p, w, acc, out):
 
 
 # ------------------------------------------------------------- entry points
-@kernel(nogil=True)
-def attractor_point(p, o_in, out):
+@kernel
+def attractor_point(meth, p, lw, o_in, out):
     """Fill ``out`` (layout OB_*) with the attractor observables of one point.
 
     ``p``: parameter row (length ``layout.NP``); ``o_in``: option row (``layout.NO``);
@@ -368,8 +364,8 @@ def attractor_point(p, o_in, out):
         out[OB_REGIME] = codes.R_FAILED
         out[OB_STATUS] = codes.BAD_ROW
         return
-    o = resolve_options(p, o_in)
-    refused = method_status(p, o)
+    o = resolve_options(meth, p, lw, o_in)
+    refused = method_status(meth, p, lw, o)
     if refused != codes.OK:
         out[OB_REGIME] = codes.R_FAILED
         out[OB_STATUS] = refused
@@ -377,50 +373,28 @@ def attractor_point(p, o_in, out):
     st = np.zeros(NS)
     w = np.empty(NW)
     acc = np.empty((NACC, NA))
-    setup(p, o, st, w, acc)
+    setup(meth, p, lw, o, st, w, acc)
     if p[V] == 0.0 and st[S_MODE] == codes.STICK:
         answer_rest(out, st[S_X], 0.0, codes.R_STUCK, True, 0.0)
         return
     status = codes.OK
     for _it in range(int(o[O_MAX_STEPS]) + 10):
-        ev, status = next_event(st, p, o, w, acc)
+        ev, status = next_event(meth, st, p, lw, o, w, acc)
         if status != codes.OK:
             break
-        if on_event(ev, st, p, o, w, acc, out):
+        if on_event(meth, ev, st, p, lw, o, w, acc, out):
             return
         if ev == codes.EV_STOP_TIME and w[W_T_SLIDE] >= w[W_T_BUDGET]:
             status = codes.UNCONVERGED
             break
     if status == codes.OK:
         status = codes.STEP_BUDGET        # the loop itself ran out
-    answer_failure(out, w, acc, status, st[S_N], int(o[O_METHOD]) == codes.EXACT)
+    answer_failure(out, w, acc, status, st[S_N], meth == codes.EXACT)
 
 
-@kernel(nogil=True)
-def attractor_rows(P, o, out):
-    """Serial loop over the rows of P (for dask tasks: dask owns the parallelism)."""
+
+@kernel
+def attractor_rows(meth, P, lw, o, out):
+    """``attractor_point`` over the rows of P (one law, one method)."""
     for i in range(P.shape[0]):
-        attractor_point(P[i], o, out[i])
-
-
-# Interleaved lanes of attractor_rows_parallel: many more than threads, and prime, so
-# that a lane never lines up with a grid axis (256 lanes on a 256 x 256 map put one
-# alpha2 in each lane, and split the threads by alpha2, the costly direction).
-_LANES = 1021
-
-
-@kernel(parallel=True)
-def attractor_rows_parallel(P, o, out):
-    """numba-threaded loop over the rows of P (one prange, sequential inside).
-
-    prange hands each thread one contiguous block, but cost is clustered on a grid
-    (slip cycles near v* cost ~10x a stick-slip point). The rows are dealt into
-    ``_LANES`` interleaved lanes (lane b: rows b, b + _LANES, ...), and prange splits
-    the lanes, so every thread gets a sample of every region. Points are independent,
-    so the results do not depend on this order.
-    """
-    n = P.shape[0]
-    lanes = min(_LANES, n)      # (a small batch: one row a lane, split evenly)
-    for b in prange(lanes):
-        for i in range(b, n, lanes):
-            attractor_point(P[i], o, out[i])
+        attractor_point(meth, P[i], lw, o, out[i])

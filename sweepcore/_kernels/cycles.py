@@ -20,8 +20,6 @@ a cycle smaller than the lowest rung (next to a Hopf point), can be missed.
 import math
 
 import numpy as np
-from numba import prange
-
 from .jit import kernel
 
 from . import codes
@@ -41,32 +39,32 @@ MAX_CYCLES = 4        # cycles reported per point
 
 
 @kernel
-def one_return(p, o, a, st, acc):
+def one_return(meth, p, lw, o, a, st, acc):
     """One return of the section map from ``(x = a, xdot = 0)``: ``(P(a), P'(a),
     ok)``; ok False when the motion sticks, stops or reverses before the next
     section (the return leaves the stop-free slip region) or the integration fails.
     ``acc`` holds the return's quadratures, ``st[S_N]`` counts the steps."""
     v = p[V]
     n = st[S_N]
-    init_state(st, a, 0.0, p, o)
+    init_state(st, a, 0.0, p, lw, o)
     st[S_N] = n
     clear(acc)
     section = codes.EV_XMAX if v > 0.0 else codes.EV_XMIN
     t_max = 4.0 * 2.0 * math.pi * math.sqrt(p[M] / p[K])
     for _ in range(64):
-        ev, status = advance(st, p, o, acc, t_max)
+        ev, status = advance(meth, st, p, lw, o, acc, t_max)
         if status != codes.OK or ev == codes.EV_STOP_TIME:
             return np.nan, np.nan, False
         if ev == section:
             a1 = st[S_X]
-            return a1, return_slope(p, a, a1, acc, 0.0), True
+            return a1, return_slope(p, lw, a, a1, acc, 0.0), True
         if ev != codes.EV_XMIN and ev != codes.EV_XMAX:
             return np.nan, np.nan, False         # a stick or a stop: not stop-free
     return np.nan, np.nan, False
 
 
 @kernel
-def _refine(p, o, lo, g_lo, hi, st, acc):
+def _refine(meth, p, lw, o, lo, g_lo, hi, st, acc):
     """Fixed point of G = P(a) - a in the bracket [lo, hi] (G(lo) = g_lo, G(hi) of
     the other sign). Returns ``(a, P'(a), ok, floor)``; on ok, ``acc`` holds the
     accepted return.
@@ -81,7 +79,7 @@ def _refine(p, o, lo, g_lo, hi, st, acc):
     a = 0.5 * (lo + hi)
     fine = False
     for _ in range(60):
-        a1, dP, ok = one_return(p, o, a, st, acc)
+        a1, dP, ok = one_return(meth, p, lw, o, a, st, acc)
         if not ok:
             if fine:
                 return a, np.nan, False, False
@@ -112,7 +110,7 @@ def _refine(p, o, lo, g_lo, hi, st, acc):
 
 
 @kernel
-def slip_cycles(p, o_in, out):
+def slip_cycles(meth, p, lw, o_in, out):
     """Every stop-free slip cycle the scan brackets (module docstring): up to
     ``MAX_CYCLES`` rows of observables (layout OB_*) in ``out``, in increasing
     amplitude, the unused rows NaN with status ``unconverged``. ``floquet`` > 1 marks
@@ -125,12 +123,12 @@ def slip_cycles(p, o_in, out):
         out[0, OB_REGIME] = codes.R_FAILED
         out[0, OB_STATUS] = codes.BAD_ROW
         return 0
-    o = resolve_options(p, o_in)
-    if method_status(p, o) != codes.OK or p[V] == 0.0 or int(o[O_METHOD]) == codes.GPS:
+    o = resolve_options(meth, p, lw, o_in)
+    if method_status(meth, p, lw, o) != codes.OK or p[V] == 0.0 or meth == codes.GPS:
         return 0
     v = p[V]
     sg = 1.0 if v > 0.0 else -1.0
-    xe = x_eq(p)
+    xe = x_eq(p, lw)
     lx = o[O_LX]
     omega = math.sqrt(p[K] / p[M])
     top = TOP * abs(v) / omega
@@ -143,14 +141,14 @@ def slip_cycles(p, o_in, out):
     for k in range(N_RUNGS):
         a = xe + sg * LOWEST * lx * ratio ** k
         o[O_RTOL] = o_in[O_RTOL]
-        a1, _dP, ok = one_return(p, o, a, st, acc)
+        a1, _dP, ok = one_return(meth, p, lw, o, a, st, acc)
         # a return that leaves the slip region (it reaches the belt) is growing: a
         # change of sign after contracting returns (a false bracket refines to
         # nothing: its residual never passes)
         g = a1 - a if ok else sg * np.inf
         if not math.isnan(g_prev) and (g < 0.0) != (g_prev < 0.0) \
                 and found < out.shape[0]:
-            a_c, dP, ok_c, floor = _refine(p, o, a_prev, g_prev, a, st, acc)
+            a_c, dP, ok_c, floor = _refine(meth, p, lw, o, a_prev, g_prev, a, st, acc)
             if ok_c:       # acc holds the accepted return, at the verified tolerance
                 answer_cycle(out[found], acc, 0.0, omega, codes.R_SLIP_CYCLE, dP,
                              floor, p, st[S_N])
@@ -164,21 +162,3 @@ def slip_cycles(p, o_in, out):
         out[j, OB_NSTEPS] = st[S_N]
     return found
 
-
-@kernel(nogil=True)
-def slip_cycles_rows(P, o, out, found):
-    """``slip_cycles`` for every row of P (serial: for dask tasks); ``out`` has shape
-    (n, MAX_CYCLES, NOBS), ``found`` (n,) the number of cycles of each row."""
-    for i in range(P.shape[0]):
-        found[i] = slip_cycles(P[i], o, out[i])
-
-
-@kernel(parallel=True)
-def slip_cycles_rows_parallel(P, o, out, found):
-    """``slip_cycles_rows`` on numba threads, rows dealt into interleaved lanes (as
-    ``attractor.attractor_rows_parallel``)."""
-    n = P.shape[0]
-    lanes = min(1021, n)
-    for b in prange(lanes):
-        for i in range(b, n, lanes):
-            found[i] = slip_cycles(P[i], o, out[i])

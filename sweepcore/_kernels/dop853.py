@@ -13,8 +13,8 @@ dopri5 at equal error on the map's slip cycles: ``python benchmarks/pair_choice.
 from .jit import kernel
 
 from .dopri5 import EPS, TABLEAU_E
-from .law import coefficients, friction_of, law_integrand, zdd_of
-from .layout import K, M, O_LV, O_LX, O_RTOL, RK, RY, V
+from .law import constants, friction_force, integrand, zdd_of
+from .layout import K, M, O_LV, O_LX, O_RTOL, V
 
 ORDER = 8
 
@@ -114,75 +114,68 @@ FLOOR_GAIN = (abs(E5_1) + abs(E5_6) + abs(E5_7) + abs(E5_8) + abs(E5_9) + abs(E5
               + abs(E5_11) + abs(E5_12)) / float(abs(TABLEAU_E).sum())
 
 
-@kernel(inline="always")
-def dop853_step(x, zd, h, s, p, o, want_q):
-    """One DOP853 step of the sliding field; see ``stepper.py``."""
-    if p[RY] == p[RK]:          # the polynomial law: no Stribeck branch
-        return _dop853_step(x, zd, h, s, p, o, want_q, None)
-    return _dop853_step(x, zd, h, s, p, o, want_q, p[RY] - p[RK])
-
-
 @kernel
-def _dop853_step(x, zd, h, s, p, o, want_q, d):
-    """``dop853_step`` for the Stribeck drop ``d = r_y - r_k`` (None: none)."""
+def dop853_step(x, zd, h, s, p, lw, o, want_q):
+    """One DOP853 step of the sliding field; see ``stepper.py``."""
     v = p[V]
+    k = p[K]
     im = 1.0 / p[M]
-    cf = coefficients(s, p)
-    floor_z = FLOOR_GAIN * EPS * h * p[K] * im * abs(x)
+    cf = constants(p, lw, s)
+    floor_z = FLOOR_GAIN * EPS * h * k * im * abs(x)
     k1x = zd + v
-    k1z = zdd_of(x, zd, s, cf, d, im)
+    k1z = zdd_of(x, zd, s, cf, lw, k, im)
     x2 = x + h * (A2_1 * k1x)
     z2 = zd + h * (A2_1 * k1z)
     k2x = z2 + v
-    k2z = zdd_of(x2, z2, s, cf, d, im)
+    k2z = zdd_of(x2, z2, s, cf, lw, k, im)
     x3 = x + h * (A3_1 * k1x + A3_2 * k2x)
     z3 = zd + h * (A3_1 * k1z + A3_2 * k2z)
     k3x = z3 + v
-    k3z = zdd_of(x3, z3, s, cf, d, im)
+    k3z = zdd_of(x3, z3, s, cf, lw, k, im)
     x4 = x + h * (A4_1 * k1x + A4_3 * k3x)
     z4 = zd + h * (A4_1 * k1z + A4_3 * k3z)
     k4x = z4 + v
-    k4z = zdd_of(x4, z4, s, cf, d, im)
+    k4z = zdd_of(x4, z4, s, cf, lw, k, im)
     x5 = x + h * (A5_1 * k1x + A5_3 * k3x + A5_4 * k4x)
     z5 = zd + h * (A5_1 * k1z + A5_3 * k3z + A5_4 * k4z)
     k5x = z5 + v
-    k5z = zdd_of(x5, z5, s, cf, d, im)
+    k5z = zdd_of(x5, z5, s, cf, lw, k, im)
     x6 = x + h * (A6_1 * k1x + A6_4 * k4x + A6_5 * k5x)
     z6 = zd + h * (A6_1 * k1z + A6_4 * k4z + A6_5 * k5z)
     k6x = z6 + v
-    k6z = zdd_of(x6, z6, s, cf, d, im)
+    k6z = zdd_of(x6, z6, s, cf, lw, k, im)
     x7 = x + h * (A7_1 * k1x + A7_4 * k4x + A7_5 * k5x + A7_6 * k6x)
     z7 = zd + h * (A7_1 * k1z + A7_4 * k4z + A7_5 * k5z + A7_6 * k6z)
     k7x = z7 + v
-    k7z = zdd_of(x7, z7, s, cf, d, im)
+    k7z = zdd_of(x7, z7, s, cf, lw, k, im)
     x8 = x + h * (A8_1 * k1x + A8_4 * k4x + A8_5 * k5x + A8_6 * k6x + A8_7 * k7x)
     z8 = zd + h * (A8_1 * k1z + A8_4 * k4z + A8_5 * k5z + A8_6 * k6z + A8_7 * k7z)
     k8x = z8 + v
-    k8z = zdd_of(x8, z8, s, cf, d, im)
+    k8z = zdd_of(x8, z8, s, cf, lw, k, im)
     x9 = x + h * (A9_1 * k1x + A9_4 * k4x + A9_5 * k5x + A9_6 * k6x + A9_7 * k7x +
                   A9_8 * k8x)
     z9 = zd + h * (A9_1 * k1z + A9_4 * k4z + A9_5 * k5z + A9_6 * k6z + A9_7 * k7z +
                    A9_8 * k8z)
     k9x = z9 + v
-    k9z = zdd_of(x9, z9, s, cf, d, im)
+    k9z = zdd_of(x9, z9, s, cf, lw, k, im)
     x10 = x + h * (A10_1 * k1x + A10_4 * k4x + A10_5 * k5x + A10_6 * k6x + A10_7 * k7x +
                    A10_8 * k8x + A10_9 * k9x)
     z10 = zd + h * (A10_1 * k1z + A10_4 * k4z + A10_5 * k5z + A10_6 * k6z + A10_7 * k7z +
                     A10_8 * k8z + A10_9 * k9z)
     k10x = z10 + v
-    k10z = zdd_of(x10, z10, s, cf, d, im)
+    k10z = zdd_of(x10, z10, s, cf, lw, k, im)
     x11 = x + h * (A11_1 * k1x + A11_4 * k4x + A11_5 * k5x + A11_6 * k6x + A11_7 * k7x +
                    A11_8 * k8x + A11_9 * k9x + A11_10 * k10x)
     z11 = zd + h * (A11_1 * k1z + A11_4 * k4z + A11_5 * k5z + A11_6 * k6z + A11_7 * k7z +
                     A11_8 * k8z + A11_9 * k9z + A11_10 * k10z)
     k11x = z11 + v
-    k11z = zdd_of(x11, z11, s, cf, d, im)
+    k11z = zdd_of(x11, z11, s, cf, lw, k, im)
     x12 = x + h * (A12_1 * k1x + A12_4 * k4x + A12_5 * k5x + A12_6 * k6x + A12_7 * k7x +
                    A12_8 * k8x + A12_9 * k9x + A12_10 * k10x + A12_11 * k11x)
     z12 = zd + h * (A12_1 * k1z + A12_4 * k4z + A12_5 * k5z + A12_6 * k6z + A12_7 * k7z +
                     A12_8 * k8z + A12_9 * k9z + A12_10 * k10z + A12_11 * k11z)
     k12x = z12 + v
-    k12z = zdd_of(x12, z12, s, cf, d, im)
+    k12z = zdd_of(x12, z12, s, cf, lw, k, im)
     x_end = x + h * (B1 * k1x + B6 * k6x + B7 * k7x + B8 * k8x + B9 * k9x + B10 * k10x +
                      B11 * k11x + B12 * k12x)
     z_end = zd + h * (B1 * k1z + B6 * k6z + B7 * k7z + B8 * k8z + B9 * k9z + B10 * k10z +
@@ -200,7 +193,7 @@ def _dop853_step(x, zd, h, s, p, o, want_q, d):
     err = _error(h, max(abs(e5x) / sx, abs(e5z) / sz), max(abs(e3x) / sx, abs(e3z) / sz))
     if not want_q:
         return x_end, z_end, 0.0, 0.0, 0.0, 0.0, err, True
-    qx, qv, qw, ql = _quadratures(h, s, p, cf, d, (x, x6, x7, x8, x9, x10, x11, x12),
+    qx, qv, qw, ql = _quadratures(h, s, p, lw, cf, (x, x6, x7, x8, x9, x10, x11, x12),
                                   (zd, z6, z7, z8, z9, z10, z11, z12))
     return x_end, z_end, qx, qv, qw, ql, err, True
 
@@ -213,7 +206,7 @@ def _error(h, e5, e3):
 
 
 @kernel(inline="always")
-def _quadratures(h, s, p, cf, d, X, Z):
+def _quadratures(h, s, p, lw, cf, X, Z):
     """The step's quadratures of x, xdot^2, the friction power and the law's slope
     term with the weights b, from the states X, Z (x, zdot) of the weighted stages."""
     v = p[V]
@@ -222,18 +215,16 @@ def _quadratures(h, s, p, cf, d, X, Z):
     qv = h * (B1 * (Z[0] + v) ** 2 + B6 * (Z[1] + v) ** 2 + B7 * (Z[2] + v) ** 2 +
               B8 * (Z[3] + v) ** 2 + B9 * (Z[4] + v) ** 2 + B10 * (Z[5] + v) ** 2 +
               B11 * (Z[6] + v) ** 2 + B12 * (Z[7] + v) ** 2)
-    qw = h * (B1 * friction_of(Z[0], s, cf, d) * (Z[0] + v) +
-              B6 * friction_of(Z[1], s, cf, d) * (Z[1] + v) +
-              B7 * friction_of(Z[2], s, cf, d) * (Z[2] + v) +
-              B8 * friction_of(Z[3], s, cf, d) * (Z[3] + v) +
-              B9 * friction_of(Z[4], s, cf, d) * (Z[4] + v) +
-              B10 * friction_of(Z[5], s, cf, d) * (Z[5] + v) +
-              B11 * friction_of(Z[6], s, cf, d) * (Z[6] + v) +
-              B12 * friction_of(Z[7], s, cf, d) * (Z[7] + v))
-    ql = 0.0
-    if d is not None:
-        ql = h * (B1 * law_integrand(Z[0], p) + B6 * law_integrand(Z[1], p) +
-                  B7 * law_integrand(Z[2], p) + B8 * law_integrand(Z[3], p) +
-                  B9 * law_integrand(Z[4], p) + B10 * law_integrand(Z[5], p) +
-                  B11 * law_integrand(Z[6], p) + B12 * law_integrand(Z[7], p))
+    qw = h * (B1 * friction_force(lw, cf, Z[0], s) * (Z[0] + v) +
+              B6 * friction_force(lw, cf, Z[1], s) * (Z[1] + v) +
+              B7 * friction_force(lw, cf, Z[2], s) * (Z[2] + v) +
+              B8 * friction_force(lw, cf, Z[3], s) * (Z[3] + v) +
+              B9 * friction_force(lw, cf, Z[4], s) * (Z[4] + v) +
+              B10 * friction_force(lw, cf, Z[5], s) * (Z[5] + v) +
+              B11 * friction_force(lw, cf, Z[6], s) * (Z[6] + v) +
+              B12 * friction_force(lw, cf, Z[7], s) * (Z[7] + v))
+    ql = h * (B1 * integrand(lw, cf, Z[0]) + B6 * integrand(lw, cf, Z[1]) +
+              B7 * integrand(lw, cf, Z[2]) + B8 * integrand(lw, cf, Z[3]) +
+              B9 * integrand(lw, cf, Z[4]) + B10 * integrand(lw, cf, Z[5]) +
+              B11 * integrand(lw, cf, Z[6]) + B12 * integrand(lw, cf, Z[7]))
     return qx, qv, qw, ql

@@ -9,8 +9,8 @@ units cancel.
 import numpy as np
 from .jit import kernel
 
-from .law import coefficients, friction_of, law_integrand, zdd_of
-from .layout import K, M, O_LV, O_LX, O_RTOL, RK, RY, V
+from .law import constants, friction_force, integrand, length_scale, zdd_of
+from .layout import K, M, O_LV, O_LX, O_RTOL, V
 
 ORDER = 5
 EPS = np.finfo(np.float64).eps
@@ -42,73 +42,65 @@ TABLEAU_E = np.array([E1, 0, E3, E4, E5, E6, E7])
 
 
 @kernel(inline="always")
-def scales(p):
+def scales(p, lw):
     """Length scale [cm] and velocity scale [cm/s] of a point's attractor.
 
-    Length ``r_y/k + |v|/omega``: the size of the breakaway offset plus the
-    constant-friction cycle. Velocity: that of the motion relative to the belt,
-    ``|v|`` (a stick-slip cycle spans zdot in [-2|v|, 0]; a slip cycle has
-    |zdot| ~ |v|), and ``omega r_y/k`` for a still belt. It is not ``omega`` times the
-    length: the offset ``r_y/k`` is a position, not a motion, and with
-    ``omega r_y/k >> |v|`` it would let the zdot error outgrow the whole cycle
+    Length ``r/k + |v|/omega`` (``law.length_scale``): the size of the breakaway
+    offset plus the constant-friction cycle. Velocity: that of the motion relative
+    to the belt, ``|v|`` (a stick-slip cycle spans zdot in [-2|v|, 0]; a slip cycle
+    has |zdot| ~ |v|), and ``omega r/k`` for a still belt. It is not ``omega`` times
+    the length: the offset ``r/k`` is a position, not a motion, and with
+    ``omega r/k >> |v|`` it would let the zdot error outgrow the whole cycle
     (tiny v, soft springs). The start does not enter: a far start is covered by the
     relative part of the error weights, and must not loosen the tolerance of the
     attractor.
     """
     omega = np.sqrt(p[K] / p[M])
-    lx = p[RY] / p[K] + abs(p[V]) / omega
+    lx = length_scale(p, lw)
     if not lx > 0.0:
         lx = 1.0
     lv = abs(p[V]) if p[V] != 0.0 else omega * lx
     return lx, lv
 
 
-@kernel(inline="always")
-def dopri5_step(x, zd, h, s, p, o, want_q):
-    """One Dormand-Prince step of the sliding field; see ``stepper.py``."""
-    if p[RY] == p[RK]:          # the polynomial law: no Stribeck branch
-        return _dopri5_step(x, zd, h, s, p, o, want_q, None)
-    return _dopri5_step(x, zd, h, s, p, o, want_q, p[RY] - p[RK])
-
-
 @kernel
-def _dopri5_step(x, zd, h, s, p, o, want_q, d):
-    """``dopri5_step`` for the Stribeck drop ``d = r_y - r_k`` (None: none; see
-    ``law.stribeck_drop``)."""
+def dopri5_step(x, zd, h, s, p, lw, o, want_q):
+    """One Dormand-Prince step of the sliding field; see ``stepper.py``."""
     v = p[V]
+    k = p[K]
     im = 1.0 / p[M]
-    cf = coefficients(s, p)
+    cf = constants(p, lw, s)
     # zdot's weight has a floor at the rounding of the spring force k x, which the
     # estimate carries as noise ~ 0.15 h eps k |x| / m: a tolerance below the
     # resolution of x (tiny v far from x = 0) would otherwise shrink the steps for
     # ever. (From the step's start: off the chain of dependent stages.)
-    floor_z = EPS * h * p[K] * im * abs(x)
+    floor_z = EPS * h * k * im * abs(x)
     k1x = zd + v
-    k1z = zdd_of(x, zd, s, cf, d, im)
+    k1z = zdd_of(x, zd, s, cf, lw, k, im)
     x2 = x + h * A21 * k1x
     z2 = zd + h * A21 * k1z
     k2x = z2 + v
-    k2z = zdd_of(x2, z2, s, cf, d, im)
+    k2z = zdd_of(x2, z2, s, cf, lw, k, im)
     x3 = x + h * (A31 * k1x + A32 * k2x)
     z3 = zd + h * (A31 * k1z + A32 * k2z)
     k3x = z3 + v
-    k3z = zdd_of(x3, z3, s, cf, d, im)
+    k3z = zdd_of(x3, z3, s, cf, lw, k, im)
     x4 = x + h * (A41 * k1x + A42 * k2x + A43 * k3x)
     z4 = zd + h * (A41 * k1z + A42 * k2z + A43 * k3z)
     k4x = z4 + v
-    k4z = zdd_of(x4, z4, s, cf, d, im)
+    k4z = zdd_of(x4, z4, s, cf, lw, k, im)
     x5 = x + h * (A51 * k1x + A52 * k2x + A53 * k3x + A54 * k4x)
     z5 = zd + h * (A51 * k1z + A52 * k2z + A53 * k3z + A54 * k4z)
     k5x = z5 + v
-    k5z = zdd_of(x5, z5, s, cf, d, im)
+    k5z = zdd_of(x5, z5, s, cf, lw, k, im)
     x6 = x + h * (A61 * k1x + A62 * k2x + A63 * k3x + A64 * k4x + A65 * k5x)
     z6 = zd + h * (A61 * k1z + A62 * k2z + A63 * k3z + A64 * k4z + A65 * k5z)
     k6x = z6 + v
-    k6z = zdd_of(x6, z6, s, cf, d, im)
+    k6z = zdd_of(x6, z6, s, cf, lw, k, im)
     x1 = x + h * (B1 * k1x + B3 * k3x + B4 * k4x + B5 * k5x + B6 * k6x)
     zd1 = zd + h * (B1 * k1z + B3 * k3z + B4 * k4z + B5 * k5z + B6 * k6z)
     k7x = zd1 + v
-    k7z = zdd_of(x1, zd1, s, cf, d, im)
+    k7z = zdd_of(x1, zd1, s, cf, lw, k, im)
     ex = h * (E1 * k1x + E3 * k3x + E4 * k4x + E5 * k5x + E6 * k6x + E7 * k7x)
     ez = h * (E1 * k1z + E3 * k3z + E4 * k4z + E5 * k5z + E6 * k6z + E7 * k7z)
     lx = o[O_LX]
@@ -124,11 +116,12 @@ def _dopri5_step(x, zd, h, s, p, o, want_q, d):
         qx = h * (B1 * x + B3 * x3 + B4 * x4 + B5 * x5 + B6 * x6)
         qv = h * (B1 * k1x * k1x + B3 * k3x * k3x + B4 * k4x * k4x
                   + B5 * k5x * k5x + B6 * k6x * k6x)
-        qw = h * (B1 * friction_of(zd, s, cf, d) * k1x + B3 * friction_of(z3, s, cf, d) * k3x
-                  + B4 * friction_of(z4, s, cf, d) * k4x + B5 * friction_of(z5, s, cf, d) * k5x
-                  + B6 * friction_of(z6, s, cf, d) * k6x)
-        if d is not None:
-            ql = h * (B1 * law_integrand(zd, p) + B3 * law_integrand(z3, p)
-                      + B4 * law_integrand(z4, p) + B5 * law_integrand(z5, p)
-                      + B6 * law_integrand(z6, p))
+        qw = h * (B1 * friction_force(lw, cf, zd, s) * k1x
+                  + B3 * friction_force(lw, cf, z3, s) * k3x
+                  + B4 * friction_force(lw, cf, z4, s) * k4x
+                  + B5 * friction_force(lw, cf, z5, s) * k5x
+                  + B6 * friction_force(lw, cf, z6, s) * k6x)
+        ql = h * (B1 * integrand(lw, cf, zd) + B3 * integrand(lw, cf, z3)
+                  + B4 * integrand(lw, cf, z4) + B5 * integrand(lw, cf, z5)
+                  + B6 * integrand(lw, cf, z6))
     return x1, zd1, qx, qv, qw, ql, err, True

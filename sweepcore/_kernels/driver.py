@@ -33,10 +33,10 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .law import accel, breakaway, coefficients, jerk, stick_band
+from .law import accel, breakaway, constants, jerk, stick_band
 from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
-                     O_METHOD, O_RTOL, RK, RY, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
+                     O_METHOD, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
 from .events import F_XD, F_ZD, F_ZDD, cubic, polish, zd_event
 from .stepper import ADAPTIVE, EXPONENT, TOUCH_FACTOR, proposal, step
 
@@ -68,7 +68,7 @@ def touch_tol(p, o):
 
 
 @kernel
-def classify_zero(x, s, p, gtol):
+def classify_zero(x, s, p, lw, gtol):
     """Mode after zdot reached 0 while sliding with sign s, and the event kind.
 
     ``gtol`` is the touch tolerance [cm/s] (``touch_tol``). Returns
@@ -80,7 +80,7 @@ def classify_zero(x, s, p, gtol):
     rounding of the band's edges.
     """
     v = p[V]
-    x_lo, x_hi = stick_band(p)
+    x_lo, x_hi = stick_band(p, lw)
     tolx = gtol / math.sqrt(p[K] / p[M]) + 4.0 * EPS * max(abs(x_lo), abs(x_hi))
     new = codes.STICK
     xn = x
@@ -111,7 +111,7 @@ def classify_zero(x, s, p, gtol):
 
 
 @kernel
-def initial_mode(x0, xd0, p, gtol):
+def initial_mode(x0, xd0, p, lw, gtol):
     """Phase of a start (x0, xdot0): slide by the sign of zdot, else as at a stop
     (``gtol``: touch tolerance [cm/s])."""
     zd0 = xd0 - p[V]
@@ -119,7 +119,7 @@ def initial_mode(x0, xd0, p, gtol):
         return codes.SLIDE_POS, x0
     if zd0 < 0.0:
         return codes.SLIDE_NEG, x0
-    new, _ev, xn = classify_zero(x0, 0, p, gtol)
+    new, _ev, xn = classify_zero(x0, 0, p, lw, gtol)
     return new, xn
 
 
@@ -136,9 +136,9 @@ def _note_x(acc, x, xd):
 
 
 @kernel
-def init_state(st, x0, xd0, p, o):
+def init_state(st, x0, xd0, p, lw, o):
     """Fill st for a start at t = 0; returns the start's mode."""
-    mode, xs = initial_mode(x0, xd0, p, touch_tol(p, o))
+    mode, xs = initial_mode(x0, xd0, p, lw, touch_tol(p, o))
     st[S_T] = 0.0
     st[S_X] = xs
     st[S_ZD] = 0.0 if mode == codes.STICK else xd0 - p[V]
@@ -152,10 +152,10 @@ def init_state(st, x0, xd0, p, o):
 
 # ---------------------------------------------------------------- the phases
 @kernel
-def stick_until_slip(st, p, acc, t_stop):
+def stick_until_slip(st, p, lw, acc, t_stop):
     """Stick phase in closed form (x moves with the belt) until slip or t_stop."""
     v = p[V]
-    xs = breakaway(p)
+    xs = breakaway(p, lw)
     t = st[S_T]
     x = st[S_X]
     if v > 0.0:
@@ -198,13 +198,13 @@ def _book(acc, qx, qv, qw, ql, h):
 
 
 @kernel
-def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
+def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe):
     """Book the partial step to a zdot = 0 event at h and apply the stop rules."""
-    _x, _z, qx, qv, qw, ql, _e, _ok = step(x0, zd0, h, s, p, o, True)
+    _x, _z, qx, qv, qw, ql, _e, _ok = step(meth, x0, zd0, h, s, p, lw, o, True)
     st[S_N] += 1.0
     _book(acc, qx, qv, qw, ql, h)
     st[S_T] += h
-    new, ev, xn = classify_zero(xe, s, p, touch_tol(p, o))
+    new, ev, xn = classify_zero(xe, s, p, lw, touch_tol(p, o))
     st[S_X] = xn
     st[S_ZD] = 0.0
     st[S_MODE] = new
@@ -216,13 +216,13 @@ def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
 
 
 @kernel
-def _crossing_root(st, p, o, x, zd, s, h, g0, g1, d0, d1, ta, tb):
+def _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, d0, d1, ta, tb):
     """The first root of zdot in the bracket [ta, tb] (fractions of the step h) of
     the Hermite cubic of g = s zdot, if the integrator confirms it: ``(h_ev, x_ev)``
     (h_ev < 0: none). Newton starts from the cubic's own root (bisection on it)."""
     gb = g1
     if tb < 1.0:
-        _xb, zb, _a, _b, _c, _l, _e, _ok = step(x, zd, tb * h, s, p, o, False)
+        _xb, zb, _a, _b, _c, _l, _e, _ok = step(meth, x, zd, tb * h, s, p, lw, o, False)
         st[S_N] += 1.0
         gb = s * zb
     if gb > 0.0:
@@ -235,13 +235,14 @@ def _crossing_root(st, p, o, x, zd, s, h, g0, g1, d0, d1, ta, tb):
             ca = cm
         else:
             cb = cm
-    h_ev, xe, _ze = polish(F_ZD, x, zd, s, p, o, ta * h, tb * h, s,
+    h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, tb * h, s,
                             0.5 * (ca + cb) * h, st)
     return h_ev, xe
 
 
 @kernel
-def _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol, cf, d):
+def _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol,
+                 cf):
     """Where zdot = 0 inside the step from (x, zd), once the scan of the step's
     Hermite cubic (``events.zd_event``) found a crossing (kind 1, bracketed in
     [ta, tb]) or a turning point tc that may touch 0 (kind 2). Touches are placed at
@@ -253,77 +254,72 @@ def _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol, 
     crossing = False
     if kind == 2:                   # check the turning point on the integrator
         # zdd has the sign -s where g falls towards the touch, +s after it
-        hc, xc, zc = polish(F_ZDD, x, zd, s, p, o, 0.5 * (ta + tc) * h,
+        hc, xc, zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, 0.5 * (ta + tc) * h,
                             0.5 * (tc + tb) * h, -s, tc * h, st)
         gc = s * zc
         if abs(gc) <= gtol:         # a touch
             return hc, xc
         if gc < 0.0:                # a real double crossing: the first root
-            h_ev, xe, _ze = polish(F_ZD, x, zd, s, p, o, ta * h, hc, s,
+            h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, hc, s,
                                    0.5 * (ta + tc) * h, st)
             crossing = True
     else:
-        h_ev, xe = _crossing_root(st, p, o, x, zd, s, h, g0, g1, s * a0 * h, s * a1 * h,
-                                  ta, tb)
+        h_ev, xe = _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, s * a0 * h,
+                                  s * a1 * h, ta, tb)
         crossing = h_ev >= 0.0
     if crossing:
         # A crossing whose excursion past 0 stays within the graze tolerance is a
         # touch: its root is ill-conditioned (error ~ sqrt(eps)), its turning
         # point (zdd = 0) is not, so the touch is placed there.
-        gp = s * accel(xe, 0.0, s, cf, d, p[M])
-        gpp = s * jerk(xe, 0.0, s, cf, d, p[M], v)
+        gp = s * accel(xe, 0.0, s, cf, lw, p[K], p[M])
+        gpp = s * jerk(xe, 0.0, s, cf, lw, p[K], p[M], v)
         if gp < 0.0 and gpp > 0.0 and gp * gp <= 2.0 * gpp * gtol:
             tau = -gp / gpp
-            h_ev, xe, _zc = polish(F_ZDD, x, zd, s, p, o, h_ev, h_ev + 2.0 * tau,
+            h_ev, xe, _zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, h_ev, h_ev + 2.0 * tau,
                                    -s, h_ev + tau, st)
     return h_ev, xe
 
 
 @kernel
-def _section(st, p, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf, d):
+def _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf):
     """The extremum of x inside the step from (x, zd) (xdot changes sign): if it
     comes before the zdot = 0 event at h_ev (h_ev < 0: none), book the partial step
     to it and stop there, at the Poincare section (xdot = 0 exactly). Returns its
     event, or EV_NONE when the zdot event comes first."""
     v = p[V]
     xd0 = zd + v
-    h_xe, xx, _zx = polish(F_XD, x, zd, s, p, o, 0.0, h, 1.0 if xd0 > 0.0 else -1.0,
+    h_xe, xx, _zx = polish(meth, F_XD, x, zd, s, p, lw, o, 0.0, h, 1.0 if xd0 > 0.0 else -1.0,
                            h * xd0 / (xd0 - (z1 + v)), st)
     if h_ev >= 0.0 and h_xe >= h_ev:
         return codes.EV_NONE
-    _x, _z, qx, qv, qw, ql, _e, _ok = step(x, zd, h_xe, s, p, o, True)
+    _x, _z, qx, qv, qw, ql, _e, _ok = step(meth, x, zd, h_xe, s, p, lw, o, True)
     st[S_N] += 1.0
     _book(acc, qx, qv, qw, ql, h_xe)
     st[S_T] = t + h_xe
     st[S_X] = xx
     st[S_ZD] = -v               # xdot = 0 exactly at the section
     _note_x(acc, xx, 0.0)
-    _velocity_extremum(st, p, o, acc, x, zd, s, h_xe, a0, accel(xx, -v, s, cf, d, p[M]))
+    _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h_xe, a0,
+                       accel(xx, -v, s, cf, lw, p[K], p[M]))
     return codes.EV_XMAX if xd0 > 0.0 else codes.EV_XMIN
 
 
 @kernel
-def slide_until_event(st, p, o, acc, t_stop):
-    """Integrate the sliding phase until zdot = 0, an extremum of x, or t_stop."""
-    if p[RY] == p[RK]:              # the polynomial law (see law.stribeck_drop)
-        return _slide(st, p, o, acc, t_stop, None)
-    return _slide(st, p, o, acc, t_stop, p[RY] - p[RK])
-
-
-@kernel
-def _slide(st, p, o, acc, t_stop, d):
-    """``slide_until_event`` for the Stribeck drop ``d`` (None: none). Helpers taking
-    arrays are called only where something happens: numba passes each array with a
-    reference count, which on every step would cost more than the event scan."""
+def slide_until_event(meth, st, p, lw, o, acc, t_stop):
+    """Integrate the sliding phase until zdot = 0, an extremum of x, or t_stop.
+    Helpers taking arrays are called only where something happens: numba passes
+    each array with a reference count, which on every step would cost more than the
+    event scan."""
     v = p[V]
     s = st[S_MODE]
-    cf = coefficients(s, p)
+    cf = constants(p, lw, s)
     m = p[M]
-    adaptive = ADAPTIVE[int(o[O_METHOD])]
-    expo = EXPONENT[int(o[O_METHOD])]
+    k = p[K]
+    adaptive = ADAPTIVE[meth]
+    expo = EXPONENT[meth]
     gtol = touch_tol(p, o)
     near = max(gtol, 1e-3 * o[O_LV])
-    omega = math.sqrt(p[K] / m)
+    omega = math.sqrt(k / m)
     while True:
         t = st[S_T]
         if t >= t_stop:
@@ -332,7 +328,7 @@ def _slide(st, p, o, acc, t_stop, d):
             return codes.EV_STOP_TIME, codes.STEP_BUDGET
         x = st[S_X]
         zd = st[S_ZD]
-        h = proposal(x, zd, s, p, o, st[S_H])
+        h = proposal(meth, x, zd, s, p, lw, o, st[S_H])
         if adaptive:
             h = min(h, 0.5 / omega)
         last = t + h >= t_stop
@@ -345,10 +341,10 @@ def _slide(st, p, o, acc, t_stop, d):
                 return codes.EV_STOP_TIME, codes.STEP_UNDERFLOW
             st[S_T] = t_stop
             return codes.EV_STOP_TIME, codes.OK
-        x1, z1, qx, qv, qw, ql, err, ok = step(x, zd, h, s, p, o, True)
+        x1, z1, qx, qv, qw, ql, err, ok = step(meth, x, zd, h, s, p, lw, o, True)
         st[S_N] += 1.0
         if not ok:                  # GPS denominator guard: halve the step
-            ok, h, x1, z1, qx, qv, qw, ql = _halved(st, p, o, x, zd, s, h, omega)
+            ok, h, x1, z1, qx, qv, qw, ql = _halved(meth, st, p, lw, o, x, zd, s, h, omega)
             if not ok:
                 return codes.EV_STOP_TIME, codes.GPS_DENOMINATOR
             last = False
@@ -358,8 +354,8 @@ def _slide(st, p, o, acc, t_stop, d):
                 continue
         if not (abs(x1) < 1e12 * o[O_LX] and abs(z1) < 1e12 * omega * o[O_LX]):
             return codes.EV_STOP_TIME, codes.DIVERGED
-        a0 = accel(x, zd, s, cf, d, m)
-        a1 = accel(x1, z1, s, cf, d, m)
+        a0 = accel(x, zd, s, cf, lw, k, m)
+        a1 = accel(x1, z1, s, cf, lw, k, m)
         # --- zdot = 0: crossings, double crossings and touches inside the step
         g0 = s * zd
         g1 = s * z1
@@ -368,22 +364,22 @@ def _slide(st, p, o, acc, t_stop, d):
         st[S_ARMED] = 1.0 if armed else 0.0
         h_ev, xe = -1.0, x1
         if kind != 0:
-            h_ev, xe = _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb,
-                                    tc, gtol, cf, d)
+            h_ev, xe = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind,
+                                    ta, tb, tc, gtol, cf)
         elif 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol and armed:
             # the step ends on a touch (exact arcs end on turning points): zdot came
             # down to within gtol of 0 and stopped falling (not a creep away from 0)
             h_ev = h
         # --- extremum of x (Poincare section) inside the step
         if v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0):
-            ev = _section(st, p, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf, d)
+            ev = _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf)
             if ev != codes.EV_NONE:
                 return ev, codes.OK
         if h_ev >= 0.0:
-            return _finish_zero(st, p, o, acc, x, zd, s, h_ev, xe), codes.OK
+            return _finish_zero(meth, st, p, lw, o, acc, x, zd, s, h_ev, xe), codes.OK
         _book(acc, qx, qv, qw, ql, h)
         if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
-            _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1)
+            _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1)
         st[S_T] = t + h if not last else t_stop
         st[S_X] = x1
         st[S_ZD] = z1
@@ -402,30 +398,30 @@ def _next_step(h, err, expo):
 
 
 @kernel
-def _halved(st, p, o, x, zd, s, h, omega):
+def _halved(meth, st, p, lw, o, x, zd, s, h, omega):
     """The GPS denominator guard: the step halved until it can be taken, down to
     1e-12/omega: ``(ok, h, x1, z1, qx, qv, qw, ql)``."""
     ok = False
     x1, z1, qx, qv, qw, ql = x, zd, 0.0, 0.0, 0.0, 0.0
     while not ok and h > 1e-12 / omega:
         h *= 0.5
-        x1, z1, qx, qv, qw, ql, _err, ok = step(x, zd, h, s, p, o, True)
+        x1, z1, qx, qv, qw, ql, _err, ok = step(meth, x, zd, h, s, p, lw, o, True)
         st[S_N] += 1.0
     return ok, h, x1, z1, qx, qv, qw, ql
 
 
 @kernel
-def _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1):
+def _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1):
     """Record an extremum of xdot (zdd = 0) inside [0, h] of the step from (x, zd)."""
     if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
-        _h, xv, zv = polish(F_ZDD, x, zd, s, p, o, 0.0, h, 1.0 if a0 > 0.0 else -1.0,
+        _h, xv, zv = polish(meth, F_ZDD, x, zd, s, p, lw, o, 0.0, h, 1.0 if a0 > 0.0 else -1.0,
                              h * a0 / (a0 - a1), st)
         _note_x(acc, xv, zv + p[V])
 
 
 @kernel
-def advance(st, p, o, acc, t_stop):
+def advance(meth, st, p, lw, o, acc, t_stop):
     """Advance to the next event or to t_stop; returns (event, status)."""
     if st[S_MODE] == codes.STICK:
-        return stick_until_slip(st, p, acc, t_stop)
-    return slide_until_event(st, p, o, acc, t_stop)
+        return stick_until_slip(st, p, lw, acc, t_stop)
+    return slide_until_event(meth, st, p, lw, o, acc, t_stop)

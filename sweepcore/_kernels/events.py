@@ -19,23 +19,26 @@ from .stepper import step
 
 EPS = np.finfo(np.float64).eps
 
-F_ZD = 0    # functions whose roots are polished on re-steps
-F_XD = 1
-F_ZDD = 2
+# functions whose roots are polished on re-steps. Floats, not ints: numba types an
+# int constant as a literal and would compile ``polish`` once per value, with every
+# branch of ``_fun`` in each copy; a float is an ordinary argument.
+F_ZD = 0.0
+F_XD = 1.0
+F_ZDD = 2.0
 
 
 @kernel(inline="always")
-def _fun(which, x, zd, s, p):
+def _fun(which, x, zd, s, p, lw):
     v = p[V]
     if which == F_ZD:
-        return zd, zdd(x, zd, s, p)
+        return zd, zdd(x, zd, s, p, lw)
     if which == F_XD:
-        return zd + v, zdd(x, zd, s, p)
-    return zdd(x, zd, s, p), zddd(x, zd, s, p, v)
+        return zd + v, zdd(x, zd, s, p, lw)
+    return zdd(x, zd, s, p, lw), zddd(x, zd, s, p, lw, v)
 
 
 @kernel
-def polish(which, x, zd, s, p, o, lo, hi, sign_lo, guess, st):
+def polish(meth, which, x, zd, s, p, lw, o, lo, hi, sign_lo, guess, st):
     """Root in (lo, hi] of F(h) = fun(step(x, zd, h)); F(lo) has sign ``sign_lo``.
 
     Safeguarded Newton: Newton steps inside the bracket, bisection otherwise.
@@ -45,9 +48,9 @@ def polish(which, x, zd, s, p, o, lo, hi, sign_lo, guess, st):
     x1 = x
     z1 = zd
     for _ in range(60):
-        x1, z1, _a, _b, _c, _l, _e, _ok = step(x, zd, h, s, p, o, False)
+        x1, z1, _a, _b, _c, _l, _e, _ok = step(meth, x, zd, h, s, p, lw, o, False)
         st[S_N] += 1.0
-        f, df = _fun(which, x1, z1, s, p)
+        f, df = _fun(which, x1, z1, s, p, lw)
         if f == 0.0:
             break
         if (f > 0.0) == (sign_lo > 0.0):
@@ -61,7 +64,7 @@ def polish(which, x, zd, s, p, o, lo, hi, sign_lo, guess, st):
             hn = 0.5 * (lo + hi)
         if abs(hn - h) <= 2.0 * EPS * hi:
             h = hn
-            x1, z1, _a, _b, _c, _l, _e, _ok = step(x, zd, h, s, p, o, False)
+            x1, z1, _a, _b, _c, _l, _e, _ok = step(meth, x, zd, h, s, p, lw, o, False)
             st[S_N] += 1.0
             break
         h = hn

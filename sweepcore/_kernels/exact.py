@@ -62,10 +62,10 @@ def arc_eval(y0, yd0, sig, b2, t):
 
 
 @kernel
-def exact_step(x, zd, h, s, p, o, want_q):
+def exact_step(x, zd, h, s, p, lw, o, want_q):
     """Closed-form state after h [s]; see ``stepper.py`` for the contract."""
     v = p[V]
-    cen, sig, b2 = arc_constants(s, p)
+    cen, sig, b2 = arc_constants(s, p, lw)
     y0 = x - cen
     yd0 = zd + v
     y1, yd1 = arc_eval(y0, yd0, sig, b2, h)
@@ -79,15 +79,15 @@ def exact_step(x, zd, h, s, p, o, want_q):
             w = half * GL_W[i]
             qx += w * (cen + yi)
             qv += w * ydi * ydi
-            qw += w * friction(ydi - v, s, p) * ydi
+            qw += w * friction(ydi - v, s, p, lw) * ydi
     return cen + y1, yd1 - v, qx, qv, qw, 0.0, 0.0, True
 
 
 @kernel
-def exact_proposal(x, zd, s, p):
+def exact_proposal(x, zd, s, p, lw):
     """Time [s] to the next extremum of zdot on the current arc (capped)."""
     v = p[V]
-    cen, sig, b2 = arc_constants(s, p)
+    cen, sig, b2 = arc_constants(s, p, lw)
     omega2 = p[K] / p[M]
     y0 = x - cen
     yd0 = zd + v

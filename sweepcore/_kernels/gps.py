@@ -18,21 +18,21 @@ refused (``ok = False``) and the driver halves it.
 """
 from .jit import kernel
 
-from .law import friction, law_integrand, zdd
-from .layout import O_GPS_A, RK, RY, V
+from .law import constants, friction, integrand, zdd
+from .layout import O_GPS_A, V
 
 ORDER = 1
 
 
 @kernel
-def gps_step(x, zd, h, s, p, o, want_q):
+def gps_step(x, zd, h, s, p, lw, o, want_q):
     """One GPS step of the sliding field; see ``stepper.py`` for the contract."""
     v = p[V]
     a = o[O_GPS_A]
     u1 = x + a
     u2 = zd
     f1 = zd + v
-    f2 = zdd(x, zd, s, p)
+    f2 = zdd(x, zd, s, p, lw)
     tau = 0.5 * h
     uu = u1 * u1 + u2 * u2
     ff = f1 * f1 + f2 * f2
@@ -52,7 +52,7 @@ def gps_step(x, zd, h, s, p, o, want_q):
         xd1 = zd1 + v
         qx = 0.5 * h * (x + x1)
         qv = 0.5 * h * (xd0 * xd0 + xd1 * xd1)
-        qw = 0.5 * h * (friction(zd, s, p) * xd0 + friction(zd1, s, p) * xd1)
-        if p[RY] != p[RK]:
-            ql = 0.5 * h * (law_integrand(zd, p) + law_integrand(zd1, p))
+        qw = 0.5 * h * (friction(zd, s, p, lw) * xd0 + friction(zd1, s, p, lw) * xd1)
+        cf = constants(p, lw, s)
+        ql = 0.5 * h * (integrand(lw, cf, zd) + integrand(lw, cf, zd1))
     return x1, zd1, qx, qv, qw, ql, 0.0, True

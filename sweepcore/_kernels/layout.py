@@ -5,7 +5,9 @@ row ``o`` (length ``NO``) describes the numerical method; the observables row
 (length ``NOBS``) is what the attractor kernel writes. Names are defined once, here.
 """
 
-# parameter row p: the slider, its friction law (law.py) and its start
+# parameter row p: the slider, the analytic law's parameters and the start. Only the
+# law modules (laws/analytic.py, sweepcore/laws/analytic.py) read RY, A1, A2, RK and VS
+# (a test checks it); a law given as an object carries its data apart (law.py).
 M = 0        # mass [kN s^2/cm]
 K = 1        # stiffness [kN/cm]
 RY = 2       # static friction bound r_y [kN] (the largest force sticking holds)
@@ -17,7 +19,8 @@ RK = 7       # kinetic friction level r_k [kN] (r_k = r_y: no Stribeck term)
 VS = 8       # Stribeck speed v_s [cm/s]
 X0 = 9       # start position [cm]
 XD0 = 10     # start velocity [cm/s]
-NP = 11
+LAW = 11     # index of the row's law among the call's laws (read by Python only)
+NP = 12
 
 # option row o
 O_METHOD = 0     # method code (the row of stepper.METHODS; -1: "auto")

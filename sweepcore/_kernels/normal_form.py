@@ -42,9 +42,9 @@ NF_KAPPA = 10.0
 
 
 @kernel(inline="always")
-def _coefficients(p):
+def _coefficients(p, lw):
     """(omega, q, c2, beta, sign of v, x_eq) of the normal form."""
-    omega, q, c2, _c3, beta, sg, xe = nf_coefficients(p)
+    omega, q, c2, _c3, beta, sg, xe = nf_coefficients(p, lw)
     return omega, q, c2, beta, sg, xe
 
 
@@ -66,19 +66,19 @@ def nf_error(A, omega, q, c2, beta):
 
 
 @kernel
-def nf_multiplier(p, T):
+def nf_multiplier(p, lw, T):
     """Floquet multiplier of the normal form's cycle over a period T [s]: the averaged
     flow's slope at the cycle is d(dA/dt)/dA = q/2 - 3 beta A^2 = -q."""
-    _omega, q, _c2, _beta, _sg, _xe = _coefficients(p)
+    _omega, q, _c2, _beta, _sg, _xe = _coefficients(p, lw)
     return math.exp(-q * T)
 
 
 @kernel
-def _agrees(p, a0, a1, T):
+def _agrees(p, lw, a0, a1, T):
     """True when the return a0 -> a1 [cm] over T [s] (section values: x maxima, x
     minima for v < 0) is a small slip motion whose decrement the normal form
     predicts to 10 %."""
-    omega, q, c2, c3, beta, sg, xe = nf_coefficients(p)
+    omega, q, c2, c3, beta, sg, xe = nf_coefficients(p, lw)
     y0 = sg * (a0 - xe)
     y1 = sg * (a1 - xe)
     if not (y0 > 0.0 and y1 > 0.0):
@@ -100,25 +100,25 @@ def _agrees(p, a0, a1, T):
 
 
 @kernel
-def nf_decays_to_rest(p, a0, a1, T):
+def nf_decays_to_rest(p, lw, a0, a1, T):
     """True when q <= 0 and the normal form describes the return a0 -> a1 over T:
     it has no cycle below a0 then, and the motion decays to x_eq."""
-    if not normal_form_valid(p):
+    if not normal_form_valid(p, lw):
         return False
-    _omega, q, _c2, _beta, sg, xe = _coefficients(p)
+    _omega, q, _c2, _beta, sg, xe = _coefficients(p, lw)
     if q > 0.0 or not (0.0 < sg * (a1 - xe) < sg * (a0 - xe)):
         return False
-    return _agrees(p, a0, a1, T)
+    return _agrees(p, lw, a0, a1, T)
 
 
 @kernel
-def nf_seed(p, a0, a1, T, tol_abs):
+def nf_seed(p, lw, a0, a1, T, tol_abs):
     """Section value [cm] of the normal-form cycle when q > 0, its cycle is accurate
     to tol_abs, and the motion (the return a0 -> a1 over T) is on it to 5 % or
     heading there as the normal form predicts; else NaN."""
-    if not normal_form_valid(p):
+    if not normal_form_valid(p, lw):
         return math.nan
-    omega, q, c2, beta, sg, xe = _coefficients(p)
+    omega, q, c2, beta, sg, xe = _coefficients(p, lw)
     if not q > 0.0:
         return math.nan
     A = nf_amplitude(omega, q, c2, beta)
@@ -127,13 +127,13 @@ def nf_seed(p, a0, a1, T, tol_abs):
     y_nf = A + 2.0 / 3.0 * c2 * A * A
     # the motion is on the cycle already (to 5 %), or heading there as the normal
     # form says it should
-    if abs(sg * (a1 - xe) - y_nf) > 0.05 * A and not _agrees(p, a0, a1, T):
+    if abs(sg * (a1 - xe) - y_nf) > 0.05 * A and not _agrees(p, lw, a0, a1, T):
         return math.nan
     return xe + sg * y_nf
 
 
 @kernel
-def nf_step(st, p, w, acc):
+def nf_step(st, p, lw, w, acc):
     """The normal form's part at a section of a stop-free slip motion where it is
     valid: ``(action, a_nf)``.
 
@@ -148,22 +148,22 @@ def nf_step(st, p, w, acc):
     a0 = w[W_A + 2]
     a1 = w[W_A + 3]
     T = acc[ACC_LAST][A_DT]
-    if nf_decays_to_rest(p, a0, a1, T):
+    if nf_decays_to_rest(p, lw, a0, a1, T):
         return REST, math.nan
     if w[W_SEEDED] == 0.0:
-        xe = x_eq(p)
-        a_nf = nf_seed(p, a0, a1, T, 0.01 * abs(a1 - xe))
+        xe = x_eq(p, lw)
+        a_nf = nf_seed(p, lw, a0, a1, T, 0.01 * abs(a1 - xe))
         if not math.isnan(a_nf) and (a_nf - a1) * (a1 - a0) > 0.0:
             w[W_SEEDED] = 1.0
             jump(st, p, w, acc, a_nf)
             w[W_RESET_SEEN] = 0.0        # a jump ends any period being measured
             w[W_ON_NF] = 0.0
             return NF_JUMP, a_nf
-    return FOLLOW, nf_seed(p, a0, a1, T, 0.5 * w[W_TOL] * w[W_LX])
+    return FOLLOW, nf_seed(p, lw, a0, a1, T, 0.5 * w[W_TOL] * w[W_LX])
 
 
 @kernel
-def nf_jump(st, p, o, w, acc, a_nf):
+def nf_jump(st, p, lw, o, w, acc, a_nf):
     """Place the motion on the normal form's cycle (section value a_nf [cm]) to
     measure one return from there. That return is measured with velocity errors
     below tol times the cycle's own velocity (omega A), not the belt's: its maxima
@@ -172,7 +172,7 @@ def nf_jump(st, p, o, w, acc, a_nf):
     jump(st, p, w, acc, a_nf)
     w[W_RESET_SEEN] = 0.0
     w[W_ON_NF] = 1.0
-    omega, _q, _c2, _c3, _beta, _sg, xe = nf_coefficients(p)
+    omega, _q, _c2, _c3, _beta, _sg, xe = nf_coefficients(p, lw)
     small = omega * abs(a_nf - xe) / abs(p[V])
     tol = w[W_TOL]
     if small < 1.0:

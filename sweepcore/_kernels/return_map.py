@@ -25,16 +25,16 @@ from .layout import A_DT, A_ILAW, A_IXD2, V
 
 
 @kernel
-def return_slope(p, a0, a1, acc, log_salt):
+def return_slope(p, lw, a0, a1, acc, log_salt):
     """P'(a0) for the return a0 -> a1 whose quadratures are in ``acc`` [1]."""
     v = p[V]
     T = acc[A_DT]
     # int zdot^2 dt = int xdot^2 dt - 2 v (x(T) - x(0)) + v^2 T
     izd2 = acc[A_IXD2] - 2.0 * v * (a1 - a0) + v * v * T
-    log_j = log_jacobian(p, T, izd2, acc[A_ILAW]) + log_salt
+    log_j = log_jacobian(p, lw, T, izd2, acc[A_ILAW]) + log_salt
     s = codes.SLIDE_NEG if v > 0.0 else codes.SLIDE_POS
-    f0 = zdd(a0, -v, s, p)
-    f1 = zdd(a1, -v, s, p)
+    f0 = zdd(a0, -v, s, p, lw)
+    f1 = zdd(a1, -v, s, p, lw)
     if f1 == 0.0:
         return math.nan
     return math.exp(log_j) * f0 / f1

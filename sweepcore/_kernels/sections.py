@@ -25,8 +25,8 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .law import log_saltation
-from .layout import (A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, ACC_LAST, ACC_SEC, NA, O_RTOL, RY,
+from .law import log_saltation, static_limits
+from .layout import (A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, ACC_LAST, ACC_SEC, NA, O_RTOL,
                      S_T, S_X, S_ZD, V, W_A, W_A_FROM, W_E, W_E_JUMP, W_E_REST,
                      W_ERR_JUMP, W_FD_A0, W_FD_A1, W_FD_DELTA, W_FD_PROBE,
                      W_FD_SLOPE, W_JUMPED, W_LX, W_N_EV, W_N_SEC, W_NEWTON_REST,
@@ -75,12 +75,12 @@ def jump(st, p, w, acc, a_new):
 
 
 @kernel
-def note_event(w, p, ev, x, mode0, mode1):
+def note_event(w, p, lw, ev, x, mode0, mode1):
     """Count a phase event inside the return (its itinerary) and its saltation."""
     if ev != codes.EV_XMIN and ev != codes.EV_XMAX:
         w[W_N_EV] += 1.0
     if ev == codes.EV_NORMAL_STOP:
-        w[W_SALT] += log_saltation(p, x, mode0, mode1)
+        w[W_SALT] += log_saltation(p, lw, x, mode0, mode1)
 
 
 @kernel
@@ -114,7 +114,7 @@ def push_section(w, acc, x, t):
 
 
 @kernel
-def neutral_decision(w, p):
+def neutral_decision(w, p, lw):
     """Constant friction without damping: a neutral family, no contraction. A steady
     section is the answer (ACCEPT); a circle must also have gone round without
     touching the belt (one that touches is a transient, not a family member)."""
@@ -125,7 +125,7 @@ def neutral_decision(w, p):
     T0 = w[W_TH + 2] - w[W_TH + 1]
     tol = w[W_TOL]
     if abs(d1) <= tol * w[W_LX] and abs(T1 - T0) <= 10.0 * tol * T1 \
-            and not (p[RY] > 0.0 and w[W_E + 2] > 0):
+            and not (static_limits(p, lw)[0] > 0.0 and w[W_E + 2] > 0):
         return ACCEPT
     return FOLLOW
 

@@ -3,14 +3,16 @@
 A stepper advances only the smooth sliding equation (friction sign ``s`` frozen),
 from the state ``(x, zdot)`` over a step ``h`` [s]:
 
-    step(x, zd, h, s, p, o, want_q) -> (x1, zd1, q_x, q_xd2, q_w, q_l, err, ok)
+    step(x, zd, h, s, p, lw, o, want_q) -> (x1, zd1, q_x, q_xd2, q_w, q_l, err, ok)
+
+with ``p`` the parameter row and ``lw`` the law's data (``law.py``).
 
 1. It never sees sticking, events or bookkeeping: the hybrid driver
    (``driver.py``) owns those and is the only caller.
 2. ``q_x, q_xd2, q_w, q_l`` are the step's quadratures of ``x``, ``xdot^2``, the
-   friction power ``r_a xdot`` and the law's slope term ``law.law_integrand``
-   (computed only when ``want_q``, ``q_l`` only for a law with a Stribeck term;
-   else zeros), integrated at the stepper's own order.
+   friction power ``r_a xdot`` and the law's slope term ``law.integrand``
+   (computed only when ``want_q``, else zeros), integrated at the stepper's own
+   order.
 3. ``err`` is the error estimate scaled by the tolerance (``<= 1`` accept); fixed-step
    methods return 0.  ``ok`` is False when the step cannot be taken at this ``h``
    (the GPS denominator guard); the driver then halves ``h``.
@@ -19,28 +21,39 @@ from the state ``(x, zdot)`` over a step ``h`` [s]:
    the integrator's own state, not an interpolant's.
 5. ``proposal`` gives the next step size to try, by the method's kind (table below).
 
-Adding a stepper: its module, one row of ``METHODS`` and one line of each dispatch.
+The method is a compile-time constant: the entry kernels (``entries.py``) are
+compiled per method, and ``step`` and ``proposal`` resolve to the method's own
+functions when they are compiled (numba's ``overload`` on the method code), so a
+run compiles only the stepper it uses.
+
+Adding a stepper: its module and one row of ``METHODS`` (its step function, and its
+proposal rule).
 """
-from .jit import kernel
+from numba import types
+from numba.core.errors import TypingError
+from numba.extending import overload
+
+from .jit import OVERLOAD_OPTIONS, kernel
 
 from .dop853 import dop853_step
 from .dopri5 import dopri5_step
 from .exact import exact_proposal, exact_step
 from .gps import gps_step
 from .rk4 import rk4_step
-from .layout import O_DT, O_METHOD
+from .layout import O_DT
 
 # name, order, adaptive, controller exponent, touch-tolerance factor (of rtol),
-# closed form (needs a piecewise-linear law). The code of a method is its row.
+# closed form (needs a piecewise-linear law), step function. The code of a method
+# is its row.
 #   order 0: no truncation error. controller: h_new = h * 0.9 err^exponent.
 #   touch factor: an adaptive method's zdot error at a touch is ~9 rtol |v| after a
 #   whole period (measured on constant-friction circles, driver.touch_tol), so 20.
 METHODS = (
-    ("exact", 0, False, 0.0, 0.0, True),     # closed-form arcs (law.arc_constants)
-    ("gps", 1, False, 0.0, 0.0, False),      # Liu's group-preserving scheme (49)-(50)
-    ("rk4", 4, False, 0.0, 0.0, False),      # classical Runge-Kutta
-    ("dopri5", 5, True, -0.2, 20.0, False),  # Dormand-Prince 5(4)
-    ("dop853", 8, True, -0.125, 20.0, False),  # Dormand-Prince 8(5,3)
+    ("exact", 0, False, 0.0, 0.0, True, exact_step),   # closed-form arcs
+    ("gps", 1, False, 0.0, 0.0, False, gps_step),      # Liu's GPS (49)-(50)
+    ("rk4", 4, False, 0.0, 0.0, False, rk4_step),      # classical Runge-Kutta
+    ("dopri5", 5, True, -0.2, 20.0, False, dopri5_step),  # Dormand-Prince 5(4)
+    ("dop853", 8, True, -0.125, 20.0, False, dop853_step),  # Dormand-Prince 8(5,3)
 )
 EXACT, GPS, RK4, DOPRI5, DOP853 = range(len(METHODS))
 # "auto" between the adaptive pairs: dop853 below this tolerance, dopri5 from it up.
@@ -63,19 +76,37 @@ TOUCH_FACTOR = tuple(row[4] for row in METHODS)
 CLOSED_FORM = tuple(row[5] for row in METHODS)
 
 
-@kernel
-def step(x, zd, h, s, p, o, want_q):
-    """Dispatch one step to the method in ``o[O_METHOD]`` (see module docstring)."""
-    meth = int(o[O_METHOD])
-    if meth == EXACT:
-        return exact_step(x, zd, h, s, p, o, want_q)
-    if meth == RK4:
-        return rk4_step(x, zd, h, s, p, o, want_q)
-    if meth == GPS:
-        return gps_step(x, zd, h, s, p, o, want_q)
-    if meth == DOP853:
-        return dop853_step(x, zd, h, s, p, o, want_q)
-    return dopri5_step(x, zd, h, s, p, o, want_q)
+def _method(meth):
+    """The method table's row of a compile-time method code."""
+    if not isinstance(meth, types.IntegerLiteral) or \
+            not 0 <= meth.literal_value < len(METHODS):
+        raise TypingError(f"the method must be a compile-time code of METHODS, got {meth}")
+    return meth.literal_value
+
+
+def step(meth, x, zd, h, s, p, lw, o, want_q):
+    """One step of method ``meth`` (a code of ``METHODS``; module docstring)."""
+
+
+@overload(step, prefer_literal=True, jit_options=OVERLOAD_OPTIONS)
+def _step(meth, x, zd, h, s, p, lw, o, want_q):
+    fn = METHODS[_method(meth)][6]
+    return lambda meth, x, zd, h, s, p, lw, o, want_q: fn(x, zd, h, s, p, lw, o, want_q)
+
+
+def proposal(meth, x, zd, s, p, lw, o, h_prev):
+    """Next step size [s] of method ``meth``: the arc's for closed forms, the
+    controller's for adaptive methods, the fixed ``dt`` otherwise."""
+
+
+@overload(proposal, prefer_literal=True, jit_options=OVERLOAD_OPTIONS)
+def _proposal(meth, x, zd, s, p, lw, o, h_prev):
+    code = _method(meth)
+    if code == EXACT:
+        return lambda meth, x, zd, s, p, lw, o, h_prev: exact_proposal(x, zd, s, p, lw)
+    if ADAPTIVE[code]:
+        return lambda meth, x, zd, s, p, lw, o, h_prev: h_prev
+    return lambda meth, x, zd, s, p, lw, o, h_prev: o[O_DT]
 
 
 @kernel(inline="always")
@@ -89,14 +120,3 @@ def auto_method(closed_form, rtol, rounding):
         return DOP853
     return DOPRI5
 
-
-@kernel
-def proposal(x, zd, s, p, o, h_prev):
-    """Next step size [s]: the arc's for closed forms, the controller's for adaptive
-    methods, the fixed ``dt`` otherwise."""
-    meth = int(o[O_METHOD])
-    if meth == EXACT:
-        return exact_proposal(x, zd, s, p)
-    if ADAPTIVE[meth]:
-        return h_prev
-    return o[O_DT]

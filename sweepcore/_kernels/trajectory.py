@@ -21,8 +21,8 @@ def fresh_acc():
 
 
 @kernel
-def run_trajectory(p, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind, ev_x,
-                   ev_zd, acc):
+def run_trajectory(meth, p, lw, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind,
+                   ev_x, ev_zd, acc):
     """Run from (p[X0], p[XD0]) and fill the sample and event arrays.
 
     Samples are the driver's own state at each time of ``t_samples`` (sorted, >= 0):
@@ -31,14 +31,14 @@ def run_trajectory(p, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind, ev_x
     retry with larger buffers. Returns (n_events, status, n_steps).
     """
     st = np.zeros(NS)
-    init_state(st, p[X0], p[XD0], p, o)
+    init_state(st, p[X0], p[XD0], p, lw, o)
     n_ev = 0
     cap = ev_t.shape[0]
-    status = method_status(p, o)
+    status = method_status(meth, p, lw, o)
     for i in range(t_samples.shape[0]):
         ts = t_samples[i]
         while st[S_T] < ts and status == codes.OK:
-            ev, status = advance(st, p, o, acc, ts)
+            ev, status = advance(meth, st, p, lw, o, acc, ts)
             if ev == codes.EV_SLIP or ev == codes.EV_STICK or \
                     ev == codes.EV_NORMAL_STOP or ev == codes.EV_ABNORMAL_STOP:
                 if n_ev < cap:

@@ -160,15 +160,15 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
         # kernel gets ~10 LOOKAHEAD attractors a round instead of ~10
         n = LOOKAHEAD if len(hist["x"]) >= 2 else 1
         rows = base[i:i + n]
-        solvers = [_continued_point(_Point(row, along, tol), values, xtol, offset,
-                                    start, hist, xs[i + j])
+        solvers = [_continued_point(_Point(row, along, tol, grid.laws), values, xtol,
+                                    offset, start, hist, xs[i + j])
                    for j, row in enumerate(rows)]
-        found, evals = _drive(solvers, rows, COLUMNS[along], o, True)
+        found, evals = _drive(solvers, rows, COLUMNS[along], o, True, grid.laws)
         errs = []
         for j, (res, ne) in enumerate(zip(found, evals)):
             res["evaluations"] = int(ne)
-            res.update(cycle_boundaries(_Point(rows[j], along, tol), values, xtol,
-                                        offset, o))
+            res.update(cycle_boundaries(_Point(rows[j], along, tol, grid.laws), values,
+                                        xtol, offset, o))
             res["continued"] = int(not res.pop("fallback"))
             ok_h = res["hopf_status"] == LOCATED
             ok_g = res["stick_status"] == LOCATED

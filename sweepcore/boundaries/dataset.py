@@ -106,13 +106,14 @@ def _dataset(other: Grid, along: str, results, o, method, call,
         ds["transition_status"] = xr.Variable(tdims, st, {
             **status, "long_name": "outcome of the search of the change"})
     if along == "v":        # the analytic values to compare with
-        ds["v_star"] = labels.analytic("v_star", ds).variable
+        ds["v_star"] = labels.analytic("v_star", ds, laws=other.laws).variable
         ds["hopf_criticality"] = xr.Variable(
             ds["v_star"].dims, law.criticality_code(
-                labels.analytic("first_lyapunov", ds).values),
+                labels.analytic("first_lyapunov", ds, laws=other.laws).values),
             labels.flags(law.CRITICALITY, "kind of the Hopf point v_star (sign of "
                                           "the first Lyapunov coefficient)"))
-        ds["v_stick_onset_estimate"] = labels.stick_onset_estimate(ds).variable
+        ds["v_stick_onset_estimate"] = labels.stick_onset_estimate(
+            ds, other.laws).variable
     ds.attrs.update({
         **labels.provenance(
             "Regime boundaries of the stick-slip friction oscillator", call,

@@ -55,12 +55,13 @@ def _together(gens):
         return stop.value[0]
 
 
-def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
+def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool, laws):
     """Run one solver per row of ``base`` to the end; returns (results, evaluations).
 
     A solver yields a list of requests ``(value, x0, xdot0)`` (``value`` goes in
     column ``col``; ``xdot0 = NaN`` starts stuck on the belt) and receives the
-    observables rows (layout.OB_*) of their attractors.
+    observables rows (layout.OB_*) of their attractors. ``laws`` are the rows'
+    laws (``layout.LAW`` indexes them).
     """
     run = lockstep(solvers)
     retried = np.zeros(len(solvers), np.int64)
@@ -74,7 +75,7 @@ def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
             P[:, layout.X0] = req[:, 1]
             P[:, layout.XD0] = np.where(np.isnan(req[:, 2]), P[:, layout.V], req[:, 2])
             out = np.empty((len(owners), layout.NOBS))
-            execute.attractors(P, o, out, parallel)
+            execute.attractors(P, laws, o, out, parallel)
             # A start inside a cycle that the search does not bring to an attractor
             # (a motion growing slowly onto a stick-slip cycle at low damping ends
             # with the budget spent) is retried once from rest on the belt at x = 0.
@@ -85,7 +86,7 @@ def _drive(solvers, base: np.ndarray, col: int, o: np.ndarray, parallel: bool):
                 Q[:, layout.X0] = 0.0
                 Q[:, layout.XD0] = Q[:, layout.V]
                 redo = np.empty((again.size, layout.NOBS))
-                execute.attractors(Q, o, redo, parallel)
+                execute.attractors(Q, laws, o, redo, parallel)
                 out[again] = redo
                 for j in again:
                     retried[owners[j]] += 1

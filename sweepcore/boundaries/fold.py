@@ -64,7 +64,7 @@ def unstable_cycles(pt: _Point, values, o: np.ndarray) -> np.ndarray:
     P = np.array([pt.at(u) for u in values])
     out = np.empty((len(values), MAX_CYCLES, layout.NOBS))
     found = np.zeros(len(values), np.int64)
-    execute.cycles(P, o, out, found, parallel=False)
+    execute.cycles(P, pt.laws, o, out, found, parallel=False)
     rows = np.full((len(values), layout.NOBS), np.nan)
     for i in range(len(values)):
         cyc = out[i, :found[i]]

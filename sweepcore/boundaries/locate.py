@@ -8,6 +8,7 @@ bisected on the regime labels; the Hopf point (:mod:`.hopf`) and the grazings
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
 
@@ -17,6 +18,7 @@ import xarray as xr
 from .. import execute
 from .._kernels import codes, layout
 from ..grid import AXES, COLUMNS, Grid, checked_grid
+from ..laws import ANALYTIC
 from ..options import checked_keywords, did_you_mean, make_options
 from ..params import UNITS, check_real
 from .dataset import _dataset
@@ -232,9 +234,7 @@ def _other_grid(grid: Grid, along: str, placeholder: float) -> Grid:
     if grid.mode != "product":
         raise ValueError("locate_boundaries needs a product Grid (Grid(...)), not "
                          "Grid.points")
-    kw = {n: grid.axis(n) for n in AXES}
-    kw[along] = placeholder
-    return Grid(**kw)
+    return dataclasses.replace(grid, **{along: placeholder})
 
 
 def _start(grid: Grid):
@@ -264,11 +264,13 @@ def _warn_scan_failures(results, along: str, values) -> None:
 
 # ------------------------------------------------------------------- executors
 def locate_chunk(base: np.ndarray, along: str, values: np.ndarray, xtol: float,
-                 offset: float, start, o: np.ndarray, parallel: bool = False):
-    """Boundaries of the points ``base`` (kernel rows): the task of one chunk."""
-    pts = [_Point(row, along, float(o[layout.O_RTOL])) for row in base]
+                 offset: float, start, o: np.ndarray, parallel: bool = False,
+                 laws=(ANALYTIC,)):
+    """Boundaries of the points ``base`` (kernel rows; their laws ``laws``): the task
+    of one chunk."""
+    pts = [_Point(row, along, float(o[layout.O_RTOL]), laws) for row in base]
     solvers = [_locate_point(p, values, xtol, offset, start) for p in pts]
-    results, evals = _drive(solvers, base, COLUMNS[along], o, parallel)
+    results, evals = _drive(solvers, base, COLUMNS[along], o, parallel, laws)
     for r, n, p in zip(results, evals, pts):
         r["evaluations"] = int(n)
         r.update(cycle_boundaries(p, values, xtol, offset, o))
@@ -346,7 +348,8 @@ def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 
 
     def task(i):
         rows = other.rows(*bounds[i])
-        return locate_chunk, (rows, along, values, xtol, offset, start, o)
+        return locate_chunk, (rows, along, values, xtol, offset, start, o, False,
+                              grid.laws)
     execute.run(kind, target, range(len(bounds)), task, parts.__setitem__)
     results = [r for part in parts for r in part]
     _warn_scan_failures(results, along, values)

@@ -10,6 +10,7 @@ import numpy as np
 from .. import law
 from .._kernels import codes, layout
 from ..grid import COLUMNS
+from ..laws import ANALYTIC
 
 # Outcome of one boundary search (codes in _kernels/codes.py, the one table)
 LOCATED = codes.B_LOCATED
@@ -27,9 +28,11 @@ STUCK = math.nan        # xdot0 of a request: start stuck on the belt (xdot0 = v
 class _Point:
     """The fixed parameters of one search and what the solvers need from them."""
 
-    def __init__(self, row: np.ndarray, along: str, tol: float | None = None):
-        self.row, self.along, self.tol = row, along, tol
+    def __init__(self, row: np.ndarray, along: str, tol: float | None = None,
+                 laws=(ANALYTIC,)):
+        self.row, self.along, self.tol, self.laws = row, along, tol, laws
         self.col = COLUMNS[along]
+        self.law = laws[int(row[layout.LAW])]
 
     def at(self, value: float) -> np.ndarray:
         r = self.row.copy()
@@ -38,7 +41,7 @@ class _Point:
 
     def source(self, value: float) -> dict:
         """The parameters at ``along = value``, as a source of :mod:`sweepcore.law`."""
-        return law.from_row(self.at(value))
+        return law.from_row(self.at(value), self.law)
 
     def x_eq(self, value: float) -> float:
         """Steady-sliding position at ``along = value`` [cm], eq. (43)."""
@@ -52,7 +55,8 @@ class _Point:
         the unit of its tolerances."""
         src = self.source(value)
         omega = float(law.derived("omega", src))
-        return src["r_y"] / src["k"] + abs(src["v"]) / omega
+        static = float(self.law.static_bound(self.at(value)[None, :])[0])
+        return static / src["k"] + abs(src["v"]) / omega
 
     def contraction(self, value: float) -> float:
         """``|q| T`` at ``along = value`` (q of eq. 46, T = 2 pi/omega): ``1 - mu``

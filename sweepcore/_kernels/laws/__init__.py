@@ -1,0 +1,23 @@
+"""The law table: the kinds of friction law the kernels know, one module each.
+
+A row is ``(name, data class, module)``. The data class (a namedtuple) is the type
+of the law data ``lw`` that the kernels carry beside the parameter row; numba
+compiles the kernels once per data class, and ``law.py``'s interface resolves each
+law function to the row's module by it. A kind's per-point parameters are columns
+of the row (the analytic family's); data shared by every point of a call (a measured
+table) are fields of ``lw``: a new table is new data of the same type, so it
+compiles nothing.
+
+Adding a kind: its module (the primitives listed in ``law.py``), one row here, the
+Python side's module under ``sweepcore/laws/`` and its row there, and tests.
+"""
+from . import analytic, table
+
+LAWS = (
+    ("polynomial", analytic.Polynomial, analytic),   # Liu's eq. (40), r_k = r_y
+    ("stribeck", analytic.Stribeck, analytic),       # ... with the Stribeck term
+    ("table", table.Table, table),                    # a measured table, a function
+)
+MODULES = {row[1]: row[2] for row in LAWS}
+KIND_CODES = {row[0]: i for i, row in enumerate(LAWS)}
+DATA = {row[0]: row[1] for row in LAWS}

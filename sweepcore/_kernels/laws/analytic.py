@@ -1,0 +1,362 @@
+"""The analytic friction family: constant Coulomb, Liu's eq. (40), exponential Stribeck.
+
+    F(s) = sgn(s) (r_k + (r_y - r_k) exp(-|s|/v_s)) - alpha1 s + alpha2 s^3
+
+(s = zdot, the relative speed), with viscous damping c on the slider
+(``m x'' + c x' + k x + F = 0``). Its parameters are columns of the kernel row
+(``RY, A1, A2, RK, VS`` of ``layout.py``): they vary from point to point of a grid,
+and only this module reads them. ``r_k = r_y`` is the paper's law, eq. (40) (v_s
+does not enter); ``alpha1 = alpha2 = 0`` with it the constant Coulomb law (5)-(10).
+The exponential Stribeck term is the law of Stender, Hoffmann & Papangelo, "The
+Basin Stability of Bi-Stable Friction-Excited Oscillators", Lubricants 8(12):105
+(2020) and of the bSTAB friction case; Modelica's friction elements use the same
+exponential form.
+
+Two kinds of the law table (``laws/__init__.py``) share this module: ``Polynomial``
+(r_k = r_y at every point of a call: the Stribeck branches, calls to ``exp``, are
+pruned before they are typed, since the drop ``d`` is None there) and ``Stribeck``.
+The hot functions take the drop as an argument (``d``: None or ``r_y - r_k``) so
+that numba compiles the polynomial version without the branch; a call on a cold
+branch still makes the compiler save every live register around it, which on
+dopri5's chain of stages cost ~10 % of a step.
+
+Floating-point notes: every expression reduces to the one of the cubic law bit for
+bit when r_k = r_y; the damping is written into the sliding force (``f0 = r_y s +
+c v``, ``f1 = c - alpha1``) so that it adds no operation to the chain of dependent
+stages of a Runge-Kutta step.
+"""
+import math
+from collections import namedtuple
+
+import numpy as np
+from numba import types
+from numba.extending import overload
+
+from ..jit import OVERLOAD_OPTIONS, kernel
+from ..layout import A1, A2, C, K, M, RK, RY, V, VS
+
+EPS = np.finfo(np.float64).eps
+
+# the kinds' kernel data: no data beyond the row's columns
+Polynomial = namedtuple("Polynomial", ())
+Stribeck = namedtuple("Stribeck", ())
+
+
+def drop(lw, p):
+    """The Stribeck drop ``r_y - r_k`` [kN] of the row, or None for ``Polynomial``."""
+
+
+@overload(drop, inline="always", jit_options=OVERLOAD_OPTIONS)
+def _drop(lw, p):
+    if isinstance(lw, types.NamedTuple) and lw.instance_class is Polynomial:
+        return lambda lw, p: None
+    return lambda lw, p: p[RY] - p[RK]
+
+
+# ------------------------------------------------------------------ the law F(s)
+@kernel(inline="always")
+def level(zd, p):
+    """``|F|`` of the Coulomb-Stribeck part at relative speed zd [kN]:
+    ``r_y + d expm1(-|zd|/v_s)``, exactly r_y at zd = 0 and r_k at high speed."""
+    d = p[RY] - p[RK]
+    if d == 0.0:
+        return p[RY]
+    return p[RY] + d * math.expm1(-abs(zd) / p[VS])
+
+
+@kernel(inline="always")
+def constants(p, lw, s):
+    """``(k, f0, f1, a1, a2, r_y, v_s, c, d)`` for a slide with sign s, with
+    ``f0 = r_y s + c v`` and ``f1 = c - alpha1`` (the damping folded in) and the
+    drop d (None for ``Polynomial``)."""
+    return (p[K], p[RY] * s + p[C] * p[V], p[C] - p[A1], p[A1], p[A2], p[RY], p[VS],
+            p[C], drop(lw, p))
+
+
+@kernel
+def _force(zd, s, cf, d):
+    """``F(zd) + c (zd + v)`` [kN] from the constants ``cf``; ``d`` the drop."""
+    k, f0, f1, a1, a2, ry, vs, c, _d = cf
+    if d is not None:
+        f0 += d * math.expm1(-abs(zd) / vs) * s
+    return f0 + f1 * zd + a2 * zd * zd * zd
+
+
+@kernel
+def _friction(zd, s, cf, d):
+    """The friction force F(zd) [kN] alone (no damping): eq. (40) for d None."""
+    k, f0, f1, a1, a2, ry, vs, c, _d = cf
+    lev = ry
+    if d is not None:
+        lev = ry + d * math.expm1(-abs(zd) / vs)
+    return lev * s - a1 * zd + a2 * zd * zd * zd
+
+
+@kernel(inline="always")
+def sliding_force(lw, cf, zd, s):
+    return _force(zd, s, cf, cf[8])
+
+
+@kernel(inline="always")
+def friction_force(lw, cf, zd, s):
+    return _friction(zd, s, cf, cf[8])
+
+
+@kernel
+def _slope_term(zd, cf, d):
+    g = cf[3] - 3.0 * cf[4] * zd * zd - cf[7]
+    if d is not None:
+        g += d / cf[6] * math.exp(-abs(zd) / cf[6])
+    return g
+
+
+@kernel(inline="always")
+def field_slope(lw, cf, zd):
+    return _slope_term(zd, cf, cf[8])
+
+
+@kernel(inline="always")
+def _integrand(zd, cf, d):
+    if d is None:
+        return 0.0
+    return math.exp(-abs(zd) / cf[6])
+
+
+@kernel(inline="always")
+def integrand(lw, cf, zd):
+    """``exp(-|zd|/v_s)``: the slope's non-polynomial term (0 for the polynomial law,
+    whose slope the driver's quadrature of zdot^2 covers)."""
+    return _integrand(zd, cf, cf[8])
+
+
+@kernel(inline="always")
+def slope(p, lw, zd):
+    f1 = -p[A1] + 3.0 * p[A2] * zd * zd
+    d = p[RY] - p[RK]
+    if d != 0.0:
+        f1 -= d / p[VS] * math.exp(-abs(zd) / p[VS])
+    return f1
+
+
+@kernel(inline="always")
+def static_limits(p, lw):
+    return p[RY], p[RY]
+
+
+@kernel(inline="always")
+def edge_force(p, lw, s):
+    return p[RY] * s
+
+
+@kernel(inline="always")
+def log_jacobian(p, lw, T, izd2, ilaw):
+    lj = p[A1] * T - 3.0 * p[A2] * izd2 - p[C] * T
+    d = p[RY] - p[RK]
+    if d != 0.0:
+        lj += d / p[VS] * ilaw
+    return lj / p[M]
+
+
+@kernel(inline="always")
+def conservative(p, lw):
+    return p[A1] == 0.0 and p[A2] == 0.0 and p[C] == 0.0 and p[RY] == p[RK]
+
+
+# ---------------------------------------------------------- the equilibrium
+@kernel(inline="always")
+def x_eq(p, lw):
+    v = p[V]
+    if v == 0.0:
+        return 0.0
+    va = abs(v)
+    sg = 1.0 if v > 0.0 else -1.0
+    return sg * (level(va, p) - p[A1] * va + p[A2] * va ** 3) / p[K]
+
+
+@kernel(inline="always")
+def damping_at(p, lw, va):
+    g = p[C] - p[A1] + 3.0 * p[A2] * (va * va)
+    d = p[RY] - p[RK]
+    if d != 0.0:
+        g -= d / p[VS] * math.exp(-va / p[VS])
+    return g
+
+
+@kernel(inline="always")
+def q(p, lw):
+    va = abs(p[V])
+    qq = p[A1] - 3.0 * p[A2] * va * va - p[C]
+    d = p[RY] - p[RK]
+    if d != 0.0:
+        qq += d / p[VS] * math.exp(-va / p[VS])
+    return qq / p[M]
+
+
+@kernel(inline="always")
+def third_derivative(p, lw, va):
+    f3 = 6.0 * p[A2]
+    d = p[RY] - p[RK]
+    if d != 0.0:
+        f3 -= d / p[VS] ** 3 * math.exp(-va / p[VS])
+    return f3
+
+
+@kernel
+def _bisect_root(p, lo, hi, rising):
+    """Root of ``damping_at`` in [lo, hi] where it changes sign (rising: - to +)."""
+    for _ in range(2200):
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if (damping_at(p, None, mid) < 0.0) == rising:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
+
+
+@kernel
+def _upper_bracket(p):
+    """A speed where ``damping_at`` is positive (it grows like 3 alpha2 u^2 > 0)."""
+    u = max(p[VS], 1.0)
+    while not damping_at(p, None, u) > 0.0 and u < 1e300:
+        u *= 2.0
+    return u
+
+
+@kernel
+def _argmin(p, hi):
+    """Minimiser in [0, hi] of the convex ``damping_at`` (golden section)."""
+    lo = 0.0
+    r = 0.5 * (math.sqrt(5.0) - 1.0)
+    a = hi - r * hi
+    b = r * hi
+    fa = damping_at(p, None, a)
+    fb = damping_at(p, None, b)
+    for _ in range(2200):
+        if hi - lo <= 4.0 * EPS * hi:
+            break
+        if fa < fb:
+            hi, b, fb = b, a, fa
+            a = hi - r * (hi - lo)
+            fa = damping_at(p, None, a)
+        else:
+            lo, a, fa = a, b, fb
+            b = lo + r * (hi - lo)
+            fb = damping_at(p, None, b)
+    return 0.5 * (lo + hi)
+
+
+@kernel
+def hopf_speeds(p, lw):
+    """``g(u) = c + F'(-u) = c - alpha1 + 3 alpha2 u^2 - (d/v_s) exp(-u/v_s)``
+    (d = r_y - r_k) is increasing for d >= 0 and convex for d < 0, so it has at most
+    two roots. Closed forms: the polynomial law, ``u = sqrt((alpha1 - c)/(3
+    alpha2))`` (v* below eq. 51 for c = 0); no cubic term, ``u = v_s ln(d / (v_s
+    (c - alpha1)))`` (ln(10)/2 for the bSTAB case)."""
+    d = p[RY] - p[RK]
+    a2 = p[A2]
+    lin = p[C] - p[A1]
+    if d == 0.0:
+        if a2 == 0.0:
+            return 0, (np.inf if lin < 0.0 else np.nan), np.nan
+        if lin > 0.0:
+            return 0, np.nan, np.nan
+        return 1, math.sqrt(-lin / (3.0 * a2)), np.nan
+    g0 = damping_at(p, lw, 0.0)
+    if a2 == 0.0:
+        # g = lin - (d/v_s) exp(-u/v_s): monotone from g0 to lin
+        if g0 == 0.0:
+            return 1, 0.0, np.nan
+        if (g0 < 0.0) == (lin < 0.0) or lin == 0.0:
+            return 0, (np.inf if g0 < 0.0 else np.nan), np.nan
+        return 1, p[VS] * math.log(d / (p[VS] * lin)), np.nan
+    hi = _upper_bracket(p)
+    if d > 0.0:
+        if g0 >= 0.0:
+            return (1, 0.0, np.nan) if g0 == 0.0 else (0, np.nan, np.nan)
+        return 1, _bisect_root(p, 0.0, hi, True), np.nan
+    umin = _argmin(p, hi)
+    if damping_at(p, lw, umin) >= 0.0:
+        return 0, np.nan, np.nan
+    if g0 <= 0.0:
+        return 1, _bisect_root(p, umin, hi, True), np.nan
+    return 2, _bisect_root(p, 0.0, umin, False), _bisect_root(p, umin, hi, True)
+
+
+# --------------------------------------------------------------- normal form
+@kernel(inline="always")
+def nf_coefficients(p, lw):
+    m = p[M]
+    v = p[V]
+    va = abs(v)
+    omega = math.sqrt(p[K] / m)
+    qq = q(p, lw)
+    s2 = 3.0 * p[A2] * va
+    s3 = p[A2]
+    d = p[RY] - p[RK]
+    if d != 0.0:
+        e = d * math.exp(-va / p[VS])
+        s2 += e / (2.0 * p[VS] * p[VS])
+        s3 -= e / (6.0 * p[VS] ** 3)
+    c2 = s2 / m
+    c3 = s3 / m
+    beta = 3.0 * s3 / m * omega * omega / 8.0
+    sg = 1.0 if v > 0.0 else -1.0
+    return omega, qq, c2, c3, beta, sg, x_eq(p, lw)
+
+
+@kernel(inline="always")
+def normal_form_valid(p, lw):
+    """The polynomial law (the normal form's second-order term was measured on it; a
+    Stribeck term adds quintic and higher terms of the same order) with a
+    supercritical Hopf point (alpha2 > 0)."""
+    return p[RY] - p[RK] == 0.0 and p[A2] > 0.0 and p[V] != 0.0
+
+
+# ------------------------------------------------------ equilibrium certificate
+@kernel
+def certified_rest(x, zd, p, lw):
+    """The polynomial part of the secant slope S is exact, ``-alpha1 + alpha2 (3 v^2 -
+    3 v w + w^2)``, least at ``w = sgn(v) W`` for alpha2 >= 0 (its minimum in w lies
+    at 1.5 v, outside ``|w| <= W``; Params and Grid refuse alpha2 < 0); the Stribeck
+    term's slope is monotone, least at one end of ``|s + |v|| <= W``. A margin of
+    1e-12 of the terms' size keeps rounding from deciding."""
+    v = p[V]
+    if v == 0.0:
+        return False
+    if not q(p, lw) < 0.0:
+        return False
+    m = p[M]
+    y = x - x_eq(p, lw)
+    yd = zd + v
+    vel = math.sqrt(yd * yd + p[K] / m * y * y)     # sqrt(2E/m)
+    va = abs(v)
+    if not vel < va:
+        return False
+    poly = p[A2] * (3.0 * va * (va - vel) + vel * vel)
+    size = abs(p[C]) + abs(p[A1]) + 3.0 * p[A2] * va * va
+    d = p[RY] - p[RK]
+    smin = 0.0
+    if d != 0.0:
+        s_end = -va + vel if d > 0.0 else -va - vel  # where the Stribeck slope is least
+        smin = -d / p[VS] * math.exp(s_end / p[VS])
+        size += abs(d) / p[VS]
+    return p[C] - p[A1] + poly + smin > 1e-12 * size
+
+
+# ------------------------------------------------- closed forms (linear laws)
+@kernel(inline="always")
+def piecewise_linear(p, lw):
+    """No cubic and no Stribeck term: the sliding field is linear."""
+    return p[A2] == 0.0 and p[RY] - p[RK] == 0.0
+
+
+@kernel(inline="always")
+def arc_constants(s, p, lw):
+    """Sliding centre [cm], growth rate sigma [1/s] and beta^2 [1/s^2] of the linear
+    field: ``m x'' - (alpha1 - c) x' + k x = -r_y s - alpha1 v``."""
+    cen = (-p[RY] * s - p[A1] * p[V]) / p[K]
+    sig = (p[A1] - p[C]) / (2.0 * p[M])
+    b2 = p[K] / p[M] - sig * sig
+    return cen, sig, b2

@@ -1,0 +1,257 @@
+"""The kernels as the Python rooms call them: compiled on first use.
+
+A call's rows are grouped by the kernels' law kind (``sweepcore._kernels.laws``)
+and by method ("auto" resolved per row, :func:`methods_of`), and each group runs on
+the entry kernel of its method (``sweepcore._kernels.entries``), compiled for that
+(method, law kind) the first time it is used and loaded from numba's cache after
+that. While a kernel compiles, :data:`notice` (set by the command line) is told
+what is being compiled, an estimate of how long it takes, and the seconds elapsed.
+"""
+from __future__ import annotations
+
+import itertools
+import json
+import math
+import os
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import numba
+import numpy as np
+from numba.core import event
+
+from ._kernels import codes, entries, layout, stepper
+from ._kernels import laws as _kernel_laws
+from .laws import ANALYTIC
+
+EPS = np.finfo(np.float64).eps
+
+
+# ------------------------------------------------------------------ methods
+def methods_of(P: np.ndarray, laws, o: np.ndarray) -> np.ndarray:
+    """The method code of every row (int array): the option row's, or for "auto"
+    (``O_METHOD`` < 0) the closed form where the row's law has one, else dop853
+    below tol ``stepper.AUTO_DOP853_BELOW`` where the motion is far above float64's
+    rounding of x (``stepper.AUTO_DOP853_ROUNDING``), else dopri5."""
+    n = P.shape[0]
+    method = int(o[layout.O_METHOD])
+    if method >= 0:
+        return np.full(n, method, np.intp)
+    closed = np.zeros(n, bool)
+    static = np.zeros(n)
+    which = P[:, layout.LAW].astype(np.intp)
+    for i, law in enumerate(laws):
+        rows = which == i
+        if rows.any():
+            closed[rows] = law.closed_form(P[rows])
+            static[rows] = law.static_bound(P[rows])
+    with np.errstate(all="ignore"):
+        k, m, v = P[:, layout.K], P[:, layout.M], P[:, layout.V]
+        omega = np.sqrt(k / m)
+        lx = static / k + np.abs(v) / omega            # the kernels' length scale
+        lx = np.where(lx > 0.0, lx, 1.0)
+        lv = np.where(v != 0.0, np.abs(v), omega * lx)
+        rounding = EPS * lx * omega / np.maximum(lv, 1e-300)
+    pair = np.where((o[layout.O_RTOL] < stepper.AUTO_DOP853_BELOW)
+                    & (rounding <= stepper.AUTO_DOP853_ROUNDING),
+                    stepper.DOP853, stepper.DOPRI5)
+    return np.where(closed, stepper.EXACT, pair).astype(np.intp)
+
+
+def groups(P: np.ndarray, laws, o: np.ndarray):
+    """``[(method, kind, rows, law data)]``: the rows of P (indices) that share a
+    method code and a law kind, with the kind's law data."""
+    method = methods_of(P, laws, o)
+    which = P[:, layout.LAW].astype(np.intp)
+    out = []
+    for i, law in enumerate(laws):
+        mine = np.flatnonzero(which == i)
+        if not mine.size:
+            continue
+        for kind, sub, lw in law.kernel_groups(P[mine]):
+            rows = mine[sub]
+            for meth in np.unique(method[rows]):
+                out.append((int(meth), kind, rows[method[rows] == meth], lw))
+    return out
+
+
+def _sub(a: np.ndarray, rows: np.ndarray, n: int):
+    """``a[rows]`` contiguous, or ``a`` itself when the rows are all of it."""
+    if rows.size == n:
+        return a
+    return np.ascontiguousarray(a[rows])
+
+
+# ------------------------------------------------------------ the entry calls
+_POOL = []
+
+
+def attractors(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray,
+               parallel: bool = False) -> None:
+    """The attractor of every row of P into ``out`` (n, NOBS), on every numba thread
+    if ``parallel`` (:func:`_batched`)."""
+    for meth, kind, rows, lw in groups(P, laws, o):
+        sub = _sub(out, rows, P.shape[0])
+        with compiling("attractor", meth, kind):
+            _batched("attractor_rows", meth, _sub(P, rows, P.shape[0]), lw, o, (sub,),
+                     parallel)
+        if sub is not out:
+            out[rows] = sub
+
+
+def cycles(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray, found: np.ndarray,
+           parallel: bool = False) -> None:
+    """Every slip cycle of the rows of P (``out`` (n, MAX_CYCLES, NOBS), ``found``
+    (n,) int64), shared out as :func:`attractors`."""
+    n = P.shape[0]
+    for meth, kind, rows, lw in groups(P, laws, o):
+        sub_out, sub_found = _sub(out, rows, n), _sub(found, rows, n)
+        with compiling("cycle scan", meth, kind):
+            _batched("slip_cycles_rows", meth, _sub(P, rows, n), lw, o,
+                     (sub_out, sub_found), parallel)
+        if sub_out is not out:
+            out[rows] = sub_out
+            found[rows] = sub_found
+
+
+def _batched(name: str, meth: int, P, lw, o, outs, parallel: bool) -> None:
+    """The entry ``name`` over the rows of P, on every numba thread if ``parallel``.
+
+    Waking numba's thread pool costs ~2 ms a call, more than a small batch, and the
+    parallel kernel deals its ``LANES`` lanes to the threads in contiguous blocks, so
+    a batch of fewer rows than lanes runs on one thread only: batches below
+    ``threads * LANES`` rows are shared by Python threads instead, row by row (the
+    kernel releases the GIL)."""
+    n = P.shape[0]
+    threads = numba.get_num_threads() if parallel else 1
+    serial = entries.entry(name, meth)
+    if threads == 1 or n == 1:
+        serial(P, lw, o, *outs)
+    elif n >= threads * entries.LANES:
+        entries.entry(name + "_parallel", meth)(P, lw, o, *outs)
+    else:
+        if not _POOL:
+            _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="sweepcore"))
+        serial(P[:1], lw, o, *(a[:1] for a in outs))     # compile once, not per thread
+        P = np.ascontiguousarray(P)
+        rows = itertools.count(1)
+
+        def work(_):
+            for i in rows:
+                if i >= n:
+                    return
+                serial(P[i:i + 1], lw, o, *(a[i:i + 1] for a in outs))
+        list(_POOL[0].map(work, range(min(threads, n - 1))))
+
+
+def trajectory(row: np.ndarray, law, o: np.ndarray, *arrays):
+    """One run of the driver (``sweepcore._kernels.trajectory``) from ``row``, with
+    the law object ``law``; returns ``(n_events, status, n_steps, method)``."""
+    P = row[None, :]
+    ((meth, kind, _rows, lw),) = groups(P, (law,), o)
+    with compiling("trajectory", meth, kind):
+        n_ev, status, n_steps = entries.entry("trajectory", meth)(row, lw, o, *arrays)
+    return n_ev, status, n_steps, meth
+
+
+def options(row: np.ndarray, law, o: np.ndarray):
+    """``(option row, a-priori status)`` of one point: "auto" resolved, the default
+    dt and GPS shift filled in (``attractor.resolve_options``)."""
+    ((meth, kind, _rows, lw),) = groups(row[None, :], (law,), o)
+    with compiling("options", meth, kind):
+        return entries.entry("options", meth)(row, lw, o)
+
+
+# ------------------------------------------------------- while compiling
+notice = None       # callable(str) told about compilations (the command line: stderr)
+TICK = 5.0          # seconds between the lines of a long compilation
+ESTIMATES = Path(__file__).with_name("compile_estimates.json")
+
+
+def _what(entry: str, meth: int, kind: int) -> str:
+    return (f"the {entry} kernel for method {codes.METHOD_NAMES[meth]} and the "
+            f"{_kernel_laws.LAWS[kind][0]} law")
+
+
+def _estimates() -> dict:
+    """Compile seconds measured before: on this machine (numba's cache directory)
+    over the benchmark's (``python benchmarks/run.py``, shipped with the package)."""
+    out = {}
+    for path in (ESTIMATES, _local_estimates()):
+        try:
+            out.update(json.loads(Path(path).read_text()))
+        except (OSError, ValueError, TypeError):
+            pass
+    return out
+
+
+def _local_estimates() -> Path:
+    return Path(numba.config.CACHE_DIR or ".") / "sweepcore_compile_seconds.json"
+
+
+def _remember(key: str, seconds: float) -> None:
+    path = _local_estimates()
+    try:
+        known = json.loads(path.read_text()) if path.exists() else {}
+        known[key] = round(seconds, 1)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(json.dumps(known))
+        os.replace(tmp, path)
+    except (OSError, ValueError, TypeError):
+        pass
+
+
+class compiling:
+    """Context of one entry call: if numba compiles during it, tell :data:`notice`
+    what, how long it took before (estimate) and, every ``TICK`` s, the seconds
+    elapsed; the time is remembered for the next estimate."""
+
+    def __init__(self, entry: str, meth: int, kind: int):
+        self.key = f"{entry}/{codes.METHOD_NAMES[meth]}/{_kernel_laws.LAWS[kind][0]}"
+        self.what = _what(entry, meth, kind)
+        self.started = None
+        self.stop = threading.Event()
+
+    def __enter__(self):
+        self.listener = _Listener(self)
+        self.ctx = event.install_listener("numba:compile", self.listener)
+        self.ctx.__enter__()
+        return self
+
+    def __exit__(self, *exc):
+        self.ctx.__exit__(*exc)
+        self.stop.set()
+        if self.started is not None:
+            took = time.perf_counter() - self.started
+            _remember(self.key, took)
+            if notice is not None:
+                notice(f"sweepcore: compiled {self.what} in {took:.1f} s (cached for "
+                       "later runs)")
+        return False
+
+    def begin(self):
+        self.started = time.perf_counter()
+        if notice is None:
+            return
+        known = _estimates().get(self.key)
+        guess = f", about {known:g} s measured before" if known else ""
+        notice(f"sweepcore: compiling {self.what} (first use{guess})")
+        threading.Thread(target=self._tick, daemon=True).start()
+
+    def _tick(self):
+        while not self.stop.wait(TICK):
+            notice(f"sweepcore: ... compiling, {time.perf_counter() - self.started:.0f} s")
+
+
+class _Listener(event.Listener):
+    def __init__(self, owner: compiling):
+        self.owner = owner
+
+    def on_start(self, ev):
+        if self.owner.started is None:
+            self.owner.begin()
+
+    def on_end(self, ev):
+        pass
