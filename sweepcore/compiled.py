@@ -117,33 +117,38 @@ def cycles(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray, found: np.ndarra
 
 
 def _batched(name: str, meth: int, P, lw, o, outs, parallel: bool) -> None:
-    """The entry ``name`` over the rows of P, on every numba thread if ``parallel``.
+    """The entry ``name`` over the rows of P; with ``parallel``, on
+    ``numba.get_num_threads()`` Python threads (the kernels release the GIL).
 
-    Waking numba's thread pool costs ~2 ms a call, more than a small batch, and the
-    parallel kernel deals its ``LANES`` lanes to the threads in contiguous blocks, so
-    a batch of fewer rows than lanes runs on one thread only: batches below
-    ``threads * LANES`` rows are shared by Python threads instead, row by row (the
-    kernel releases the GIL)."""
+    The threads take blocks of ``BLOCK`` consecutive rows in turn from a shared
+    counter, so a thread that drew costly points (slip cycles next to v* cost ~10x
+    a stick-slip point) takes fewer blocks: the load balances itself. Rows are
+    contiguous in P, so a block is a view, not a copy; every point is computed on
+    its own, so the result does not depend on the split. (One compiled kernel
+    serves this path, the serial one and dask's.)"""
     n = P.shape[0]
-    threads = numba.get_num_threads() if parallel else 1
-    serial = entries.entry(name, meth)
-    if threads == 1 or n == 1:
-        serial(P, lw, o, *outs)
-    elif n >= threads * entries.LANES:
-        entries.entry(name + "_parallel", meth)(P, lw, o, *outs)
-    else:
-        if not _POOL:
-            _POOL.append(ThreadPoolExecutor(threads, thread_name_prefix="sweepcore"))
-        serial(P[:1], lw, o, *(a[:1] for a in outs))     # compile once, not per thread
-        P = np.ascontiguousarray(P)
-        rows = itertools.count(1)
+    kernel = entries.entry(name, meth)
+    threads = min(numba.get_num_threads(), n) if parallel else 1
+    if threads <= 1:
+        kernel(P, lw, o, *outs)
+        return
+    if not _POOL or _POOL[0][0] != threads:
+        _POOL[:] = [(threads, ThreadPoolExecutor(threads, thread_name_prefix="sweepcore"))]
+    kernel(P[:1], lw, o, *(a[:1] for a in outs))       # compile once, not per thread
+    block = max(1, min(BLOCK, (n - 1) // (4 * threads)))
+    starts = itertools.count(1, block)
+    P = np.ascontiguousarray(P)
 
-        def work(_):
-            for i in rows:
-                if i >= n:
-                    return
-                serial(P[i:i + 1], lw, o, *(a[i:i + 1] for a in outs))
-        list(_POOL[0].map(work, range(min(threads, n - 1))))
+    def work(_):
+        for a in starts:
+            if a >= n:
+                return
+            b = min(a + block, n)
+            kernel(P[a:b], lw, o, *(x[a:b] for x in outs))
+    list(_POOL[0][1].map(work, range(threads)))
+
+
+BLOCK = 32      # rows a thread takes at a time
 
 
 def trajectory(row: np.ndarray, law, o: np.ndarray, *arrays):

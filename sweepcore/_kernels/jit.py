@@ -8,6 +8,10 @@
   zero check on every division of the hot loop.
 * no ``fastmath``: results must be bit-identical whatever the chunking, scheduler or
   number of workers.
+* no CPython wrapper but for the entry points (``entry=True``): the kernels call
+  each other, and the wrapper that unboxes Python arguments is code numba would
+  generate and compile for every one of them (~12 % of a cold compilation).
+  ``python_callable`` gives a test a callable copy of an internal kernel.
 
 Compile-time choices (the friction law's kind, the stepper) are made by numba's
 ``overload``: a call of an interface function (``law.py``, ``stepper.step``) is typed
@@ -17,13 +21,20 @@ are compiled with.
 """
 from numba import njit
 
-OVERLOAD_OPTIONS = {"cache": True, "error_model": "numpy"}
+OVERLOAD_OPTIONS = {"cache": True, "error_model": "numpy", "no_cpython_wrapper": True}
 
 
-def kernel(fn=None, **options):
-    """``numba.njit`` with the project's options; extra options (inline, nogil,
-    parallel) are passed on."""
+def kernel(fn=None, entry=False, **options):
+    """``numba.njit`` with the project's options; ``entry=True`` for a kernel that
+    Python calls; extra options (inline, nogil, parallel) are passed on."""
     opts = {**OVERLOAD_OPTIONS, **options}
+    if entry:
+        del opts["no_cpython_wrapper"]
     if fn is not None:
         return njit(**opts)(fn)
     return njit(**opts)
+
+
+def python_callable(fn):
+    """A copy of the internal kernel ``fn`` that Python can call (for tests)."""
+    return njit(cache=False, error_model="numpy")(fn.py_func)

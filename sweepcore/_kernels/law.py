@@ -440,7 +440,7 @@ def derived_value(p, lw, which):
     return first_lyapunov(p, lw, u1) if n > 0 else np.nan
 
 
-@kernel
+@kernel(entry=True)
 def derived_rows(P, lw, which, out):
     """``derived_value(P[i], lw, which)`` for every row of P into ``out[i]``."""
     for i in range(P.shape[0]):

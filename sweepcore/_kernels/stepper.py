@@ -91,7 +91,10 @@ def step(meth, x, zd, h, s, p, lw, o, want_q):
 @overload(step, prefer_literal=True, jit_options=OVERLOAD_OPTIONS)
 def _step(meth, x, zd, h, s, p, lw, o, want_q):
     fn = METHODS[_method(meth)][6]
-    return lambda meth, x, zd, h, s, p, lw, o, want_q: fn(x, zd, h, s, p, lw, o, want_q)
+    # bool(): want_q is a constant at every call site; as a literal it would compile
+    # the stepper once per value, as a plain bool once (the branch costs nothing)
+    return lambda meth, x, zd, h, s, p, lw, o, want_q: fn(x, zd, h, s, p, lw, o,
+                                                          bool(want_q))
 
 
 def proposal(meth, x, zd, s, p, lw, o, h_prev):
