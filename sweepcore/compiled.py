@@ -13,6 +13,8 @@ import itertools
 import json
 import math
 import os
+import subprocess
+import sys
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
@@ -94,6 +96,8 @@ def attractors(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray,
     if ``parallel`` (:func:`_batched`)."""
     for meth, kind, rows, lw in groups(P, laws, o):
         sub = _sub(out, rows, P.shape[0])
+        if parallel:
+            _prefetch(meth, kind)
         with compiling("attractor", meth, kind):
             _batched("attractor_rows", meth, _sub(P, rows, P.shape[0]), lw, o, (sub,),
                      parallel)
@@ -167,6 +171,34 @@ def options(row: np.ndarray, law, o: np.ndarray):
     ((meth, kind, _rows, lw),) = groups(row[None, :], (law,), o)
     with compiling("options", meth, kind):
         return entries.entry("options", meth)(row, lw, o)
+
+
+# ------------------------------------------------------- a second compiler
+PREFETCH = True     # compile half of a cold attractor kernel in a second process
+_prefetched = set()
+
+
+def _prefetch(meth: int, kind: int) -> None:
+    """Start ``sweepcore._kernels.prefetch`` for (method, kind) once per process,
+    where the cache lacks its search half and a second core is there to run it."""
+    if not PREFETCH or (meth, kind) in _prefetched or (os.cpu_count() or 1) < 2:
+        return
+    _prefetched.add((meth, kind))
+    from ._kernels import attractor, prefetch
+    name = _kernel_laws.LAWS[kind][0]
+    try:
+        if prefetch.cached(attractor.on_event, prefetch.search_signature(meth, name)):
+            return
+        subprocess.Popen([sys.executable, "-m", "sweepcore._kernels.prefetch", str(meth),
+                          name], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                         stderr=subprocess.DEVNULL, env={**os.environ,
+                                                         "NUMBA_CACHE_DIR": _cache_dir()})
+    except (OSError, ValueError):
+        pass                 # no second process: this one compiles it all
+
+
+def _cache_dir() -> str:
+    return str(numba.config.CACHE_DIR)
 
 
 # ------------------------------------------------------- while compiling

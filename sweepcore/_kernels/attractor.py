@@ -52,8 +52,7 @@ from .stepper import CLOSED_FORM
 
 EPS = np.finfo(np.float64).eps
 
-__all__ = ["RTOL_FLOOR", "attractor_point", "attractor_rows", "resolve_options",
-           "method_status"]
+__all__ = ["RTOL_FLOOR", "attractor_point", "resolve_options", "method_status"]
 
 
 # ------------------------------------------------------------- the answers
@@ -198,7 +197,7 @@ def setup(meth, p, lw, o, st, w, acc):
 
 
 # ------------------------------------------------------------ the events
-@kernel
+@kernel(inline="always")
 def next_event(meth, st, p, lw, o, w, acc):
     """Advance the driver to its next event and add the interval to the cycle's and
     the section's accumulators. Clocks: st[S_T] is local and set back to 0 after
@@ -351,7 +350,7 @@ def finish(action, value, st, p, lw, w, acc, out):
 
 
 # ------------------------------------------------------------- entry points
-@kernel
+@kernel(inline="always")
 def attractor_point(meth, p, lw, o_in, out):
     """Fill ``out`` (layout OB_*) with the attractor observables of one point.
 
@@ -390,11 +389,3 @@ def attractor_point(meth, p, lw, o_in, out):
     if status == codes.OK:
         status = codes.STEP_BUDGET        # the loop itself ran out
     answer_failure(out, w, acc, status, st[S_N], meth == codes.EXACT)
-
-
-
-@kernel
-def attractor_rows(meth, P, lw, o, out):
-    """``attractor_point`` over the rows of P (one law, one method)."""
-    for i in range(P.shape[0]):
-        attractor_point(meth, P[i], lw, o, out[i])

@@ -419,7 +419,7 @@ def _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1):
         _note_x(acc, xv, zv + p[V])
 
 
-@kernel
+@kernel(inline="always")
 def advance(meth, st, p, lw, o, acc, t_stop):
     """Advance to the next event or to t_stop; returns (event, status)."""
     if st[S_MODE] == codes.STICK:

@@ -9,7 +9,7 @@ from .layout import (A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, NA, NS, S_MODE, S_N, S_T,
                      X0, XD0)
 
 
-@kernel
+@kernel(entry=True)
 def fresh_acc():
     """Accumulators with empty extrema."""
     acc = np.zeros(NA)
