@@ -25,12 +25,17 @@ from .diagram import bifurcation_diagram
 from .grid import Grid
 from .io import check_cf, open_result, write_netcdf
 from .labels import version as _version
+from .laws import OBJECTS as _LAW_CLASSES
 from .params import Params
 from .simulate import simulate
 from .sizing import SweepTooLarge, estimate
 from .sweep import sweep
 
 __version__ = _version()
+# the friction laws given as objects (law=): every class of the law table
+# (sweepcore.laws.LAWS), by its name: sweepcore.TableLaw, sweepcore.LeineLaw, ...
+LAWS = tuple(cls.__name__ for cls in _LAW_CLASSES)
+globals().update({cls.__name__: cls for cls in _LAW_CLASSES})
 
 PLOTS = ("plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
          "plot_friction", "plot_diagram", "plot_hysteresis", "plot_boundaries",
@@ -40,7 +45,7 @@ __all__ = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "est
            "SweepTooLarge",
            "hopf_boundary", "locate_boundaries", "continue_boundary",
            "bifurcation_diagram", "slip_cycles", "basin_stability",
-           "open_result", "write_netcdf", "check_cf", *PLOTS,
+           "open_result", "write_netcdf", "check_cf", *PLOTS, *LAWS,
            "__version__"]
 
 

@@ -124,8 +124,10 @@ def _over(coords, name: str, formula, laws=(ANALYTIC,)) -> xr.DataArray:
     broadcast by dimension name (dask arrays stay lazy); with several ``laws`` (the
     ``law`` dimension of ``coords``) one law at a time, stacked along ``law``."""
     if len(laws) > 1:
-        return xr.concat([_over(coords, name, formula, (one,)) for one in laws],
-                         dim=LAW_DIM)
+        parts = [_over(coords, name, formula, (one,)) for one in laws]
+        if isinstance(parts[0], xr.Variable):
+            return xr.Variable.concat(parts, dim=LAW_DIM)
+        return xr.concat(parts, dim=LAW_DIM)
     one = laws[0]
     names = law.names_of(name, {"law": None if one is ANALYTIC else one})
     given = [n for n in names if n in coords]      # absent: the law's default
@@ -154,3 +156,47 @@ def stick_onset_estimate(coords, laws=(ANALYTIC,)) -> xr.DataArray:
     da = _over(coords, "v_star", law.stick_onset_estimate, laws)
     da.attrs = attrs(*variables.STICK_ONSET_ESTIMATE)
     return da
+
+
+# ------------------------------------------------------------ the law of a result
+def law_labels(laws) -> tuple[dict, dict]:
+    """``(attrs, variables)`` that say which friction law a result used: for one law
+    object its attributes (``FrictionLaw.attrs``) and its table (``law_speed``,
+    ``law_force`` on ``law_point``, where it has one); for a ``law`` dimension each
+    attribute as a variable over ``law`` and the tables side by side (NaN-padded)."""
+    laws = tuple(one for one in laws if one is not ANALYTIC)
+    if not laws:
+        return {}, {}
+    tables = [one.table() for one in laws]
+    if len(laws) == 1:
+        variables = {}
+        if tables[0] is not None:
+            speed, force = tables[0]
+            variables = {"law_speed": xr.Variable("law_point", speed, TABLE_SPEED),
+                         "law_force": xr.Variable("law_point", force, TABLE_FORCE)}
+        return dict(laws[0].attrs()), variables
+    keys = [k for one in laws for k in one.attrs() if k != "law"]
+    variables = {}
+    for key in dict.fromkeys(keys):
+        vals = [one.attrs().get(key) for one in laws]
+        if all(isinstance(v, (int, float)) or v is None for v in vals):
+            data = np.array([np.nan if v is None else v for v in vals], np.float64)
+        else:
+            data = np.array(["" if v is None else str(v) for v in vals])
+        variables[key] = xr.Variable(LAW_DIM, data, {"long_name": key.replace("_", " ")})
+    n = max((t[0].size for t in tables if t is not None), default=0)
+    if n:
+        pad = np.full((len(laws), 2, n), np.nan)
+        for i, t in enumerate(tables):
+            if t is not None:
+                pad[i, :, :t[0].size] = t
+        variables["law_speed"] = xr.Variable((LAW_DIM, "law_point"), pad[:, 0], TABLE_SPEED)
+        variables["law_force"] = xr.Variable((LAW_DIM, "law_point"), pad[:, 1], TABLE_FORCE)
+    return {}, variables
+
+
+TABLE_SPEED = {"units": "cm s-1", "long_name": "relative speed of the friction table",
+               "comment": "the points the law was given (TableLaw); NaN: padding"}
+TABLE_FORCE = {"units": "kN", "long_name": "friction force of the friction table",
+               "comment": "F at law_speed, as given (the representation: see "
+                          "law_deviation)"}

@@ -38,6 +38,7 @@ from .options import METHODS
 from .params import LONG_NAMES, RULES, UNITS, check_real
 from .study_basins import basins_table
 from .study_boundary import boundary_table
+from .study_law import law_table
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -46,13 +47,13 @@ else:  # pragma: no cover - Python 3.10
 
 # axis name -> check_real keywords (the Params / initial-state rules)
 AXIS_RULES = RULES
-REQUIRED_AXES = ("m", "k", "r_y", "v")
+REQUIRED_AXES = ("m", "k", "r_y", "v")      # r_y: unless [law] gives the law
 SPACINGS = ("linear", "geometric")
 RANGE_KEYS = ("start", "stop", "num", "spacing")
 MAX_POINTS = 50_000_000
 
-TOP_KEYS = ("title", "description", "axes", "solver", "output", "plot", "boundary",
-            "basins")
+TOP_KEYS = ("title", "description", "axes", "law", "solver", "output", "plot",
+            "boundary", "basins")
 SOLVER_KEYS = ("method", "tol", "chunks", "dt", "max_steps", "max_periods", "gps_a",
                "graze")
 OUTPUT_KEYS = ("path", "png")
@@ -124,6 +125,7 @@ class Study:
     plot: dict = field(default_factory=dict)
     boundary: dict = field(default_factory=dict)
     basins: dict = field(default_factory=dict)
+    law: object = None
 
     @property
     def stem(self) -> str:
@@ -138,8 +140,12 @@ class Study:
         return int(np.prod(self.shape)) if self.shape else 1
 
     def grid_kwargs(self) -> dict:
-        """Keyword arguments of :class:`sweepcore.grid.Grid`, in file order."""
-        return {name: ax.value() for name, ax in self.axes.items()}
+        """Keyword arguments of :class:`sweepcore.grid.Grid`, in file order (and the
+        law object of ``[law]``)."""
+        kw = {name: ax.value() for name, ax in self.axes.items()}
+        if self.law is not None:
+            kw["law"] = self.law
+        return kw
 
     def grid(self):
         """The :class:`sweepcore.grid.Grid` of this study."""
@@ -301,6 +307,8 @@ def _axes(ck: _Checker, doc: dict) -> dict:
     table = ck.table(doc, "axes")
     ck.known(table, tuple(AXIS_RULES), ("axes",))
     for name in REQUIRED_AXES:
+        if name == "r_y" and "law" in doc:
+            continue                    # the [law] table gives the friction law
         if name not in table:
             raise StudyError(
                 f"missing axis {name!r} ({LONG_NAMES[name]} [{UNITS[name]}]); "
@@ -426,6 +434,7 @@ def parse_study(text: str, path: str | Path | None = None) -> Study:
     title = ck.string(("title",), doc.get("title", Path(path).stem if path else "study"))
     description = ck.string(("description",), doc.get("description", ""))
     axes = _axes(ck, doc)
+    law = law_table(ck, doc, axes, path)
     solver = _solver(ck, doc)
     output = _output(ck, doc)
     plot = _plot(ck, doc, axes)
@@ -435,7 +444,7 @@ def parse_study(text: str, path: str | Path | None = None) -> Study:
                   description=description, axes=axes, method=solver["method"],
                   tol=solver["tol"], chunks=solver["chunks"], options=solver["options"],
                   output_path=output["path"], png=output["png"], plot=plot,
-                  boundary=boundary, basins=basins)
+                  boundary=boundary, basins=basins, law=law)
     if study.method != "auto":
         from .options import check_method
         try:

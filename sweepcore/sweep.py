@@ -426,6 +426,9 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
     })
     if grid.xdot0 is None:
         ds.attrs["initial_velocity"] = "xdot0 = v: every point starts stuck on the belt"
+    law_attrs, law_variables = labels.law_labels(grid.laws)
+    ds.attrs.update(law_attrs)
+    ds = ds.assign(law_variables)
     labels.mark_spacing(ds)
     # the belt speed last: xarray's default 2-D plot puts the last dimension on x
     return ds.transpose(..., "v") if "v" in ds.dims else ds

@@ -12,7 +12,8 @@ import pytest
 import sweepcore as sc
 from sweepcore.cycles import clipped_area, cycle_polygon
 from sweepcore._kernels import layout as L
-from sweepcore._kernels.cycles import MAX_CYCLES, slip_cycles
+from sweepcore import compiled
+from sweepcore._kernels.cycles import MAX_CYCLES
 from sweepcore.options import make_options
 
 from reference import reference_basin_fraction, reference_slip_cycle
@@ -208,8 +209,11 @@ def test_polygon_area_is_the_kernels_quadrature():
     """The whole cycle's polygon area against the kernel's own quadrature of the
     cycle (cycle_size = sqrt(area / pi) in (x, xdot / omega), from int xdot^2 dt)."""
     p = sc.Params(**BSTAB, v=1.5)
-    out = np.empty((MAX_CYCLES, L.NOBS))
-    assert slip_cycles(p.row(0.0, p.v), make_options(), out) == 1
+    out = np.empty((1, MAX_CYCLES, L.NOBS))
+    found = np.zeros(1, np.int64)
+    compiled.cycles(p.row(0.0, p.v)[None, :], (p.friction_law,), make_options(), out, found)
+    assert found[0] == 1
+    out = out[0]
     x, xd, _gap, ok = cycle_polygon(p.row(0.0, p.v), out[0], make_options(), 8192)
     area, _ = clipped_area(x, xd, ((-9.0, 9.0), (-9.0, 9.0)))
     assert ok and area == pytest.approx(np.pi * out[0, L.OB_CYCLE_SIZE] ** 2 * p.omega,

@@ -6,7 +6,8 @@ import pytest
 
 import sweepcore as sc
 from sweepcore._kernels import codes, layout as L
-from sweepcore._kernels.cycles import MAX_CYCLES, slip_cycles, slip_cycles_rows_parallel
+from sweepcore import compiled
+from sweepcore._kernels.cycles import MAX_CYCLES
 from sweepcore.options import make_options
 
 from reference import reference_slip_cycle
@@ -17,9 +18,12 @@ SUPER = dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.5, c=0.02, alpha1=0.6, alpha2
 
 
 def cycles(p):
-    out = np.empty((MAX_CYCLES, L.NOBS))
-    n = slip_cycles(p.row(0.0, p.v), make_options(), out)
-    return out[:n]
+    """The cycle scan of one point, on the kernel alone (serial)."""
+    out = np.empty((1, MAX_CYCLES, L.NOBS))
+    found = np.zeros(1, np.int64)
+    compiled.cycles(p.row(0.0, p.v)[None, :], (p.friction_law,), make_options(), out,
+                    found)
+    return out[0, :found[0]]
 
 
 @pytest.mark.parametrize("pars, v", [(BSTAB, 1.175), (BSTAB, 1.5), (BSTAB, 1.83),
@@ -64,7 +68,7 @@ def test_rows_kernel_equals_the_point_kernel():
     P = np.array([p.row(0.0, p.v) for p in ps])
     out = np.empty((len(ps), MAX_CYCLES, L.NOBS))
     found = np.empty(len(ps), np.int64)
-    slip_cycles_rows_parallel(P, make_options(), out, found)
+    compiled.cycles(P, (ps[0].friction_law,), make_options(), out, found, parallel=True)
     for i, p in enumerate(ps):
         want = cycles(p)
         assert found[i] == len(want)

@@ -99,11 +99,11 @@ def test_exact_with_a_cubic_term_is_refused_on_a_grid_and_flagged_per_point(no_w
         sweep(grid, method="exact", progress=False)
     names(err, "alpha2", "0.25", "exact")
 
+    from sweepcore import compiled
     from sweepcore._kernels import codes, layout
-    from sweepcore._kernels.attractor import attractor_rows
     from sweepcore.options import make_options
     out = np.empty((2, layout.NOBS))
-    attractor_rows(grid.rows(0, 2), make_options("exact"), out)
+    compiled.attractors(grid.rows(0, 2), grid.laws, make_options("exact"), out)
     assert out[0, layout.OB_STATUS] == codes.OK
     assert out[1, layout.OB_STATUS] == codes.BAD_METHOD
     assert out[1, layout.OB_REGIME] == codes.R_FAILED

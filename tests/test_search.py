@@ -11,18 +11,20 @@ import math
 import numpy as np
 import pytest
 
-from sweepcore._kernels import codes, layout, sections as S
-from sweepcore._kernels.attractor import attractor_point
+from sweepcore._kernels import codes, entries, layout, sections as S, stepper
+from sweepcore._kernels.jit import python_callable
+from sweepcore._kernels.laws.analytic import Polynomial
 from sweepcore.options import make_options
 
 TOL, LX, XE = 1e-8, 1.0, 0.0
+newton_decision = python_callable(S.newton_decision)
 
 
 def decide(a0, a1, dP, e1=0, e2=0, rtol_h0=1e-8, rtol_h1=1e-8, rtol=1e-8,
            after_jump=False, err_jump=0.0, rest=0, nf_here=False, on_nf=False,
            a_nf=math.nan):
-    return S.newton_decision(a0, a1, dP, XE, e1, e2, rtol_h0, rtol_h1, rtol, TOL, LX,
-                             after_jump, err_jump, rest, nf_here, on_nf, a_nf)
+    return newton_decision(a0, a1, dP, XE, e1, e2, rtol_h0, rtol_h1, rtol, TOL, LX,
+                           after_jump, err_jump, rest, nf_here, on_nf, a_nf)
 
 
 def linear_return(a0, a_star, lam):
@@ -145,7 +147,7 @@ def test_entry_kernel_refuses_rows_of_the_wrong_length(bad):
     o = make_options()
     if bad == "o":
         o = np.append(o, 0.0)
-    out = np.zeros(layout.NOBS + (2 if bad == "out" else 0))
-    attractor_point(p, o, out)
-    assert out[layout.OB_STATUS] == codes.BAD_ROW
-    assert out[layout.OB_REGIME] == codes.R_FAILED
+    out = np.zeros((1, layout.NOBS + (2 if bad == "out" else 0)))
+    entries.entry("attractor_rows", stepper.DOP853)(p[None, :], Polynomial(), o, out)
+    assert out[0, layout.OB_STATUS] == codes.BAD_ROW
+    assert out[0, layout.OB_REGIME] == codes.R_FAILED

@@ -18,7 +18,8 @@ import sweepcore as sc
 import importlib
 sweep_mod = importlib.import_module("sweepcore.sweep")  # the package attribute is the function
 from sweepcore._kernels import codes, layout
-from sweepcore._kernels.attractor import attractor_rows
+from sweepcore import compiled
+from sweepcore.laws import ANALYTIC
 from sweepcore.boundary import hopf_boundary
 from sweepcore.grid import Grid
 from sweepcore import law
@@ -29,6 +30,9 @@ from sweepcore.variables import OBSERVABLES
 
 # independent of sweepcore.grid: the kernel row's column order (layout.py)
 AXES = ("m", "k", "r_y", "v", "alpha1", "alpha2", "c", "r_k", "v_s", "x0", "xdot0")
+COLUMN = {"m": layout.M, "k": layout.K, "r_y": layout.RY, "v": layout.V,
+          "alpha1": layout.A1, "alpha2": layout.A2, "c": layout.C, "r_k": layout.RK,
+          "v_s": layout.VS, "x0": layout.X0, "xdot0": layout.XD0}
 BASE = dict(m=5.0, k=50.0, r_y=10.0, v=1.0)
 # closed-form (alpha2 = 0) and integrated (alpha2 > 0) points, two starts
 MIXED = dict(m=[4.0, 5.0], k=50.0, r_y=10.0, v=[0.5, 3.0, 6.0], alpha1=1.0,
@@ -49,7 +53,10 @@ def product_rows(**axes):
             row["r_k"] = row["r_y"]
         if row["v_s"] is None:
             row["v_s"] = np.nan
-        rows.append([float(row[n]) for n in AXES])
+        r = np.zeros(layout.NP)                  # the law's index (layout.LAW) 0
+        for n in AXES:
+            r[COLUMN[n]] = float(row[n])
+        rows.append(r)
     return np.array(rows)
 
 
@@ -57,7 +64,8 @@ def per_point(rows, o):
     """The serial kernel called on one row at a time."""
     out = np.empty((len(rows), layout.NOBS))
     for i, row in enumerate(rows):
-        attractor_rows(np.ascontiguousarray(row[None, :]), o, out[i:i + 1])
+        compiled.attractors(np.ascontiguousarray(row[None, :]), (ANALYTIC,), o,
+                            out[i:i + 1])
     return out
 
 
@@ -338,12 +346,12 @@ def test_computation_memory_follows_the_chunk_not_the_grid(warm_sweep, monkeypat
     grid = Grid(m=np.linspace(1.0, 2.0, 24), k=np.linspace(20.0, 40.0, 20), r_y=5.0,
                 v=np.linspace(0.1, 5.0, 100))                         # 48 000 points
     seen = []
-    real = sweep_mod.attractor_rows_parallel
+    real = sweep_mod.execute.attractors
 
-    def spy(P, o, out):
+    def spy(P, laws, o, out, parallel):
         seen.append(len(P))
-        real(P, o, out)
-    monkeypatch.setattr(sweep_mod, "attractor_rows_parallel", spy)
+        real(P, laws, o, out, parallel)
+    monkeypatch.setattr(sweep_mod.execute, "attractors", spy)
 
     def peak(chunks):
         tracemalloc.start()

@@ -60,12 +60,13 @@ def _implementation(stub, lw):
     return getattr(fn, "py_func", fn)
 
 
-def interface(inline=False):
-    """Declare ``stub`` a law function resolved by the class of its argument ``lw``;
-    the stub's body, where it has one, is the generic form."""
+def interface(required=False, inline=False):
+    """Declare ``stub`` a law function resolved by the class of its argument ``lw``:
+    the kind module's function of that name, else the stub's own body (its generic
+    form); ``required``: a primitive every kind defines (no generic form)."""
     def declare(stub):
         at = list(inspect.signature(stub).parameters).index("lw")
-        if stub.__code__.co_code != _no_body.__code__.co_code:
+        if not required:
             _DEFAULTS[stub.__name__] = stub
 
         def typer(*args):
@@ -77,28 +78,24 @@ def interface(inline=False):
     return declare
 
 
-def _no_body(lw):
-    """(a stub without a generic form)"""
-
-
 # ------------------------------------------------------- the kind's primitives
-@interface()
+@interface(required=True)
 def force(lw, cf, zd, s):
     """F(zd) [kN] while sliding with sign s, from ``cf = constants(p, lw, s)``."""
 
 
-@interface()
+@interface(required=True)
 def derivatives(p, lw, zd):
     """``(F'(zd), F''(zd), F'''(zd))`` [kN s/cm, kN s^2/cm^2, kN s^3/cm^3], zd != 0."""
 
 
-@interface()
+@interface(required=True)
 def static_limits(p, lw):
     """``(r_pos, r_neg)`` [kN]: a stuck slider holds while ``-r_pos <= k x + c v <=
     r_neg`` (the largest forces sticking holds on either side)."""
 
 
-@interface()
+@interface(required=True)
 def slope_bound(p, lw, lo, hi):
     """A lower bound of F' on [lo, hi] [kN s/cm]."""
 

@@ -213,11 +213,9 @@ def cmd_plot(args) -> int:
 def cmd_simulate(args) -> int:
     """``sweepcore simulate``: one slider, Fig. 3 style."""
     from ..io import write_netcdf
-    from ..params import Params
     from ..simulate import simulate
 
-    p = Params(m=args.m, k=args.k, r_y=args.r_y, v=args.v, alpha1=args.alpha1,
-               alpha2=args.alpha2, c=args.c, r_k=args.r_k, v_s=args.v_s)
+    p = _simulated_params(args)
     for path, suffix in ((args.output, ".nc"), (args.png, ".png")):
         if path is not None and Path(path).suffix.lower() != suffix:
             raise UsageError(f"{path!r} must end in {suffix}")
@@ -244,6 +242,27 @@ def cmd_simulate(args) -> int:
     if not (args.output or args.png):
         print("(nothing written: give -o RUN.nc and/or --png FIG.png)")
     return 0
+
+
+def _simulated_params(args):
+    """The slider of ``sweepcore simulate``: the analytic law's options, or the law
+    of ``--law-table`` (then no analytic option may be given)."""
+    from ..params import Params
+    if args.law_table is None:
+        if args.static is not None or args.smoothing is not None:
+            raise UsageError("--static and --smoothing go with --law-table")
+        if args.r_y is None:
+            raise UsageError("give --r-y (the analytic law) or --law-table FILE.csv")
+        return Params(m=args.m, k=args.k, r_y=args.r_y, v=args.v, alpha1=args.alpha1,
+                      alpha2=args.alpha2, c=args.c, r_k=args.r_k, v_s=args.v_s)
+    given = [f"--{n.replace('_', '-')}" for n in ("r_y", "r_k", "v_s")
+             if getattr(args, n) is not None]
+    given += [f"--{n}" for n in ("alpha1", "alpha2") if getattr(args, n) != 0.0]
+    if given:
+        raise UsageError(f"--law-table gives the friction law: drop {', '.join(given)}")
+    from ..laws import TableLaw
+    law = TableLaw.from_csv(args.law_table, static=args.static, smoothing=args.smoothing)
+    return Params(m=args.m, k=args.k, v=args.v, c=args.c, law=law)
 
 
 class SimulationFailed(RuntimeError):

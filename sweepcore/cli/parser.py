@@ -151,8 +151,8 @@ def _simulate_options(p):
     req = p.add_argument_group("slider (required)")
     req.add_argument("--m", type=float, required=True, help="mass [kN s^2/cm], > 0")
     req.add_argument("--k", type=float, required=True, help="stiffness [kN/cm], > 0")
-    req.add_argument("--r-y", dest="r_y", type=float, required=True,
-                     help="friction bound r_y [kN], >= 0")
+    p.add_argument("--r-y", dest="r_y", type=float, default=None,
+                   help="friction bound r_y [kN], >= 0 (required unless --law-table)")
     req.add_argument("--v", type=float, required=True, help="belt speed [cm/s]")
     p.add_argument("--alpha1", type=float, default=0.0,
                    help="linear friction-speed coefficient [kN s/cm] (default 0)")
@@ -166,6 +166,15 @@ def _simulate_options(p):
                         "(default r_y: no Stribeck term)")
     p.add_argument("--v-s", dest="v_s", type=float, default=None,
                    help="Stribeck speed [cm/s], > 0 (needed with --r-k)")
+    law = p.add_argument_group("a measured friction law (instead of --r-y ... --v-s)")
+    law.add_argument("--law-table", dest="law_table", metavar="FILE.csv", default=None,
+                     help="force against relative speed, header 'speed [cm/s],force "
+                          "[kN]' (m/s, mm/s; N too): sweepcore.TableLaw.from_csv")
+    law.add_argument("--static", type=float, default=None,
+                     help="largest force sticking holds [kN] (default F(0+))")
+    law.add_argument("--smoothing", type=float, default=None,
+                     help="noise of the forces [kN]: a smoothing fit (default: "
+                          "interpolate)")
     p.add_argument("--x0", type=float, default=0.0, help="initial position [cm] "
                                                          "(default 0)")
     p.add_argument("--xdot0", type=float, default=None,

@@ -8,15 +8,17 @@ family's parameters are keywords of ``Params`` and axes of ``Grid``; a law objec
 """
 from .analytic import ANALYTIC, AnalyticLaw
 from .base import FrictionLaw
+from .leine import LeineLaw
 from .table import TableLaw
 
 # law class, the kernel kinds it runs on
 LAWS = (
     (AnalyticLaw, ("polynomial", "stribeck")),
     (TableLaw, ("table",)),
+    (LeineLaw, ("leine",)),
 )
 OBJECTS = tuple(cls for cls, _kinds in LAWS if cls is not AnalyticLaw)
 LAW_DIM = "law"         # the dimension of a sweep over several law objects
 
 __all__ = ["ANALYTIC", "AnalyticLaw", "FrictionLaw", "LAWS", "LAW_DIM", "OBJECTS",
-           "TableLaw"]
+           *(cls.__name__ for cls in OBJECTS)]

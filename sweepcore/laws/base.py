@@ -71,6 +71,10 @@ class FrictionLaw:
         """Attributes that describe the law in a result file."""
         return {"law": self.name, "law_kind": self.kind}
 
+    def table(self):
+        """``(speed, force)`` arrays the law was given as, or None."""
+        return None
+
     def describe(self) -> str:
         """One line for summaries (the command line's "slider:" line)."""
         return f"law {self.name!r} ({self.kind})"

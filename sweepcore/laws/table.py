@@ -211,32 +211,35 @@ class TableLaw(FrictionLaw):
                 out = np.array([float(f(float(x))) for x in np.ravel(s)])
             return out
 
-        n = 16
+        pos = _samples(float(speed_max))
+        neg = None if speed_min is None else -_samples(-float(speed_min))[::-1]
         while True:
-            pos = _samples(0.0, float(speed_max), n)
-            neg = None if speed_min is None else -_samples(0.0, -float(speed_min), n)[::-1]
             speed = pos if neg is None else np.concatenate([neg, pos])
             # f at 0: its limit from the side (a law written with sign(s) is 0 there)
             at = np.where(speed == 0.0, np.where(np.signbit(speed), -ZERO, ZERO), speed)
             force = call(at)
             law = cls(speed, force, static=static, name=name or "function")
-            mids = [0.5 * (pos[1:] + pos[:-1])]
-            if neg is not None:
-                mids.append(0.5 * (neg[1:] + neg[:-1]))
-            check = np.concatenate(mids)
-            err = float(np.max(np.abs(law.force(check) - call(check))))
             scale = float(np.max(np.abs(force)))
-            if err <= tol * scale or 2 * n > max_points:
-                law.deviation = max(err, law.deviation)
+            worst = 0.0
+            refined = []
+            for branch in (pos,) if neg is None else (pos, neg):
+                mids = 0.5 * (branch[1:] + branch[:-1])
+                err = np.abs(law.force(mids) - call(mids))
+                worst = max(worst, float(err.max()))
+                refined.append(np.union1d(branch, mids[err > tol * scale]))
+            if worst <= tol * scale:
+                law.deviation = max(worst, law.deviation)
                 law.tol = tol
-                if err > tol * scale:
-                    raise ValueError(
-                        f"f is not represented to tol={tol:g} (relative) with "
-                        f"{n} samples a branch (max_points={max_points}): deviation "
-                        f"{err:.3g} kN; a discontinuity or a kink of f inside the "
-                        "range? Represent it piecewise, or raise tol")
                 return law
-            n *= 2
+            if sum(b.size for b in refined) > max_points:
+                raise ValueError(
+                    f"f is not represented to tol={tol:g} (relative) with "
+                    f"max_points={max_points} samples: deviation {worst:.3g} kN; a "
+                    "discontinuity or a kink of f inside the range? Represent it "
+                    "piecewise, or raise tol")
+            pos = refined[0]
+            if neg is not None:
+                neg = refined[1]
 
     @classmethod
     def from_csv(cls, path, static=None, name=None, smoothing=None):
@@ -305,6 +308,9 @@ class TableLaw(FrictionLaw):
     def static_limits(self):
         return self._limits
 
+    def table(self):
+        return self.speed, self.force_values
+
     def slope_scale(self, P):
         slopes = [np.abs(self._pos[2]).max(), np.abs(_end_slopes(self._pos)).max()]
         if not self.odd:
@@ -345,12 +351,11 @@ class TableLaw(FrictionLaw):
 
 
 # ------------------------------------------------------------------ the spline
-def _samples(lo: float, hi: float, n: int) -> np.ndarray:
-    """n + 1 speeds from lo = 0 to hi: half of them geometric near 0 (friction laws
-    change fastest at small speeds), the rest uniform."""
-    uni = np.linspace(lo, hi, n // 2 + 1)
-    geo = hi * np.geomspace(1e-4, 1.0 / (n // 2), n // 2)
-    return np.unique(np.concatenate([uni, geo]))
+def _samples(hi: float) -> np.ndarray:
+    """The first speeds of ``from_function`` on [0, hi]: 32 uniform and 16 geometric
+    from 1e-6 hi (friction laws change fastest at small speeds)."""
+    return np.unique(np.concatenate([np.linspace(0.0, hi, 33),
+                                     hi * np.geomspace(1e-6, 1.0 / 32, 16)]))
 
 
 def _fit(s, f, smoothing):

@@ -11,12 +11,13 @@ compiles nothing.
 Adding a kind: its module (the primitives listed in ``law.py``), one row here, the
 Python side's module under ``sweepcore/laws/`` and its row there, and tests.
 """
-from . import analytic, table
+from . import analytic, leine, table
 
 LAWS = (
     ("polynomial", analytic.Polynomial, analytic),   # Liu's eq. (40), r_k = r_y
     ("stribeck", analytic.Stribeck, analytic),       # ... with the Stribeck term
     ("table", table.Table, table),                    # a measured table, a function
+    ("leine", leine.Leine, leine),                    # Leine's decreasing law
 )
 MODULES = {row[1]: row[2] for row in LAWS}
 KIND_CODES = {row[0]: i for i, row in enumerate(LAWS)}

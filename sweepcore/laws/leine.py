@@ -1,0 +1,71 @@
+"""Leine's decreasing friction law on the Python side (``sweepcore._kernels.laws.leine``).
+
+``F(s) = F_s sgn(s) / (1 + delta |s|)``, sticking up to ``F_s``: the example of
+Leine & Nijmeijer, "Dynamics and Bifurcations of Non-Smooth Mechanical Systems"
+(Springer 2004), with k = m = F_s = 1, delta = 3 and belt speed 0.2.
+"""
+from __future__ import annotations
+
+import math
+import numbers
+
+import numpy as np
+
+from .._kernels.laws.leine import Leine
+from .base import FrictionLaw
+
+
+class LeineLaw(FrictionLaw):
+    """Leine's law: ``F(s) = f_s sgn(s) / (1 + delta |s|)``.
+
+    Parameters
+    ----------
+    f_s : float
+        Static friction force [kN], > 0 (also the largest force sticking holds).
+    delta : float
+        Decay rate of the force with the relative speed [s/cm], > 0.
+    name : str, optional
+        The law's label; default ``"leine"``.
+    """
+
+    kind = "leine"
+
+    def __init__(self, f_s, delta, name=None):
+        for label, val in (("f_s", f_s), ("delta", delta)):
+            if isinstance(val, bool) or not isinstance(val, numbers.Real) or \
+                    not (math.isfinite(val) and val > 0):
+                unit = "kN" if label == "f_s" else "s cm-1"
+                raise ValueError(f"{label} must be a finite number > 0 [{unit}], got "
+                                 f"{val!r}")
+        self.f_s, self.delta = float(f_s), float(delta)
+        self.name = "leine" if name is None else str(name)
+
+    def data(self):
+        return Leine(self.f_s, self.delta)
+
+    def force(self, zdot, phase=None):
+        zdot = np.asarray(zdot, np.float64)
+        s = np.sign(zdot) if phase is None else np.asarray(phase, np.float64)
+        return s * self.f_s / (1.0 + self.delta * np.abs(zdot))
+
+    def static_limits(self):
+        return self.f_s, self.f_s
+
+    def slope_scale(self, P):
+        return np.full(P.shape[0], self.f_s * self.delta)
+
+    def attrs(self):
+        return {"law": self.name, "law_kind": self.kind, "law_f_s": self.f_s,
+                "law_delta": self.delta}
+
+    def describe(self):
+        return f"Leine's law {self.name!r}: f_s = {self.f_s:g} kN, delta = {self.delta:g} s/cm"
+
+    def fingerprint(self):
+        return self.name.encode() + np.array([self.f_s, self.delta]).tobytes()
+
+    def __eq__(self, other):
+        return isinstance(other, LeineLaw) and (self.f_s, self.delta, self.name) == \
+            (other.f_s, other.delta, other.name)
+
+    __hash__ = None
