@@ -62,9 +62,27 @@ def rows(v, alpha2, alpha1=PAPER["alpha1"], x0=0.0, xdot0=None, product=True):
 def length_scale(P):
     """The kernels' length scale r_y/k + |v|/omega of each row [cm] (error unit)."""
     from sweepcore import law
-    from sweepcore._kernels import layout
-    w = law.derived("omega", {"m": P[:, layout.M], "k": P[:, layout.K]})
-    return P[:, layout.RY] / P[:, layout.K] + np.abs(P[:, layout.V]) / w
+    return law.length_scale(P)
+
+
+def kernel():
+    """``run(P, o, out, parallel)``: the attractor of every row of the paper's map
+    on the kernels of whatever sweepcore is importable (``sweepcore.compiled``; the
+    entry kernels ``attractor_rows``/``attractor_rows_parallel`` of versions before
+    it), so that a benchmark can probe an older checkout too."""
+    try:
+        from sweepcore import compiled
+        from sweepcore.laws import ANALYTIC
+    except ImportError:
+        from sweepcore._kernels.attractor import attractor_rows, attractor_rows_parallel
+
+        def run(P, o, out, parallel=True):
+            (attractor_rows_parallel if parallel else attractor_rows)(P, o, out)
+        return run
+
+    def run(P, o, out, parallel=True):
+        compiled.attractors(P, (ANALYTIC,), o, out, parallel)
+    return run
 
 
 # ------------------------------------------------------------------- timing
@@ -167,13 +185,7 @@ def threading_layer():
     try:
         return numba.threading_layer()
     except ValueError:
-        from sweepcore._kernels.layout import NOBS
-        from sweepcore._kernels.attractor import attractor_rows_parallel
-        from sweepcore.options import make_options
-        P = rows([1.0], [0.01])
-        out = np.empty((1, NOBS))
-        attractor_rows_parallel(P, make_options("auto"), out)
-        return numba.threading_layer()
+        return "none: the kernels run on Python threads (no numba parallel kernel ran)"
 
 
 def peak_rss_mib():

@@ -21,25 +21,25 @@ import numba  # noqa: E402,F401
 t_numba = time.perf_counter() - t0
 from benchmarks import common  # noqa: E402
 t1 = time.perf_counter()
-from sweepcore._kernels.attractor import attractor_rows, attractor_rows_parallel  # noqa: E402
 from sweepcore.options import make_options  # noqa: E402
 from sweepcore._kernels.layout import NOBS  # noqa: E402
 t_import = time.perf_counter() - t1
 rss_import = common.peak_rss_mib()
 
+run = common.kernel()
 nv, na = (int(a) for a in sys.argv[1:3])
 run_map = len(sys.argv) > 3 and sys.argv[3] == "map"
 o = make_options("auto", tol=1e-8)
 P_small = common.rows(*common.map_axes(8, 8))
 out_small = np.empty((P_small.shape[0], NOBS))
 t2 = time.perf_counter()
-attractor_rows_parallel(P_small, o, out_small)
+run(P_small, o, out_small, True)
 t_first_parallel = time.perf_counter() - t2
 t3 = time.perf_counter()
-attractor_rows(P_small, o, out_small)
+run(P_small, o, out_small, False)
 t_first_serial = time.perf_counter() - t3
 t4 = time.perf_counter()
-attractor_rows_parallel(P_small, o, out_small)
+run(P_small, o, out_small, True)
 t_second = time.perf_counter() - t4
 rss_compiled = common.peak_rss_mib()
 res = {"t_import_numba": t_numba, "t_import_kernels": t_import,
@@ -50,7 +50,7 @@ if run_map:
     P = common.rows(*common.map_axes(nv, na))
     out = np.empty((P.shape[0], NOBS))
     t5 = time.perf_counter()
-    attractor_rows_parallel(P, o, out)
+    run(P, o, out, True)
     res["t_map"] = time.perf_counter() - t5
     res["rss_after_map_mib"] = common.peak_rss_mib()
     res["map_arrays_mib"] = (P.nbytes + out.nbytes) / 2**20

@@ -37,9 +37,16 @@ def _fn_ast(fn):
 
 def _expandable(obj):
     """The Python function behind a call target that belongs to the counted code
-    (a numba kernel or a plain function of sweepcore's kernels or of peers.py)."""
+    (a numba kernel or a plain function of sweepcore's kernels or of peers.py). A
+    function of the law interface (``sweepcore/_kernels/law.py``) counts as the map's
+    law kind's (the polynomial law of ``laws/analytic.py``) where that kind defines
+    it: the interface resolves it so when it compiles."""
     f = getattr(obj, "py_func", obj)
     mod = getattr(f, "__module__", "") or ""
+    if mod == "sweepcore._kernels.law":
+        from sweepcore._kernels.laws import analytic
+        f = getattr(getattr(analytic, f.__name__, None), "py_func", f)
+        mod = f.__module__
     if inspect.isfunction(f) and (mod.startswith("sweepcore") or mod.endswith("peers")):
         return f
     return None
@@ -99,9 +106,14 @@ def count_flops(fn, skip_if=("want_q",)):
 
 
 def map_method(tol=1e-8):
-    """The stepper "auto" runs the map with (a smooth law far above rounding)."""
+    """The stepper "auto" runs the map with (the rule of ``sweepcore.compiled``)."""
+    from sweepcore import compiled
     from sweepcore._kernels import stepper
-    return stepper.METHOD_NAMES[stepper.auto_method(False, tol, 0.0)]
+    from sweepcore.laws import ANALYTIC
+    from sweepcore.options import make_options
+    P = common.rows([5.0], [0.01])
+    return stepper.METHOD_NAMES[int(compiled.methods_of(P, (ANALYTIC,),
+                                                        make_options("auto", tol=tol))[0])]
 
 
 def stepper_flops():

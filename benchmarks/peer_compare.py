@@ -67,7 +67,9 @@ def _numba_peer(P, dt, threads=1, repeats=1):
 
 
 def run(profile, outdir, hopf_res=None):
-    from sweepcore._kernels.attractor import attractor_rows, attractor_rows_parallel
+    run = common.kernel()
+    attractor_rows = lambda P, o, out: run(P, o, out, False)  # noqa: E731
+    attractor_rows_parallel = lambda P, o, out: run(P, o, out, True)  # noqa: E731
     from sweepcore.options import make_options
 
     log("[4] peers")

@@ -53,25 +53,31 @@ def table(v, alpha1, alpha2, regime, steps) -> dict:
 
 # ------------------------------------------------------------------ the probe
 def _probe(repeats: int) -> dict:
-    """Run the map in whatever sweepcore is importable; uses only names every
-    version of the kernels has (layout columns, make_options, attractor_rows_parallel)."""
+    """Run the map in whatever sweepcore is importable: its own Grid builds the rows
+    and its kernels run them (``sweepcore.compiled``, or the entry kernel
+    ``attractor_rows_parallel`` of the versions before it; this script runs with an
+    older checkout's package, so it imports nothing else of this one)."""
     from sweepcore._kernels import layout as L
-    from sweepcore._kernels.attractor import attractor_rows_parallel
+    from sweepcore.grid import Grid
     from sweepcore.options import make_options
     v, a2 = np.linspace(0.5, 10.0, 256), np.geomspace(1e-3, 0.1, 256)
-    V, A = (x.ravel() for x in np.meshgrid(v, a2, indexing="ij"))
-    P = np.zeros((V.size, L.NP))
-    P[:, L.M], P[:, L.K], P[:, L.RY], P[:, L.A1] = 5.0, 50.0, 10.0, 1.0
-    P[:, L.V], P[:, L.A2], P[:, L.X0], P[:, L.XD0] = V, A, 0.0, V
-    if hasattr(L, "RK"):                    # the law family: r_k = r_y is eq. (40)
-        P[:, L.RK], P[:, L.VS] = 10.0, np.nan
+    P = Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, v=v, alpha2=a2).rows(0, v.size * a2.size)
+    V, A = P[:, L.V], np.repeat(a2[None, :], v.size, axis=0).ravel()
+    try:
+        from sweepcore import compiled
+        from sweepcore.laws import ANALYTIC
+
+        def run(P, o, out):
+            compiled.attractors(P, (ANALYTIC,), o, out, parallel=True)
+    except ImportError:
+        from sweepcore._kernels.attractor import attractor_rows_parallel as run
     o = make_options("auto", tol=1e-8)
     out = np.empty((V.size, L.NOBS))
-    attractor_rows_parallel(P[:4], o, out[:4])
+    run(P[:4], o, out[:4])
     times = []
     for _ in range(repeats):
         t0 = time.perf_counter()
-        attractor_rows_parallel(P, o, out)
+        run(P, o, out)
         times.append(time.perf_counter() - t0)
     commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
                             cwd=Path(sys.modules["sweepcore"].__file__).parent).stdout.strip()

@@ -57,7 +57,8 @@ def _label(method, kw):
 
 
 def _run(P, method, kw, repeats):
-    from sweepcore._kernels.attractor import attractor_rows
+    run = common.kernel()
+    attractor_rows = lambda P, o, out: run(P, o, out, False)  # noqa: E731
     from sweepcore.options import make_options
     o = make_options(method, **(kw or {}))
     out = np.empty((P.shape[0], NOBS))
@@ -67,7 +68,8 @@ def _run(P, method, kw, repeats):
 
 
 def _is_regime(v, alpha2, o, regimes):
-    from sweepcore._kernels.attractor import attractor_rows
+    run = common.kernel()
+    attractor_rows = lambda P, o, out: run(P, o, out, False)  # noqa: E731
     P = common.rows([v], [alpha2])
     out = np.empty((1, NOBS))
     attractor_rows(P, o, out)
@@ -102,7 +104,8 @@ def hopf_boundary(method, kw, alpha2=0.01, lo=4.0, hi=8.0, iters=25):
 
 def stratified_points(profile, rng):
     """Random map points, ``wp_per_regime`` of each regime (by a dopri5 1e-10 run)."""
-    from sweepcore._kernels.attractor import attractor_rows_parallel
+    run = common.kernel()
+    attractor_rows_parallel = lambda P, o, out: run(P, o, out, True)  # noqa: E731
     from sweepcore.options import make_options
     P = common.rows(*common.map_axes())
     pool = P[rng.choice(P.shape[0], 1500, replace=False)]
@@ -116,7 +119,8 @@ def stratified_points(profile, rng):
 
 
 def run(profile, outdir):
-    from sweepcore._kernels.attractor import attractor_rows_parallel
+    run = common.kernel()
+    attractor_rows_parallel = lambda P, o, out: run(P, o, out, True)  # noqa: E731
     from sweepcore.options import make_options
     from .hopf_map import scipy_check
 

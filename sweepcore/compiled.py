@@ -9,6 +9,7 @@ what is being compiled, an estimate of how long it takes, and the seconds elapse
 """
 from __future__ import annotations
 
+import atexit
 import itertools
 import json
 import math
@@ -189,12 +190,28 @@ def _prefetch(meth: int, kind: int) -> None:
     try:
         if prefetch.cached(attractor.on_event, prefetch.search_signature(meth, name)):
             return
-        subprocess.Popen([sys.executable, "-m", "sweepcore._kernels.prefetch", str(meth),
-                          name], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
-                         stderr=subprocess.DEVNULL, env={**os.environ,
-                                                         "NUMBA_CACHE_DIR": _cache_dir()})
+        child = subprocess.Popen(
+            [sys.executable, "-m", "sweepcore._kernels.prefetch", str(meth), name],
+            stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+            env={**os.environ, "NUMBA_CACHE_DIR": _cache_dir()})
     except (OSError, ValueError):
-        pass                 # no second process: this one compiles it all
+        return               # no second process: this one compiles it all
+    if not _children:
+        atexit.register(_reap)
+    _children.append(child)
+
+
+_children = []
+
+
+def _reap() -> None:
+    """At exit, wait for the second compiler (its work is the cache's, and it must
+    not outlive the command that started it)."""
+    for child in _children:
+        try:
+            child.wait(timeout=120)
+        except subprocess.TimeoutExpired:
+            child.kill()
 
 
 def _cache_dir() -> str:

@@ -193,8 +193,8 @@ class Grid:
         if self.law is not None:
             object.__setattr__(self, "law", self._checked_laws())
         elif self.r_y is None:
-            raise TypeError("Grid() missing the friction bound r_y [kN] (or law "
-                            "objects: law=)")
+            raise TypeError("r_y must be a real number, got None: the friction bound "
+                            "[kN] is required (or law objects: law=)")
         else:
             for name in ("alpha1", "alpha2"):
                 if getattr(self, name) is None:

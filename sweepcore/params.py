@@ -220,8 +220,8 @@ class Params:
                 n: (getattr(self, n),) * 2 for n in ("m", "k", "v", "c")}))
             return
         if self.r_y is None:
-            raise TypeError("Params() missing the friction bound r_y [kN] (or a law "
-                            "object: law=)")
+            raise TypeError("r_y must be a real number, got None: the friction bound "
+                            "[kN] is required (or a law object: law=)")
         for name in ("alpha1", "alpha2"):
             if getattr(self, name) is None:
                 object.__setattr__(self, name, 0.0)

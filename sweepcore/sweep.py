@@ -91,14 +91,20 @@ def run_chunk(grid: Grid, start: int, stop: int, o: np.ndarray,
     Serial kernels (they release the GIL): the task that dask schedulers run;
     ``parallel`` (the direct path) uses numba's threads over the points.
     """
-    out = np.empty((stop - start, layout.NOBS))
-    execute.attractors(grid.rows(start, stop), grid.laws, o, out, parallel)
-    return out
+    if parallel:
+        return run_chunk_parallel(grid, start, stop, o)
+    return _observables(grid, start, stop, o, False)
 
 
 def run_chunk_parallel(grid: Grid, start: int, stop: int, o: np.ndarray) -> np.ndarray:
-    """As :func:`run_chunk`, with numba threads over the points (no-dask path)."""
-    return run_chunk(grid, start, stop, o, parallel=True)
+    """As :func:`run_chunk`, with threads over the points (the no-dask path)."""
+    return _observables(grid, start, stop, o, True)
+
+
+def _observables(grid, start, stop, o, parallel) -> np.ndarray:
+    out = np.empty((stop - start, layout.NOBS))
+    execute.attractors(grid.rows(start, stop), grid.laws, o, out, parallel)
+    return out
 
 
 # -------------------------------------------------------------------- sweep

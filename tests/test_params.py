@@ -145,6 +145,6 @@ def test_simulate_refuses_output_dt_and_max_events_before_simulating(kw, match,
 
     def no_run(*args):
         raise AssertionError("simulated")
-    monkeypatch.setattr(sim, "run_trajectory", no_run)
+    monkeypatch.setattr(sim.compiled, "trajectory", no_run)
     with pytest.raises(ValueError, match=match):
         sc.simulate(sc.Params(**GOOD), 1.0, **kw)

@@ -99,5 +99,5 @@ def test_the_boundary_searches_batches_are_flagged_too():
     g = sc.Grid(**{**PAPER, "m": 1e300, "v": 7.0})
     P = g.rows(0, 1)
     out = np.empty((1, layout.NOBS))
-    execute.attractors(P, make_options("auto", tol=1e-8), out, parallel=False)
+    execute.attractors(P, g.laws, make_options("auto", tol=1e-8), out, parallel=False)
     assert out[0, layout.OB_STATUS] == codes.SCALE

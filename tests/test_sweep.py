@@ -167,7 +167,7 @@ def test_ragged_points_are_refused_naming_the_lengths():
 @pytest.mark.parametrize("kwargs, exc, match", [
     (dict(chunks=0), ValueError, r"chunks must be an integer >= 1 .*got 0"),
     (dict(chunks=True), ValueError, r"chunks must be .*got True"),
-    (dict(method="exact", ), ValueError, r"method='exact' needs alpha2 == 0.*0\.01"),
+    (dict(method="exact", ), ValueError, r"method='exact' needs a piecewise-linear law.*alpha2=0\.01"),
     (dict(method="euler"), ValueError, r"method must be one of"),
     (dict(scheduler="thread"), ValueError, r"scheduler must be one of .*'thread'"),
     (dict(scheduler="threads", client="tcp://127.0.0.1:1"), ValueError, "not both"),

@@ -264,8 +264,8 @@ def _warn_scan_failures(results, along: str, values) -> None:
 
 # ------------------------------------------------------------------- executors
 def locate_chunk(base: np.ndarray, along: str, values: np.ndarray, xtol: float,
-                 offset: float, start, o: np.ndarray, parallel: bool = False,
-                 laws=(ANALYTIC,)):
+                 offset: float, start, o: np.ndarray, laws=(ANALYTIC,),
+                 parallel: bool = False):
     """Boundaries of the points ``base`` (kernel rows; their laws ``laws``): the task
     of one chunk."""
     pts = [_Point(row, along, float(o[layout.O_RTOL]), laws) for row in base]
@@ -348,8 +348,7 @@ def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 
 
     def task(i):
         rows = other.rows(*bounds[i])
-        return locate_chunk, (rows, along, values, xtol, offset, start, o, False,
-                              grid.laws)
+        return locate_chunk, (rows, along, values, xtol, offset, start, o, grid.laws)
     execute.run(kind, target, range(len(bounds)), task, parts.__setitem__)
     results = [r for part in parts for r in part]
     _warn_scan_failures(results, along, values)
