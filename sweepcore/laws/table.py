@@ -53,7 +53,7 @@ def _finite_1d(name: str, values) -> np.ndarray:
         raise ValueError(f"{name} must be 1-D, got shape {a.shape}")
     bad = np.flatnonzero(~np.isfinite(a))
     if bad.size:
-        raise ValueError(f"{name} must be finite, got {a[bad[0]]!r} (element "
+        raise ValueError(f"{name} must be finite, got {float(a[bad[0]])!r} (element "
                          f"{int(bad[0])})")
     return a
 
@@ -127,7 +127,7 @@ class TableLaw(FrictionLaw):
             raise ValueError(
                 "speed must start at 0 for a law odd in s (the force at 0 is F(0+)), "
                 "or span both signs with 0 given twice (F(0-), then F(0+)); got "
-                f"speeds from {s.min() if s.size else 'none'!r} with 0 "
+                f"speeds from {float(s.min()) if s.size else 'none'!r} with 0 "
                 f"{zeros.size} time(s)")
         for label, (bs, bf) in (("positive", pos),) + ((("negative", neg),) if neg else ()):
             self._check_branch(label, bs, bf)
@@ -166,15 +166,16 @@ class TableLaw(FrictionLaw):
             i = int(np.flatnonzero(step <= 0.0)[0])
             what = "repeated" if step[i] == 0.0 else "unsorted"
             raise ValueError(f"speed must be strictly increasing: {what} speeds "
-                             f"{s[i]!r} and {s[i + 1]!r} on the {label} branch")
+                             f"{float(s[i])!r} and {float(s[i + 1])!r} on the {label} "
+                             "branch")
         sign = 1.0 if label == "positive" else -1.0
         wrong = np.flatnonzero(sign * f < 0.0)
         if wrong.size:
             i = int(wrong[0])
             raise ValueError(
                 f"force must be {'>= 0' if sign > 0 else '<= 0'} on the {label} branch "
-                f"(friction opposes the relative motion), got {f[i]!r} at speed "
-                f"{s[i]!r}")
+                f"(friction opposes the relative motion), got {float(f[i])!r} at speed "
+                f"{float(s[i])!r}")
 
     # ------------------------------------------------------------ alternatives
     @classmethod
@@ -288,9 +289,9 @@ class TableLaw(FrictionLaw):
 
     # ------------------------------------------------------------ kernels' view
     def data(self):
-        pos_x, pos_c, pos_dmin = self._pos
-        neg_x, neg_c, neg_dmin = self._neg
-        return Table(pos_x, pos_c, pos_dmin, neg_x, neg_c, neg_dmin,
+        pos_x, pos_c, pos_dmin, pos_d2 = self._pos
+        neg_x, neg_c, neg_dmin, neg_d2 = self._neg
+        return Table(pos_x, pos_c, pos_dmin, pos_d2, neg_x, neg_c, neg_dmin, neg_d2,
                      np.array([self._limits[0], self._limits[1],
                                1.0 if self.odd else 0.0]))
 
@@ -359,8 +360,9 @@ def _samples(hi: float) -> np.ndarray:
 
 
 def _fit(s, f, smoothing):
-    """``(x, c, dmin)``: breakpoints, ascending coefficients (n, 6) and the least F'
-    on each piece of the quintic spline through (or, smoothing, near) the points."""
+    """``(x, c, dmin, d2)``: breakpoints, ascending coefficients (n, 6), and on each
+    piece the least F' and the largest |F''|, of the quintic spline through (or,
+    smoothing, near) the points."""
     from scipy.interpolate import PPoly, make_interp_spline, make_splrep
     if smoothing is None:
         spl = make_interp_spline(s, f, k=DEGREE)
@@ -372,7 +374,7 @@ def _fit(s, f, smoothing):
     keep = np.flatnonzero(np.diff(x) > 0.0)      # drop empty pieces at repeated knots
     x = np.append(x[keep], x[keep[-1] + 1])
     c = np.ascontiguousarray(c[::-1, keep].T)     # ascending powers, a row per piece
-    return x, c, _least_slopes(x, c)
+    return x, c, _least_slopes(x, c), _largest_curvatures(x, c)
 
 
 def _least_slopes(x, c):
@@ -392,24 +394,41 @@ def _least_slopes(x, c):
     return out
 
 
+def _largest_curvatures(x, c):
+    """The largest |F''| on each piece: at its ends or where F''' = 0 inside (roots
+    of a quadratic), raised by a rounding margin."""
+    h = np.diff(x)
+    out = np.empty(h.size)
+    d2 = c[:, 2:] * np.array([2.0, 6.0, 12.0, 20.0])     # F'' coefficients (degree 3)
+    d3 = d2[:, 1:] * np.arange(1, 4)                     # F''' coefficients (degree 2)
+    for i in range(h.size):
+        ts = [0.0, h[i]]
+        roots = np.roots(d3[i, ::-1]) if np.any(d3[i] != 0.0) else []
+        ts += [r.real for r in roots if abs(r.imag) <= 1e-12 * h[i] and 0 < r.real < h[i]]
+        vals = np.abs(np.polynomial.polynomial.polyval(np.array(ts), d2[i]))
+        size = np.abs(d2[i]) @ (h[i] ** np.arange(4))
+        out[i] = vals.max() + 1e-12 * size
+    return out
+
+
 def _max_slopes(branch):
     """The largest |F'| on each piece (for the slope scale): a bound from the
     coefficients' sizes."""
-    x, c, _ = branch
+    x, c, _dmin, _d2 = branch
     h = np.diff(x)
     d1 = np.abs(c[:, 1:] * np.arange(1, DEGREE + 1))
     return (d1 * h[:, None] ** np.arange(DEGREE)).sum(axis=1)
 
 
 def _end_slopes(branch):
-    x, c, _ = branch
+    x, c, _dmin, _d2 = branch
     return np.array([c[0, 1], np.polynomial.polynomial.polyval(
         x[-1] - x[-2], c[-1, 1:] * np.arange(1, DEGREE + 1))])
 
 
 def _evaluate(branch, s):
     """F of one branch at speeds s (numpy; linear past the ends), as the kernels."""
-    x, c, _ = branch
+    x, c, _dmin, _d2 = branch
     s = np.asarray(s, np.float64)
     i = np.clip(np.searchsorted(x, s, side="right") - 1, 0, x.size - 2)
     t = s - x[i]

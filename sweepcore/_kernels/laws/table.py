@@ -11,9 +11,11 @@ slope (C1), as Modelica's friction tables extrapolate.
 Every table is data of the same numba type (``Table``): a new table compiles
 nothing. Fields (float64 arrays):
 
-* ``pos_x`` (n+1), ``pos_c`` (n, 6), ``pos_dmin`` (n): the branch s >= 0 (from
-  ``pos_x[0] = 0``), its coefficients and the least F' on each piece;
-* ``neg_x``, ``neg_c``, ``neg_dmin``: the branch s <= 0 (to ``neg_x[-1] = 0``); for
+* ``pos_x`` (n+1), ``pos_c`` (n, 6), ``pos_dmin`` (n), ``pos_d2`` (n): the branch
+  s >= 0 (from ``pos_x[0] = 0``), its coefficients, and on each piece the least F'
+  and the largest |F''|;
+* ``neg_x``, ``neg_c``, ``neg_dmin``, ``neg_d2``: the branch s <= 0 (to
+  ``neg_x[-1] = 0``); for
   a law odd in s they are not used: ``F(s) = -F(-s)`` is evaluated on the positive
   branch, so that the mirror image v -> -v is exact;
 * ``info`` (3): the static limits ``(r_pos, r_neg)`` [kN] and 1 for an odd law.
@@ -25,8 +27,8 @@ import numpy as np
 from ..jit import kernel
 from ..layout import C, V
 
-Table = namedtuple("Table", ("pos_x", "pos_c", "pos_dmin", "neg_x", "neg_c", "neg_dmin",
-                             "info"))
+Table = namedtuple("Table", ("pos_x", "pos_c", "pos_dmin", "pos_d2", "neg_x", "neg_c",
+                             "neg_dmin", "neg_d2", "info"))
 
 
 @kernel(inline="always")
@@ -110,9 +112,12 @@ def static_limits(p, lw):
 
 
 @kernel
-def _branch_bound(x, c, dmin, lo, hi):
-    """Least F' of one branch over [lo, hi] (the pieces that meet it; past the ends
-    the end slope)."""
+def _branch_bound(x, c, dmin, d2, lo, hi):
+    """Least F' of one branch over [lo, hi]: on each piece that meets it, the larger
+    of the piece's least F' and the value at the middle of the overlap less the
+    largest |F''| times half its width (mean value theorem: tight for a narrow
+    interval, such as a small motion about the equilibrium); past the ends the end
+    slope."""
     n = x.shape[0] - 1
     least = np.inf
     if lo < x[0]:
@@ -122,7 +127,10 @@ def _branch_bound(x, c, dmin, lo, hi):
     i0 = max(_piece(x, lo), 0)
     i1 = min(_piece(x, hi), n - 1)
     for i in range(i0, i1 + 1):
-        least = min(least, dmin[i])
+        a = max(lo, x[i])
+        b = min(hi, x[i + 1])
+        local = _value(x, c, 0.5 * (a + b))[1] - 0.5 * (b - a) * d2[i]
+        least = min(least, max(dmin[i], local))
     return least
 
 
@@ -130,12 +138,15 @@ def _branch_bound(x, c, dmin, lo, hi):
 def slope_bound(p, lw, lo, hi):
     least = np.inf
     if hi > 0.0:
-        least = _branch_bound(lw.pos_x, lw.pos_c, lw.pos_dmin, max(lo, 0.0), hi)
+        least = _branch_bound(lw.pos_x, lw.pos_c, lw.pos_dmin, lw.pos_d2, max(lo, 0.0),
+                              hi)
     if lo < 0.0:
         if lw.info[2] > 0.0:                     # odd: F'(s) = F'(-s)
-            b = _branch_bound(lw.pos_x, lw.pos_c, lw.pos_dmin, max(-hi, 0.0), -lo)
+            b = _branch_bound(lw.pos_x, lw.pos_c, lw.pos_dmin, lw.pos_d2, max(-hi, 0.0),
+                              -lo)
         else:
-            b = _branch_bound(lw.neg_x, lw.neg_c, lw.neg_dmin, lo, min(hi, 0.0))
+            b = _branch_bound(lw.neg_x, lw.neg_c, lw.neg_dmin, lw.neg_d2, lo,
+                              min(hi, 0.0))
         least = min(least, b)
     return least
 
