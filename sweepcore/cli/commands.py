@@ -449,10 +449,13 @@ def cmd_basins(args) -> int:
         print(f"sweepcore basins {args.study}: {grid.size} points, route {b['route']}, "
               f"{b['samples']} samples a point where sampled", flush=True)
     t0 = time.perf_counter()
+    # with path: run's rules for the file (no symbolic link, FIFO, read-only file,
+    # ...) checked before any work, and an interrupted run resumes from the store
     ds = basin_stability(grid, x0=b["x0"], xdot0=b["xdot0"], samples=b["samples"],
                          route=b["route"], sampling=b["sampling"], seed=b["seed"],
                          checks=b["checks"], ftol=b["ftol"], match=b["match"],
                          method=study.method, tol=study.tol,
                          chunks=args.chunks or study.chunks, scheduler=args.scheduler,
-                         progress=False if args.quiet else None, **study.options)
+                         path=out, progress=False if args.quiet else None,
+                         **study.options)
     return _finish(ds, study, args, out, png, t0, grid.size, basin_lines)
