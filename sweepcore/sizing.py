@@ -159,7 +159,13 @@ def available_memory() -> int | None:
     return min(limits) if limits else None
 
 
+def _digits(n: int) -> int:
+    return int(abs(n).bit_length() * math.log10(2))
+
+
 def size_text(nbytes) -> str:
+    if abs(nbytes) >= 2**1000:       # beyond float64 (an integer argument of 1e400)
+        return f"about 1e{_digits(nbytes)} B"
     for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
         if abs(nbytes) < 1024 or unit == "PiB":
             return f"{nbytes:.3g} {unit}" if unit != "B" else f"{int(nbytes)} B"
@@ -201,8 +207,13 @@ BOUNDARY_POINT_BYTES = 4096
 ROW_BYTES = 8 * (layout.NP + layout.NOBS)      # one kernel row and its observables
 
 
+def _number(n: int) -> str:
+    """``1,000`` (a huge integer as its order of magnitude)."""
+    return f"{n:,}" if n < 10**18 else f"about 1e{_digits(n)}"
+
+
 def _count(n: int, what: str) -> str:
-    return f"{n:,} {what}{'' if n == 1 else 's'}"
+    return f"{_number(n)} {what}{'' if n == 1 else 's'}"
 
 
 def basin_chunk_size(points: int, per_point: int, chunks=None) -> int:
@@ -224,8 +235,9 @@ def basin_need(points: int, samples: int, checks: int, route: str,
         chunk * MAX_CYCLES * layout.NOBS * 8 if exact else 0)
     result = points * (BASIN_POINT_BYTES + (MAX_CYCLES * layout.NOBS * 8 if exact
                                             else 0))
-    what = (f"basin stability of {_count(points, 'point')} with samples={samples:,} "
-            f"starts a point and checks={checks:,} (route {route!r})")
+    what = (f"basin stability of {_count(points, 'point')} with samples="
+            f"{_number(samples)} starts a point and checks={_number(checks)} (route "
+            f"{route!r})")
     return {"what": what, "memory": result + work,
             "elements": max(chunk * runs * layout.NP, 2 * candidates, 2 * samples,
                             points * layout.NOBS),
@@ -254,7 +266,7 @@ def boundary_need(points: int, scan: int, chunk: int) -> dict:
     result = points * BOUNDARY_POINT_BYTES
     work = 2 * chunk * scan * ROW_BYTES + 8 * scan
     return {"what": f"boundary searches at {_count(points, 'point')} with scan="
-                    f"{scan:,}", "memory": result + work,
+                    f"{_number(scan)}", "memory": result + work,
             "elements": max(chunk * scan * layout.NP, points),
             "parts": f"the result {size_text(result)}, a task of "
                      f"{_count(chunk, 'search')} {size_text(work)}",
@@ -275,7 +287,7 @@ def too_large(need: dict) -> str | None:
     """Why the call ``need`` (of :func:`basin_need` and its siblings) cannot run, or
     None: an array beyond numpy's index, or more memory than is available."""
     if need["elements"] > MAX_SIZE:
-        return (f"{need['what']} needs arrays of {need['elements']:.3g} elements "
+        return (f"{need['what']} needs arrays of {_number(need['elements'])} elements "
                 f"({need['parts']}), more than numpy can index ({MAX_SIZE:.3g}); "
                 f"{need['advice']}")
     avail = available_memory()

@@ -338,6 +338,9 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
     for name, (col, *meta) in variables.OBSERVABLES.items():
         values = column(col)
         if name in variables.INTEGER:
+            fill = variables.INTEGER[name]
+            if fill is not None:            # where no attractor was measured
+                values = np.where(np.isfinite(values), values, fill)
             values = values.astype(np.int64)
         data[name] = xr.Variable(dims, values, labels.attrs(*meta))
     status = column(layout.OB_STATUS).astype(np.int8)

@@ -28,6 +28,15 @@ from .parser import build_parser, set_threads
 __all__ = ["main", "build_parser", "unknown_option", "COMPILE_MESSAGE", "UsageError"]
 
 
+# what an interruption leaves, per command (a command says more where it knows:
+# args.on_interrupt)
+INTERRUPTED = {
+    "run": "rerun the same command to resume: the finished chunks are kept",
+    "basins": "rerun the same command to resume: the finished chunks are kept",
+    "boundary": "nothing written", "simulate": "nothing written",
+    "plot": "nothing written", "info": "nothing written", "export": "nothing written"}
+
+
 # --------------------------------------------------------------------- main
 def main(argv=None) -> int:
     """Entry point of the ``sweepcore`` command; returns the exit code.
@@ -64,8 +73,8 @@ def _main(argv) -> int:
     try:
         return args.func(args)
     except KeyboardInterrupt:
-        print("sweepcore: interrupted (rerun the same command to resume a sweep)",
-              file=sys.stderr)
+        what = getattr(args, "on_interrupt", None) or INTERRUPTED[args.command]
+        print(f"sweepcore {args.command}: interrupted ({what})", file=sys.stderr)
         return 130
     except BrokenPipeError:
         raise

@@ -6,7 +6,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
-from ..labels import parameter
+from ..labels import parameter, slider_parameters
 from ..options import checked_keywords
 from .checks import checked_result, checked_title
 from .style import SYMBOLS, label
@@ -87,9 +87,8 @@ def plot_trajectory(ds: xr.Dataset, title: str | None = None) -> Figure:
 
 
 def _trajectory_title(ds: xr.Dataset) -> str:
-    p = ", ".join(f"${SYMBOLS[n]}$ = {parameter(ds, n):.4g}" for n in
-                  ("m", "k", "r_y", "v", "alpha1", "alpha2")
-                  if np.isfinite(parameter(ds, n)))
+    p = ", ".join(f"${SYMBOLS[n]}$ = {value:.4g}" for n, value in
+                  slider_parameters(ds))
     start = (f"start ($x_0$, $\\dot{{x}}_0$) = ({parameter(ds, 'x0'):.4g}, "
              f"{parameter(ds, 'xdot0'):.4g})")
     return f"Single slider: {p}; {start}; method {ds.attrs.get('method', '?')}"
