@@ -272,9 +272,12 @@ def test_a_variable_over_one_axis_of_a_map_is_drawn_as_a_line(stribeck_map):
     assert set(om.get_ydata()) == {1.0}
 
 
-def test_the_cli_draws_variables_over_one_axis(stribeck_map, tmp_path, capsys):
+def test_the_cli_draws_variables_over_one_axis(tmp_path, capsys):
+    """``sweepcore plot --variables regime,q,x_eq`` of a (v, c) map (five values
+    of c: drawn as maps, not lines) draws x_eq, which depends on v only."""
     from sweepcore.cli import main
-    sc.write_netcdf(stribeck_map, tmp_path / "s.nc")
+    sweep(Grid(**STRIBECK, v=np.linspace(0.5, 2.5, 7), c=np.geomspace(0.05, 0.2, 5)),
+          path=tmp_path / "s.nc").close()
     assert main(["plot", str(tmp_path / "s.nc"), "-o", str(tmp_path / "s.png"),
                  "--variables", "regime,q,x_eq"]) == 0, capsys.readouterr().err
     assert (tmp_path / "s.png").read_bytes()[:8] == PNG_MAGIC
