@@ -12,7 +12,8 @@ directories are never created: a missing one is refused, as by the Python API.
 
 Rooms: :mod:`.parser` (the subcommands and their options, one table),
 :mod:`.commands` (what each subcommand does), :mod:`.summaries` (what ``info`` and
-the commands print about a result); here, :func:`main` and its error handling.
+the commands print about a result), :mod:`.tables` (what ``export`` writes); here,
+:func:`main` and its error handling.
 """
 from __future__ import annotations
 
