@@ -247,6 +247,18 @@ def slip_cycles(grid: Grid, tol: float = 1e-8, method: str = "auto",
     chunk = default_chunk(grid.size) if chunks is None else min(int(chunks), grid.size)
     refuse_unaffordable(cycles_need(grid.size, chunk))
     out, found, store = scan(grid, o, chunks, client, scheduler, target, progress)
+    try:
+        ds = _labelled(grid, out, found, o, tol, method)
+        if store is not None:
+            resumable.write_result(store, ds, target)
+    finally:
+        if store is not None:       # the lock (the store itself is gone if written)
+            store.close()
+    return ds
+
+
+def _labelled(grid: Grid, out, found, o, tol, method) -> xr.Dataset:
+    """The Dataset of :func:`slip_cycles` from the scan's output."""
     data = cycle_variables(out, found, grid.dims, grid.shape, o)
     coords = {k: v for k, v in grid.coords().items() if k not in ("x0", "xdot0")}
     ds = xr.Dataset({k: v for k, v in data.items() if k != "cycle"},
@@ -263,9 +275,6 @@ def slip_cycles(grid: Grid, tol: float = 1e-8, method: str = "auto",
             "Units kN, cm, s. cycle_floquet > 1: an unstable cycle (a basin "
             "boundary in the plane)."),
         "sweepcore_kind": "cycles", "method": method, "tol": float(tol)})
-    if store is not None:
-        with store:
-            resumable.write_result(store, ds, target)
     return ds
 
 

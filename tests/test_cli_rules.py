@@ -17,18 +17,9 @@ import pytest
 import sweepcore as sc
 from sweepcore.cli import main
 
-STUDY = """\
-[axes]
-m = 1.0
-k = 1.0
-r_y = 1.0
-r_k = 0.5
-v_s = 0.5
-c = 0.1
-v = [1.3, 1.6]
-[basins]
-route = "exact"
-"""
+from conftest import BSTAB_AXES
+
+STUDY = BSTAB_AXES + 'v = [1.3, 1.6]\n[basins]\nroute = "exact"\n'
 
 
 def run(argv, tmp_path, monkeypatch, capsys):

@@ -20,6 +20,8 @@ import pytest
 import sweepcore as sc
 from sweepcore.io import DamagedChunkWarning, WorkingStore, open_result
 
+from conftest import BSTAB_AXES
+
 basins_mod = importlib.import_module("sweepcore.basins")
 cycles_mod = importlib.import_module("sweepcore.cycles")
 STRIBECK = dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.5, c=0.1)
@@ -215,20 +217,7 @@ def test_a_write_killed_before_its_rename_leaves_no_temporary(kind, tmp_path,
 
 
 # ------------------------------------------------------------ the command
-STUDY = f"""\
-[axes]
-m = 1.0
-k = 1.0
-r_y = 1.0
-r_k = 0.5
-v_s = 0.5
-c = 0.1
-v = {SPEEDS}
-[solver]
-chunks = 1
-[basins]
-samples = 24
-"""
+STUDY = BSTAB_AXES + f"v = {SPEEDS}\n[solver]\nchunks = 1\n[basins]\nsamples = 24\n"
 
 
 def test_sweepcore_basins_resumes_after_ctrl_c(tmp_path, monkeypatch, capsys,
