@@ -154,7 +154,8 @@ def basin_dataset(grid, head, cycles, entries, spec, o, method, tol,
         labels.flags({NONE: "none", **codes.REGIME_NAMES}, "regime of the attractor"))
     data["n_attractors"] = xr.Variable(dims, count.reshape(shape),
                                        labels.attrs(*variables.N_ATTRACTORS))
-    data["samples"] = xr.Variable(dims, head[:, SAMPLES].astype(np.int64).reshape(shape),
+    data["samples"] = xr.Variable(dims,
+                                  head[:, SAMPLES].astype(np.int64).reshape(shape),
                                   labels.attrs(*variables.SAMPLES))
     data["basin_route"] = xr.Variable(
         dims, head[:, ROUTE].astype(np.int8).reshape(shape),
@@ -164,7 +165,8 @@ def basin_dataset(grid, head, cycles, entries, spec, o, method, tol,
         labels.flags(STATUS_NAMES, "status of the basin fractions of the point"))
     coords = {k: v for k, v in grid.coords().items() if k not in ("x0", "xdot0")}
     if cycles is not None:
-        cyc = cycle_variables(cycles, head[:, N_CYCLES].astype(np.int64), dims, shape, o)
+        found = head[:, N_CYCLES].astype(np.int64)
+        cyc = cycle_variables(cycles, found, dims, shape, o)
         coords["cycle"] = cyc.pop("cycle")
         data.update(cyc)
     names = [name for _r, name, _k in table] or ["none"]

@@ -43,7 +43,8 @@ def _finite(val) -> bool:
 
 def _shown(val) -> str:
     """``repr`` of a value, or the size of an integer too long to print usefully."""
-    if isinstance(val, int) and not isinstance(val, bool) and abs(val).bit_length() > 64:
+    if isinstance(val, int) and not isinstance(val, bool) and \
+            abs(val).bit_length() > 128:
         digits = int(abs(val).bit_length() * math.log10(2))
         return f"an integer of about {'-' if val < 0 else ''}1e{digits}"
     return repr(val)
@@ -96,11 +97,12 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
     if isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) \
             or not 1 <= max_steps <= MAX_STEPS_CAP:
         raise ValueError(f"max_steps must be an integer in [1, 2**53], got "
-                         f"{_shown(max_steps)} (it travels in a float64 option row, exact "
-                         "up to 2**53)")
+                         f"{_shown(max_steps)} (it travels in a float64 option row, "
+                         "exact up to 2**53)")
     if isinstance(max_periods, bool) or not isinstance(max_periods, (int, float)) or \
             not (_finite(max_periods) and max_periods > 0):
-        raise ValueError(f"max_periods must be a finite number > 0, got {_shown(max_periods)}")
+        raise ValueError(f"max_periods must be a finite number > 0, got "
+                         f"{_shown(max_periods)}")
     if gps_a is not None and (isinstance(gps_a, bool) or not isinstance(gps_a, (int, float))
                               or not _finite(gps_a)):
         raise ValueError(f"gps_a must be a finite number [cm], got {_shown(gps_a)}")

@@ -227,8 +227,9 @@ def basin_need(points: int, samples: int, checks: int, route: str,
     with ``samples`` starts (sampled route) or ``2 checks + 3`` runs and ``50
     checks`` candidate starts (exact route; "auto" may take either at any point)."""
     exact = route != "sampled"
-    runs = {"sampled": samples, "exact": 2 * checks + 3}.get(route,
-                                                             max(samples, 2 * checks + 3))
+    exact_runs = 2 * checks + 3
+    runs = {"sampled": samples, "exact": exact_runs}.get(route,
+                                                          max(samples, exact_runs))
     chunk = basin_chunk_size(points, samples if route != "exact" else checks, chunks)
     candidates = 50 * checks if exact else 0
     work = 3 * chunk * runs * ROW_BYTES + 16 * candidates + (

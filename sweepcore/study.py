@@ -216,7 +216,7 @@ class _Checker:
     def known(self, table: dict, allowed, keypath=()):
         for key in table:
             if key not in allowed:
-                hint = did_you_mean(key, allowed)       # the API's rule: tolerance -> tol
+                hint = did_you_mean(key, allowed)     # the API's: tolerance -> tol
                 where = f"[{'.'.join(keypath)}]" if keypath else "the top level"
                 self.fail(tuple(keypath) + (key,),
                           f"unknown key {key!r} in {where}{hint} "

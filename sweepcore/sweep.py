@@ -298,8 +298,8 @@ def _checked_arguments(grid, method, tol, chunks, options, overwrite,
 def _working_store(path, grid, o, method, tol, options, chunk) -> WorkingStore:
     """The resumable store of ``path``, keyed by a hash of what fixes the results."""
     readable = {"grid": repr(grid), "method": method, "tol": tol, **options}
-    return resumable.open_store(path, {"grid": grid.fingerprint(), "options": o.tolist()},
-                                readable, grid.size, layout.NOBS, chunk,
+    fixed = {"grid": grid.fingerprint(), "options": o.tolist()}
+    return resumable.open_store(path, fixed, readable, grid.size, layout.NOBS, chunk,
                                 default_chunk(grid.size))
 
 

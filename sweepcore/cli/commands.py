@@ -227,10 +227,10 @@ def _check_plot_options(args, ds) -> None:
     takes = {"sweep": ("--variables", "--x", "--y"), "basins": ("--x", "--y")}
     refused = [g for g in given if g not in takes.get(kind, ())]
     if refused:
+        taken = ", ".join(takes.get(kind, ())) or "none"
         raise UsageError(f"{' and '.join(refused)}: {args.result} holds {KINDS[kind]}, "
-                         f"whose picture takes {', '.join(takes.get(kind, ())) or 'none'}"
-                         " of them (--variables: sweeps; --x, --y: maps of sweeps and "
-                         "basins)")
+                         f"whose picture takes {taken} of them (--variables: sweeps; "
+                         "--x, --y: maps of sweeps and basins)")
 
 
 def cmd_simulate(args) -> int:

@@ -113,7 +113,7 @@ def _boundary_lines(ds) -> list[str]:
     if (sel & sub).any():
         d = diff[sel & sub]
         lines.append(f"  measured boundary: {int(ok.sum())} of {ok.size} rows switch "
-                     f"from a cycle to equilibrium; where the Hopf point is subcritical "
+                     "from a cycle to equilibrium; where the Hopf point is subcritical "
                      f"({int((sel & sub).sum())} rows) v_measured - v* in "
                      f"[{d.min():.3g}, {d.max():.3g}] cm s-1: above v*, as it should "
                      "be, for from the stuck start the stick-slip cycle coexists with "

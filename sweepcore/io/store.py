@@ -79,7 +79,8 @@ class WorkingStore:
     One file per finished chunk, ``chunk-NNNNNN.START-STOP.SHA256.npy``: an ``.npy``
     array ``(ncols, STOP - START)`` (one contiguous row per observable, so a column
     is read without the others; a store of ``ncols`` None takes chunks of any width,
-    for answers whose size varies, such as the attractors of a basin point) of the flat grid points ``START <= i < STOP``,
+    for answers whose size varies, such as the attractors of a basin point) of the
+    flat grid points ``START <= i < STOP``,
     whose SHA-256 (of the store's configuration digest followed by the whole file)
     is part of its name: a chunk copied from a store of other settings fails it. Each file is written to a
     temporary name and renamed into place, so one that exists was complete when
