@@ -128,8 +128,15 @@ def before_after(ref: str, rounds: int = 3, repeats: int = 3) -> dict:
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 3 and sys.argv[1] == "--probe":
-        print(json.dumps(_probe(int(sys.argv[2]))))
+    import argparse
+    ap = argparse.ArgumentParser(description=__doc__,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("commit", nargs="?", default="cd6c8a2",
+                    help="the earlier commit to compare with (default cd6c8a2)")
+    ap.add_argument("--probe", type=int, metavar="N",
+                    help="time N runs of this checkout's map, print JSON (the probe)")
+    args = ap.parse_args()
+    if args.probe is not None:
+        print(json.dumps(_probe(args.probe)))
     else:
-        print(json.dumps(before_after(sys.argv[1] if len(sys.argv) > 1 else "cd6c8a2"),
-                         indent=1))
+        print(json.dumps(before_after(args.commit), indent=1))

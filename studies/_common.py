@@ -16,6 +16,14 @@ def output_dir(description: str, argv=None) -> Path:
     return out
 
 
+def no_options(description: str, argv=None) -> None:
+    """The command line of a study that takes no option: ``--help`` prints
+    ``description`` and exits; anything else is refused (argparse's exit code 2)."""
+    argparse.ArgumentParser(description=description,
+                            formatter_class=argparse.RawDescriptionHelpFormatter
+                            ).parse_args(argv)
+
+
 class Timer:
     """``with Timer("name"):`` prints the wall time of the block."""
 

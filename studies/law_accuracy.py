@@ -83,4 +83,6 @@ def main():
 
 
 if __name__ == "__main__":
+    from _common import no_options
+    no_options(__doc__)
     main()

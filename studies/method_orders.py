@@ -70,5 +70,7 @@ def hopf_shift():
 
 
 if __name__ == "__main__":
+    from _common import no_options
+    no_options(__doc__)
     orders()
     hopf_shift()

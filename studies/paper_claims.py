@@ -60,6 +60,8 @@ def claim_b():
 
 
 if __name__ == "__main__":
+    from _common import no_options
+    no_options(__doc__)
     np.set_printoptions(precision=6)
     claim_a()
     claim_b()

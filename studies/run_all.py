@@ -11,6 +11,7 @@ their output in ``<out>/<name>.md``. Prints the wall time of each.
 import argparse
 import contextlib
 import importlib
+import re
 import runpy
 import sys
 import time
@@ -19,10 +20,23 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-TOML = ("hopf_map", "belt_speed")
-BOUNDARY = ("boundaries", "bstab_hysteresis")  # `sweepcore boundary` (boundaries after
-                                                # hopf_map: drawn over it)
-BASINS = ("bstab_basins",)         # `sweepcore basins`
+
+
+def _command(path: Path) -> str:
+    """The command that runs a TOML study: boundary, basins (its table) or run."""
+    text = path.read_text()
+    for table in ("boundary", "basins"):
+        if re.search(rf"^\[{table}\]", text, flags=re.M):
+            return table
+    return "run"
+
+
+# every TOML study of this folder, by its command: `sweepcore run` first (a boundary
+# study draws over a map: boundaries over hopf_map), then boundary, then basins
+_BY_COMMAND = {p.stem: _command(p) for p in sorted(HERE.glob("*.toml"))}
+TOML = tuple(n for n, c in _BY_COMMAND.items() if c == "run")
+BOUNDARY = tuple(n for n, c in _BY_COMMAND.items() if c == "boundary")
+BASINS = tuple(n for n, c in _BY_COMMAND.items() if c == "basins")
 SCRIPTS = ("paper_fig3", "paper_fig4", "paper_fig5", "design_map", "initial_conditions")
 TABLES = ("paper_claims", "method_orders")      # print markdown tables, write no files
 

@@ -29,33 +29,28 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from . import execute, labels, law, variables
+from . import execute, law, resumable
 from ._kernels import codes, layout
 from ._kernels.cycles import LOWEST, MAX_CYCLES
-from .cycles import (UNSTABLE, _check_no_start, clipped_area, cycle_polygon,
-                     cycle_variables, inside, stability)
+from .basin_labels import (EXACT, NOT_APPLICABLE, NOT_RESOLVED, OK, ROUTE_NAMES,
+                           SAMPLED, STATUS_NAMES, UNCLASSIFIED, UNSETTLED,
+                           basin_dataset, names_of, pack, unpack)
+from .cycles import (UNSTABLE, _check_no_start, clipped_area, cycle_polygon, inside,
+                     stability)
 from .grid import Grid, checked_grid
-from .io import result_path, write_netcdf
+from .io import check_flag, result_path
 from .options import checked_keywords, make_options
-from .sweep import _progress_bar
+from .params import check_real
+from .sizing import basin_chunk_size, basin_need, refuse_unaffordable
 
 __all__ = ["basin_stability", "clusters", "ROUTE_NAMES", "STATUS_NAMES"]
 
 ROUTES = ("auto", "exact", "sampled")
 SAMPLINGS = ("uniform", "halton", "grid")
-EXACT, SAMPLED = 0, 1
-ROUTE_NAMES = {EXACT: "exact", SAMPLED: "sampled"}
-OK, UNCLASSIFIED, NOT_APPLICABLE, NOT_RESOLVED = 0, 1, 2, 3
-STATUS_NAMES = {OK: "ok", UNCLASSIFIED: "unclassified_starts",
-                NOT_APPLICABLE: "exact_route_not_applicable",
-                NOT_RESOLVED: "polygon_not_resolved"}
 # regimes whose attractors are told apart by amplitude and mean; the others (a
 # neutral family, the failures) count as one attractor each
 SPLIT = (codes.R_EQUILIBRIUM, codes.R_SLIP_CYCLE, codes.R_STICK_SLIP)
-UNSETTLED = (codes.R_UNCONVERGED, codes.R_FAILED)
-# observables reported per attractor (from one start that ends on it)
-PER_ATTRACTOR = ("amplitude", "mean", "period", "floquet", "x_max", "x_min",
-                 "xdot_max", "stick_fraction")
+SEED_MAX = 2**63 - 1        # the seed is an attribute of the file (a netCDF int64)
 FIRST_POINTS, MAX_POINTS = 1024, 2 ** 18    # polygon samples: first try, largest
 
 
@@ -159,24 +154,12 @@ def clusters(out, lx: float, match: float):
     return found
 
 
-def _named(found):
-    """Labels of ``(regime, ...)`` entries: the regime's name, then ``_2``, ``_3``
-    for further attractors of the same regime (in order of amplitude)."""
-    seen = {}
-    names = []
-    for r, *_ in found:
-        seen[r] = seen.get(r, 0) + 1
-        base = codes.REGIME_NAMES[r]
-        names.append(base if seen[r] == 1 else f"{base}_{seen[r]}")
-    return names
-
-
 def _tally(out, lx, spec):
     """The sampled route's answer for one point."""
     n = out.shape[0]
     found = clusters(out, lx, spec.match)
     entries = []
-    for name, (r, idx) in zip(_named(found), found):
+    for name, (r, idx) in zip(names_of([r for r, _ in found]), found):
         f = idx.size / n
         entries.append((name, r, f, math.sqrt(f * (1.0 - f) / n), out[idx[0]]))
     status = UNCLASSIFIED if any(r in UNSETTLED for r, _ in found) else OK
@@ -266,11 +249,12 @@ def _verdict(plan, out_in, out_out, lx, spec):
 
 # ------------------------------------------------------------------ one chunk
 def basin_chunk(grid: Grid, start: int, stop: int, o: np.ndarray, spec: Spec,
-                first: int, parallel: bool = False) -> list:
+                first: int, parallel: bool = False) -> np.ndarray:
     """The task of one chunk: the answer of each point in [start, stop) of ``grid``
     (a block of the whole grid whose flat index ``first`` is ``start``, which seeds
-    the starts), a dict with route, status, samples and the attractors ``(name,
-    regime, fraction, error, observables row)``."""
+    the starts), route, status, samples, the attractors (regime, fraction, error,
+    observables row) and the scan's cycles, packed in one float64 row a point
+    (:func:`sweepcore.basin_labels.pack`)."""
     rows = grid.rows(start, stop)
     n = stop - start
     flats = range(first, first + n)
@@ -304,33 +288,43 @@ def basin_chunk(grid: Grid, start: int, stop: int, o: np.ndarray, spec: Spec,
     if spec.route != "sampled":        # the scan's cycles, beside the fractions
         for r, c in zip(results, cycles):
             r.update(c)
-    return results
+    return pack(results, spec.route != "sampled")
 
 
 # ------------------------------------------------------------------ the API
 def _box(name: str, value) -> tuple:
     try:
-        lo, hi = (float(v) for v in value)
+        lo, hi = value
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a pair (lo, hi) of numbers, got {value!r}") \
             from None
-    if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+    try:
+        lo, hi = (check_real(f"{name}[{i}]", v) for i, v in enumerate((lo, hi)))
+    except (TypeError, ValueError) as err:
+        raise type(err)(f"{name} must be a pair (lo, hi) of finite numbers: {err}") \
+            from None
+    if not lo < hi:
         raise ValueError(f"{name} must be a finite range with lo < hi, got {value!r}")
     return lo, hi
 
 
-def _count(name: str, value, least: int) -> int:
+def _count(name: str, value, least: int, most: int | None = None) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) \
             or value < least:
         raise ValueError(f"{name} must be an integer >= {least}, got {value!r}")
+    if most is not None and value > most:
+        raise ValueError(f"{name} must be an integer in [{least}, {most}] (it is "
+                         f"stored as a 64-bit integer), got {value!r}")
     return int(value)
 
 
 def _fraction_tol(name: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or \
-            not (math.isfinite(value) and 0.0 < value < 1.0):
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
         raise ValueError(f"{name} must be a number in (0, 1), got {value!r}")
-    return float(value)
+    x = check_real(name, value)
+    if not 0.0 < x < 1.0:
+        raise ValueError(f"{name} must be a number in (0, 1), got {value!r}")
+    return x
 
 
 def _spec(x0, xdot0, samples, route, sampling, seed, checks, ftol, match) -> Spec:
@@ -339,8 +333,9 @@ def _spec(x0, xdot0, samples, route, sampling, seed, checks, ftol, match) -> Spe
     if sampling not in SAMPLINGS:
         raise ValueError(f"sampling must be one of {SAMPLINGS}, got {sampling!r}")
     return Spec((_box("x0", x0), _box("xdot0", xdot0)), _count("samples", samples, 1),
-                route, sampling, _count("seed", seed, 0), _count("checks", checks, 1),
-                _fraction_tol("ftol", ftol), _fraction_tol("match", match))
+                route, sampling, _count("seed", seed, 0, SEED_MAX),
+                _count("checks", checks, 1), _fraction_tol("ftol", ftol),
+                _fraction_tol("match", match))
 
 
 @checked_keywords(options=True)
@@ -393,9 +388,14 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
         Two runs end on the same attractor when regime, amplitude and mean agree to
         ``match`` of the length scale L = r_y/k + |v|/omega.
     chunks, client, scheduler, progress
-        As :func:`sweepcore.sweep`: one task per chunk of grid points.
+        As :func:`sweepcore.sweep`: one task per chunk of grid points (default
+        about 20,000 starts a task).
     path, overwrite
-        Also write the result to this netCDF file (atomically).
+        Also write the result to this netCDF file, with the rules of
+        :func:`sweepcore.sweep`'s ``path``: finished chunks are kept in a working
+        store ``<path>.partial/``, so that rerunning the same call after an
+        interruption computes only the chunks missing (results bit-identical); the
+        file appears, atomically, only when complete.
 
     Returns
     -------
@@ -415,6 +415,8 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
         the unstable cycle that bounds the basins, ...).
     """
     checked_grid(grid)
+    check_flag("overwrite", overwrite)
+    check_flag("progress", progress, none=True)
     spec = _spec(x0, xdot0, samples, route, sampling, seed, checks, ftol, match)
     if method == "gps" and route == "exact":
         raise ValueError("route='exact' needs the ODE's return map; method='gps' "
@@ -426,100 +428,41 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
     execute.check_chunks(chunks, " (points per chunk)")
     target_path = None if path is None else result_path(path, overwrite=overwrite)
     kind, target = execute.resolve(client, scheduler)
-    per_point = spec.samples if spec.route != "exact" else spec.checks
-    chunk = min(grid.size, chunks or max(1, 20000 // per_point))
-    bounds = execute.chunk_bounds(grid.size, chunk)
-    results = [None] * grid.size
-    with _progress_bar(grid.size, 0, progress) as bar:
-        def handle(i, answers):
-            a, b = bounds[i]
-            results[a:b] = answers
-            bar.update(b - a)
-
-        execute.run(kind, target, range(len(bounds)),
-                    lambda i: (basin_chunk, (*grid.block(*bounds[i]), o, spec,
-                                                bounds[i][0])), handle)
+    refuse_unaffordable(basin_need(grid.size, spec.samples, spec.checks, spec.route,
+                                   chunks))
+    chunk = basin_chunk_size(grid.size, spec.samples if spec.route != "exact"
+                             else spec.checks, chunks)
     call = (f"sweepcore.basin_stability({grid!r}, x0={spec.box[0]!r}, "
             f"xdot0={spec.box[1]!r}, samples={spec.samples}, method={method!r}, "
             f"tol={tol!r}, route={route!r}, sampling={sampling!r}, seed={seed!r})")
-    ds = _dataset(grid, results, spec, o, method, tol, call)
-    if target_path is not None:
-        write_netcdf(ds, target_path)
-    return ds
 
+    def task(bounds):
+        return lambda i: (basin_chunk, (*grid.block(*bounds[i]), o, spec,
+                                        bounds[i][0]))
 
-# ------------------------------------------------------------------ labels
-def _dataset(grid, results, spec, o, method, tol, call) -> xr.Dataset:
-    dims, shape = grid.dims, grid.shape
-    order = sorted({(r, name) for res in results for name, r, *_ in res["attractors"]})
-    names = [name for _r, name in order]
-    index = {name: j for j, name in enumerate(names)}
-    n = max(1, len(names))
-    frac = np.zeros((grid.size, n))
-    err = np.zeros((grid.size, n))
-    obs = np.full((grid.size, n, layout.NOBS), np.nan)
-    route = np.array([res["route"] for res in results], np.int8)
-    status = np.array([res["status"] for res in results], np.int8)
-    count = np.zeros(grid.size, np.int64)
-    for p, res in enumerate(results):
-        if res["status"] in (NOT_APPLICABLE, NOT_RESOLVED):
-            frac[p], err[p] = np.nan, np.nan
-            continue
-        for name, r, f, e, row in res["attractors"]:
-            frac[p, index[name]], err[p, index[name]], obs[p, index[name]] = f, e, row
-            count[p] += r not in UNSETTLED
-    adims = dims + ("attractor",)
-    ashape = shape + (n,)
-    data = {
-        "basin_fraction": xr.Variable(adims, frac.reshape(ashape),
-                                      labels.attrs(*variables.BASIN_FRACTION)),
-        "basin_fraction_error": xr.Variable(
-            adims, err.reshape(ashape), labels.attrs(*variables.BASIN_FRACTION_ERROR)),
-    }
-    for name in PER_ATTRACTOR:
-        col, units, long_name, _comment = variables.OBSERVABLES[name]
-        data[name] = xr.Variable(adims, obs[..., col].reshape(ashape), labels.attrs(
-            units, f"{long_name} (per attractor)",
-            "from one start that ends on the attractor; NaN where it is not found"))
-    regimes = [r for r, _name in order] or [codes.R_FAILED]
-    data["attractor_regime"] = xr.Variable(
-        "attractor", np.array(regimes, np.int8),
-        {**labels.flag_attrs(variables.REGIME), "long_name": "regime of the attractor"})
-    data["n_attractors"] = xr.Variable(dims, count.reshape(shape),
-                                       labels.attrs(*variables.N_ATTRACTORS))
-    data["samples"] = xr.Variable(dims, np.array([res["samples"] for res in results],
-                                                 np.int64).reshape(shape),
-                                  labels.attrs(*variables.SAMPLES))
-    data["basin_route"] = xr.Variable(dims, route.reshape(shape), labels.flags(
-        ROUTE_NAMES, "route of the basin fractions"))
-    data["basin_status"] = xr.Variable(dims, status.reshape(shape), labels.flags(
-        STATUS_NAMES, "status of the basin fractions of the point"))
-    coords = {k: v for k, v in grid.coords().items() if k not in ("x0", "xdot0")}
-    if "cycles" in results[0]:
-        cyc = cycle_variables(np.array([r["cycles"] for r in results]),
-                              np.array([r["n_cycles"] for r in results]), dims, shape, o)
-        coords["cycle"] = cyc.pop("cycle")
-        data.update(cyc)
-    coords["attractor"] = xr.Variable("attractor", np.array(names or ["none"], object), {
-        "units": "1", "long_name": "attractor (regime name; _2, _3: further "
-                                   "attractors of that regime at a point)"})
-    ds = xr.Dataset(data, coords)
-    for name in ("q", "x_eq", "v_star"):
-        da = labels.analytic(name, {k: ds[k] for k in coords if k != "attractor"}, dims,
-                             grid.laws)
-        ds[name] = xr.Variable(da.dims, da.data, da.attrs)
-    (xl, xh), (yl, yh) = spec.box
-    ds.attrs.update({
-        **labels.provenance(
-            "Basin stability of the stick-slip friction oscillator", call,
-            "exact route: area of the unstable slip cycle's interior in the box "
-            "(return-map scan, polygon clipped to the box); sampled route: starts on "
-            "the attractor kernel, attractors told apart by regime, amplitude and mean",
-            "Units kN, cm, s. basin_fraction: share of the box of start states "
-            "(x0, xdot0) that ends on the attractor."),
-        "sweepcore_kind": "basins", "method": method, "tol": float(tol),
-        "x0_range": np.array([xl, xh]), "xdot0_range": np.array([yl, yh]),
-        "samples_requested": spec.samples, "route": spec.route,
-        "sampling": spec.sampling, "seed": spec.seed, "checks": spec.checks,
-        "ftol": spec.ftol, "match": spec.match})
+    def labelled(parts):
+        head, cycles, entries = unpack(parts, spec.route != "sampled")
+        return basin_dataset(grid, head, cycles, entries, spec, o, method, tol, call)
+
+    with execute.connected(kind, target) as (kind, target):
+        if target_path is None:
+            bounds = execute.chunk_bounds(grid.size, chunk)
+            parts = [None] * len(bounds)
+            with resumable.progress_bar(grid.size, 0, progress, "basins") as bar:
+                def handle(i, packed):
+                    parts[i] = packed
+                    bar.update(bounds[i][1] - bounds[i][0])
+                execute.run(kind, target, range(len(bounds)), task(bounds), handle)
+            return labelled(parts)
+        fixed = {"kind": "basins", "grid": grid.fingerprint(), "options": o.tolist(),
+                 "spec": [list(spec.box[0]), list(spec.box[1]), spec.samples,
+                          spec.route, spec.sampling, spec.seed, spec.checks,
+                          spec.ftol, spec.match]}
+        with resumable.open_store(target_path, fixed, {"call": call}, grid.size, None,
+                                  None if chunks is None else chunk, chunk) as store:
+            bounds = [store.bounds(i) for i in range(store.n_chunks)]
+            resumable.compute_missing(store, kind, target, task(bounds), progress,
+                                      "basin_stability")
+            ds = labelled(resumable.stored_chunks(store))
+            resumable.write_result(store, ds, target_path)
     return ds

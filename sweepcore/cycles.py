@@ -26,14 +26,15 @@ import math
 import numpy as np
 import xarray as xr
 
-from . import compiled, execute, labels, variables
+from . import compiled, execute, labels, resumable, variables
 from ._kernels import codes, layout
 from ._kernels.cycles import MAX_CYCLES
 from ._kernels.trajectory import fresh_acc
 from .grid import Grid, checked_grid
-from .io import result_path, write_netcdf
+from .io import check_flag, result_path
 from .laws import ANALYTIC
 from .options import check_method, checked_keywords, make_options
+from .sizing import cycles_need, refuse_unaffordable
 
 __all__ = ["slip_cycles", "cycle_polygon", "cycle_variables", "cycles_chunk",
            "clipped_area", "inside",
@@ -87,24 +88,65 @@ def _check_no_start(grid: Grid, what: str) -> None:
                              f"scalar (or leave it out), got a swept {name}")
 
 
-def scan(grid: Grid, o: np.ndarray, chunks=None, client=None, scheduler=None):
+CHUNK_SPLIT, CHUNK_LEAST = 16, 64     # default: up to 16 tasks of >= 64 points
+
+
+def default_chunk(size: int) -> int:
+    """Points per task of the scan when ``chunks=None``: the grid cut in up to 16
+    (progress, resumable chunks, workers), at least 64 points a task (the numba
+    threads share a task), at most 50,000."""
+    return min(size, 50_000, max(CHUNK_LEAST, math.ceil(size / CHUNK_SPLIT)))
+
+
+def _packed(out: np.ndarray, found: np.ndarray) -> np.ndarray:
+    """One float64 row a point: the number of cycles, then the cycle rows."""
+    return np.column_stack([found.astype(np.float64), out.reshape(out.shape[0], -1)])
+
+
+def _unpacked(rows: np.ndarray):
+    n = rows.shape[0]
+    return rows[:, 1:].reshape(n, MAX_CYCLES, layout.NOBS), rows[:, 0].astype(np.int64)
+
+
+def packed_chunk(grid: Grid, start: int, stop: int, o: np.ndarray,
+                 parallel: bool = False) -> np.ndarray:
+    """:func:`cycles_chunk`, packed as the working store keeps it."""
+    return _packed(*cycles_chunk(grid, start, stop, o, parallel))
+
+
+def scan(grid: Grid, o: np.ndarray, chunks=None, client=None, scheduler=None,
+         path=None, progress=False):
     """``(out, found)`` of the cycle scan over every point of ``grid`` (flat C
-    order), one task per chunk on the executor of ``client``/``scheduler``."""
+    order), one task per chunk on the executor of ``client``/``scheduler``; with a
+    ``path`` (checked by :func:`sweepcore.io.result_path`) the chunks go through
+    its working store, so that an interrupted scan resumes (the store is left for
+    :func:`sweepcore.resumable.write_result`, returned third)."""
     kind, target = execute.resolve(client, scheduler)
-    execute.check_chunks(chunks)
     size = grid.size
-    chunk = size if chunks is None else min(int(chunks), size)
-    bounds = execute.chunk_bounds(size, chunk)
-    out = np.empty((size, MAX_CYCLES, layout.NOBS))
-    found = np.zeros(size, np.int64)
+    chunk = default_chunk(size) if chunks is None else min(int(chunks), size)
 
-    def handle(i, result):
-        a, b = bounds[i]
-        out[a:b], found[a:b] = result
-
-    execute.run(kind, target, range(len(bounds)),
-                lambda i: (cycles_chunk, (*grid.block(*bounds[i]), o)), handle)
-    return out, found
+    def task(bounds):
+        return lambda i: (packed_chunk, (*grid.block(*bounds[i]), o))
+    with execute.connected(kind, target) as (kind, target):
+        if path is None:
+            bounds = execute.chunk_bounds(size, chunk)
+            parts = [None] * len(bounds)
+            execute.run(kind, target, range(len(bounds)), task(bounds),
+                        parts.__setitem__)
+            return (*_unpacked(np.concatenate(parts)), None)
+        fixed = {"kind": "cycles", "grid": grid.fingerprint(), "options": o.tolist()}
+        store = resumable.open_store(path, fixed, {"grid": repr(grid)}, size,
+                                     1 + MAX_CYCLES * layout.NOBS,
+                                     None if chunks is None else chunk, chunk)
+        try:
+            bounds = [store.bounds(i) for i in range(store.n_chunks)]
+            resumable.compute_missing(store, kind, target, task(bounds), progress,
+                                      "slip_cycles")
+            rows = np.concatenate(resumable.stored_chunks(store))
+        except BaseException:
+            store.close()
+            raise
+        return (*_unpacked(rows), store)
 
 
 # ------------------------------------------------------------------ labels
@@ -144,7 +186,8 @@ def cycle_variables(out: np.ndarray, found: np.ndarray, dims: tuple, shape: tupl
 @checked_keywords(options=True)
 def slip_cycles(grid: Grid, tol: float = 1e-8, method: str = "auto",
                 chunks: int | None = None, client=None, scheduler=None, path=None,
-                overwrite: bool = False, **options) -> xr.Dataset:
+                overwrite: bool = False, progress: bool | None = False,
+                **options) -> xr.Dataset:
     """Every stop-free slip cycle of every point of ``grid``, stable or unstable.
 
     Parameters
@@ -160,11 +203,18 @@ def slip_cycles(grid: Grid, tol: float = 1e-8, method: str = "auto",
         "auto", "dopri5", "dop853", "rk4", or "exact" for a piecewise-linear law; not "gps"
         (its discrete map has its own cycles).
     chunks, client, scheduler
-        As :func:`sweepcore.sweep`: one task per chunk of points.
+        As :func:`sweepcore.sweep`: one task per chunk of points (default: the
+        grid cut in up to 16, at least 64 points a task).
     path : str or os.PathLike, optional
-        Also write the result to this netCDF file (atomically).
+        Also write the result to this netCDF file, with the rules of
+        :func:`sweepcore.sweep`'s ``path``: finished chunks are kept in a working
+        store ``<path>.partial/``, so that rerunning the same call after an
+        interruption computes only the chunks missing; the file appears,
+        atomically, only when complete.
     overwrite : bool
         Replace ``path`` even if it is a read-only file.
+    progress : bool, optional
+        Show a progress bar of a scan with a ``path`` (None: on a terminal).
     **options
         max_steps, max_periods, dt, graze: see :func:`sweepcore.options.make_options`.
 
@@ -176,11 +226,34 @@ def slip_cycles(grid: Grid, tol: float = 1e-8, method: str = "auto",
         ``cycle_xdot_max``, ``cycle_period``, ``cycle_floquet`` (> 1: unstable),
         ``cycle_stability`` and ``cycle_status`` (flags), ``cycle_search_status``;
         the analytic q, x_eq, v_star over the grid's coordinates (docs/variables.md).
+
+    Raises
+    ------
+    SweepTooLarge
+        Before any work, when the grid's cycles need more memory than is available
+        (:func:`sweepcore.sizing.cycles_need`, the estimate in the message).
     """
+    check_flag("overwrite", overwrite)
+    check_flag("progress", progress, none=True)
     o = _options(grid, method, tol, options)
     _check_no_start(grid, "the cycle scan")
+    execute.check_chunks(chunks)
     target = None if path is None else result_path(path, overwrite=overwrite)
-    out, found = scan(grid, o, chunks, client, scheduler)
+    chunk = default_chunk(grid.size) if chunks is None else min(int(chunks), grid.size)
+    refuse_unaffordable(cycles_need(grid.size, chunk))
+    out, found, store = scan(grid, o, chunks, client, scheduler, target, progress)
+    try:
+        ds = _labelled(grid, out, found, o, tol, method)
+        if store is not None:
+            resumable.write_result(store, ds, target)
+    finally:
+        if store is not None:       # the lock (the store itself is gone if written)
+            store.close()
+    return ds
+
+
+def _labelled(grid: Grid, out, found, o, tol, method) -> xr.Dataset:
+    """The Dataset of :func:`slip_cycles` from the scan's output."""
     data = cycle_variables(out, found, grid.dims, grid.shape, o)
     coords = {k: v for k, v in grid.coords().items() if k not in ("x0", "xdot0")}
     ds = xr.Dataset({k: v for k, v in data.items() if k != "cycle"},
@@ -197,8 +270,6 @@ def slip_cycles(grid: Grid, tol: float = 1e-8, method: str = "auto",
             "Units kN, cm, s. cycle_floquet > 1: an unstable cycle (a basin "
             "boundary in the plane)."),
         "sweepcore_kind": "cycles", "method": method, "tol": float(tol)})
-    if target is not None:
-        write_netcdf(ds, target)
     return ds
 
 

@@ -27,7 +27,9 @@ from ._kernels import codes, layout
 from .boundaries import locate_boundaries
 from .grid import AXES, COLUMNS, Grid, checked_grid
 from .options import checked_keywords, did_you_mean, make_options
+from .io import check_flag
 from .params import LONG_NAMES, UNITS
+from .sizing import diagram_need, refuse_unaffordable
 
 BRANCHES = ("up", "down")
 SWEEPS = {"up": ("up",), "down": ("down",), "both": BRANCHES}
@@ -93,7 +95,8 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
         at the lowest value), "down" (decreasing, from that start at the highest
         value) or "both" (up, then down from the up scan's last attractor).
     unstable : bool
-        Also store the unstable slip cycles (the ``unstable_*`` variables).
+        Also store the unstable slip cycles (the ``unstable_*`` variables; not with
+        ``method="gps"``, whose discrete map has its own cycles).
     tol, method, **options
         As :func:`sweepcore.attractor`.
 
@@ -114,13 +117,20 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
         raise ValueError(f"along must be one of {AXES[:6]}, got {along!r}"
                          f"{did_you_mean(along, AXES[:6])}")
     checked_grid(grid)
+    check_flag("boundaries", boundaries)
+    check_flag("unstable", unstable)
     swept = [n for n in grid.swept if n != along]
     values = grid.axis(along)
     if not isinstance(values, np.ndarray) or values.size < 2 or swept:
         raise ValueError(f"a diagram needs {along!r} swept with >= 2 values and every "
                          f"other parameter fixed; swept: {grid.swept}")
-    values = np.sort(values)
+    if method == "gps" and unstable:
+        raise ValueError("unstable=True needs the ODE's return map (the unstable slip "
+                         "cycles are its fixed points); method='gps' follows its own "
+                         "discrete map: pass unstable=False, or another method")
     o = make_options(method, tol=tol, **options)
+    refuse_unaffordable(diagram_need(values.size, len(SWEEPS[sweep])))
+    values = np.sort(values)
     at_first = dataclasses.replace(grid, **{along: float(values[0])})
     base = at_first.rows(0, 1)[0]
     x0, xd0 = grid.axis("x0"), grid.axis("xdot0")

@@ -10,6 +10,7 @@ in :mod:`sweepcore.variables`.
 from __future__ import annotations
 
 import datetime
+import math
 from importlib.metadata import PackageNotFoundError, version as _installed
 
 import numpy as np
@@ -116,6 +117,19 @@ def parameter(ds: xr.Dataset, name: str) -> float:
     if name in ds.coords and ds[name].ndim == 0:
         return float(ds[name])
     return float(ds.attrs.get(name, np.nan))
+
+
+def slider_parameters(ds: xr.Dataset) -> list[tuple[str, float]]:
+    """``(name, value)`` of a simulation's slider, every term of its law: m, k, r_y,
+    v, alpha1, alpha2, then the damping c unless it is 0 and the Stribeck terms
+    r_k, v_s unless r_k = r_y (eq. 40's law: no such term)."""
+    out = [(n, parameter(ds, n)) for n in ("m", "k", "r_y", "v", "alpha1", "alpha2")]
+    c, r_k, r_y = parameter(ds, "c"), parameter(ds, "r_k"), parameter(ds, "r_y")
+    if math.isfinite(c) and c != 0.0:
+        out.append(("c", c))
+    if math.isfinite(r_k) and r_k != r_y:
+        out += [("r_k", r_k), ("v_s", parameter(ds, "v_s"))]
+    return [(n, v) for n, v in out if math.isfinite(v)]
 
 
 # ------------------------------------------------------------ analytic variables

@@ -40,6 +40,23 @@ def check_method(method: str, where) -> None:
                              f"then); {why}")
 
 
+def _finite(val) -> bool:
+    """math.isfinite, False for an integer beyond float64 (10**400)."""
+    try:
+        return math.isfinite(val)
+    except OverflowError:
+        return False
+
+
+def _shown(val) -> str:
+    """``repr`` of a value, or the size of an integer too long to print usefully."""
+    if isinstance(val, int) and not isinstance(val, bool) and \
+            abs(val).bit_length() > 128:
+        digits = int(abs(val).bit_length() * math.log10(2))
+        return f"an integer of about {'-' if val < 0 else ''}1e{digits}"
+    return repr(val)
+
+
 def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = None,
                  max_steps: int = 2_000_000, max_periods: float = 2000.0,
                  gps_a: float | None = None, graze: float = 1e-10) -> np.ndarray:
@@ -73,8 +90,8 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
                          f"{did_you_mean(method, METHODS)}")
     for name, val in (("tol", tol), ("graze", graze)):
         if isinstance(val, bool) or not isinstance(val, (int, float)) or \
-                not (math.isfinite(val) and 0.0 < val < 1.0):
-            raise ValueError(f"{name} must be a number in (0, 1), got {val!r}")
+                not (_finite(val) and 0.0 < val < 1.0):
+            raise ValueError(f"{name} must be a number in (0, 1), got {_shown(val)}")
     if not graze <= GRAZE_MAX:
         raise ValueError(
             f"graze must be <= {GRAZE_MAX:g}, got {graze!r}: a wider touch tolerance "
@@ -82,19 +99,20 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
             "the orbit (a stick-slip cycle becomes a slip cycle); it is meant for "
             "rounding and integration error, not as a model parameter")
     if dt is not None and (isinstance(dt, bool) or not isinstance(dt, (int, float))
-                           or not (math.isfinite(dt) and dt > 0.0)):
-        raise ValueError(f"dt must be a finite number > 0 [s], got {dt!r}")
+                           or not (_finite(dt) and dt > 0.0)):
+        raise ValueError(f"dt must be a finite number > 0 [s], got {_shown(dt)}")
     if isinstance(max_steps, bool) or not isinstance(max_steps, (int, np.integer)) \
             or not 1 <= max_steps <= MAX_STEPS_CAP:
         raise ValueError(f"max_steps must be an integer in [1, 2**53], got "
-                         f"{max_steps!r} (it travels in a float64 option row, exact "
-                         "up to 2**53)")
+                         f"{_shown(max_steps)} (it travels in a float64 option row, "
+                         "exact up to 2**53)")
     if isinstance(max_periods, bool) or not isinstance(max_periods, (int, float)) or \
-            not (math.isfinite(max_periods) and max_periods > 0):
-        raise ValueError(f"max_periods must be a finite number > 0, got {max_periods!r}")
+            not (_finite(max_periods) and max_periods > 0):
+        raise ValueError(f"max_periods must be a finite number > 0, got "
+                         f"{_shown(max_periods)}")
     if gps_a is not None and (isinstance(gps_a, bool) or not isinstance(gps_a, (int, float))
-                              or not math.isfinite(gps_a)):
-        raise ValueError(f"gps_a must be a finite number [cm], got {gps_a!r}")
+                              or not _finite(gps_a)):
+        raise ValueError(f"gps_a must be a finite number [cm], got {_shown(gps_a)}")
     o = np.zeros(layout.NO)
     o[layout.O_METHOD] = AUTO if method == "auto" else codes.METHOD_CODES[method]
     o[layout.O_RTOL] = tol

@@ -47,7 +47,11 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
     output_dt : float, optional
         Sampling interval [s]; default 2 pi / omega / 100 (at most 10^6 samples).
     tol, dt, max_steps, gps_a, graze :
-        As in :func:`sweepcore.options.make_options`.
+        As in :func:`sweepcore.options.make_options`. ``tol`` defaults to 1e-10,
+        tighter than the 1e-8 of :func:`sweepcore.sweep` and
+        :func:`sweepcore.attractor`: a time history carries the error of every step
+        (and of every located event) to ``t_end``, while an attractor's observables
+        are measured on the attractor itself, within about ``tol L``.
     max_events : int
         Size of the event log; a longer log raises (nothing is silently dropped).
 

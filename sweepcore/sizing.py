@@ -1,10 +1,18 @@
-"""The size of a sweep before any work: points, bytes of output, memory and disk,
+"""The size of a call before any work: points, bytes of output, memory and disk,
 the default chunk, and the rule that refuses a call that cannot fit.
 
 :func:`estimate` is public (``sweepcore.estimate``); :func:`sweepcore.sweep` calls it
 and :func:`refuse_if_too_large` before it computes anything, so a refused call leaves
 nothing behind. ``python benchmarks/memory.py`` measures the peak memory of streamed
 sweeps against these estimates.
+
+The other entry points size themselves by the same rule (:func:`refuse_unaffordable`):
+basin stability (:func:`basin_need`: points, starts and checks a point), the cycle
+scan (:func:`cycles_need`), the boundary searches (:func:`boundary_need`: points and
+scan) and the diagrams (:func:`diagram_need`); a study's ``[basins]`` table is sized
+with :func:`basin_need` before anything runs. Each is refused, before any work, when
+the memory it needs exceeds the memory available, or when one of its arrays would
+hold more elements than numpy can index, with the estimate in the message.
 """
 from __future__ import annotations
 
@@ -18,7 +26,8 @@ from . import law
 from . import variables
 from ._kernels import layout
 from .boundary import BOUNDARY_VARIABLES
-from .grid import Grid, checked_grid
+from ._kernels.cycles import MAX_CYCLES
+from .grid import MAX_SIZE, Grid, checked_grid
 from .execute import check_chunks
 from .io import WorkingStore, chunk_shape, free_bytes, path_text
 from .options import checked_keywords
@@ -35,7 +44,8 @@ def default_chunk(size: int) -> int:
 
 
 class SweepTooLarge(ValueError):
-    """A sweep refused before any work: it would not fit in memory (or on disk)."""
+    """A call refused before any work: it would not fit in memory (or on disk), or
+    an array of it would hold more elements than numpy can index."""
 
 
 def _analytic_sizes(grid: Grid) -> int:
@@ -149,7 +159,13 @@ def available_memory() -> int | None:
     return min(limits) if limits else None
 
 
+def _digits(n: int) -> int:
+    return int(abs(n).bit_length() * math.log10(2))
+
+
 def size_text(nbytes) -> str:
+    if abs(nbytes) >= 2**1000:       # beyond float64 (an integer argument of 1e400)
+        return f"about 1e{_digits(nbytes)} B"
     for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
         if abs(nbytes) < 1024 or unit == "PiB":
             return f"{nbytes:.3g} {unit}" if unit != "B" else f"{int(nbytes)} B"
@@ -180,3 +196,112 @@ def refuse_if_too_large(est: dict) -> None:
                             "directory of the path; 0 B: a full disk, or a file system "
                             "that holds no files, such as /proc); choose a path on a "
                             "larger disk or sweep a smaller grid")
+
+
+# ------------------------------------------------------------ the other entry points
+# bytes a grid point's answer holds in memory besides its arrays below (Python
+# objects of one chunk's answers and the labelled Dataset's variables, measured
+# for two attractors a point): an "about", as the sweep's estimate is
+BASIN_POINT_BYTES = 2048
+BOUNDARY_POINT_BYTES = 4096
+ROW_BYTES = 8 * (layout.NP + layout.NOBS)      # one kernel row and its observables
+
+
+def _number(n: int) -> str:
+    """``1,000`` (a huge integer as its order of magnitude)."""
+    return f"{n:,}" if n < 10**18 else f"about 1e{_digits(n)}"
+
+
+def _count(n: int, what: str) -> str:
+    return f"{_number(n)} {what}{'' if n == 1 else 's'}"
+
+
+def basin_chunk_size(points: int, per_point: int, chunks=None) -> int:
+    """Grid points per basin task: ``chunks``, else about 20 000 starts a task."""
+    return min(points, chunks or max(1, 20000 // max(1, per_point)))
+
+
+def basin_need(points: int, samples: int, checks: int, route: str,
+               chunks: int | None = None) -> dict:
+    """What :func:`sweepcore.basin_stability` needs: ``points`` grid points, each
+    with ``samples`` starts (sampled route) or ``2 checks + 3`` runs and ``50
+    checks`` candidate starts (exact route; "auto" may take either at any point)."""
+    exact = route != "sampled"
+    exact_runs = 2 * checks + 3
+    runs = {"sampled": samples, "exact": exact_runs}.get(route,
+                                                          max(samples, exact_runs))
+    chunk = basin_chunk_size(points, samples if route != "exact" else checks, chunks)
+    candidates = 50 * checks if exact else 0
+    work = 3 * chunk * runs * ROW_BYTES + 16 * candidates + (
+        chunk * MAX_CYCLES * layout.NOBS * 8 if exact else 0)
+    result = points * (BASIN_POINT_BYTES + (MAX_CYCLES * layout.NOBS * 8 if exact
+                                            else 0))
+    what = (f"basin stability of {_count(points, 'point')} with samples="
+            f"{_number(samples)} starts a point and checks={_number(checks)} (route "
+            f"{route!r})")
+    return {"what": what, "memory": result + work,
+            "elements": max(chunk * runs * layout.NP, 2 * candidates, 2 * samples,
+                            points * layout.NOBS),
+            "parts": f"the result {size_text(result)}, a task of "
+                     f"{_count(chunk, 'point')} {size_text(work)}",
+            "advice": "lower samples (or checks), or split the grid"}
+
+
+def cycles_need(points: int, chunk: int) -> dict:
+    """What :func:`sweepcore.slip_cycles` needs: the scan's rows of ``points`` grid
+    points (held for the Dataset), twice, and one task of ``chunk`` points."""
+    per_point = MAX_CYCLES * layout.NOBS * 8 + 8
+    result = 2 * points * per_point
+    work = 2 * chunk * (per_point + 8 * layout.NP)
+    return {"what": f"the cycle scan of {_count(points, 'point')}",
+            "memory": result + work, "elements": points * MAX_CYCLES * layout.NOBS,
+            "parts": f"the result {size_text(result)}, a task of "
+                     f"{_count(chunk, 'point')} {size_text(work)}",
+            "advice": "split the grid"}
+
+
+def boundary_need(points: int, scan: int, chunk: int) -> dict:
+    """What :func:`sweepcore.locate_boundaries` (``points`` searches, one task of
+    ``chunk``) or :func:`sweepcore.continue_boundary` needs: each search's coarse
+    scan of ``scan`` attractors is one batch of kernel rows."""
+    result = points * BOUNDARY_POINT_BYTES
+    work = 2 * chunk * scan * ROW_BYTES + 8 * scan
+    return {"what": f"boundary searches at {_count(points, 'point')} with scan="
+                    f"{_number(scan)}", "memory": result + work,
+            "elements": max(chunk * scan * layout.NP, points),
+            "parts": f"the result {size_text(result)}, a task of "
+                     f"{_count(chunk, 'search')} {size_text(work)}",
+            "advice": "lower scan (32 brackets a boundary), pass chunks, or split the "
+                      "grid"}
+
+
+def diagram_need(values: int, branches: int) -> dict:
+    """What :func:`sweepcore.bifurcation_diagram` needs along ``values`` points."""
+    memory = 3 * branches * values * 8 * layout.NOBS + 8 * values * 16
+    return {"what": f"a bifurcation diagram of {_count(values, 'value')} ("
+                    f"{_count(branches, 'scan')})",
+            "memory": memory, "elements": branches * values * layout.NOBS,
+            "parts": "its branches", "advice": "follow fewer values"}
+
+
+def too_large(need: dict) -> str | None:
+    """Why the call ``need`` (of :func:`basin_need` and its siblings) cannot run, or
+    None: an array beyond numpy's index, or more memory than is available."""
+    if need["elements"] > MAX_SIZE:
+        return (f"{need['what']} needs arrays of {_number(need['elements'])} elements "
+                f"({need['parts']}), more than numpy can index ({MAX_SIZE:.3g}); "
+                f"{need['advice']}")
+    avail = available_memory()
+    if avail is not None and need["memory"] > avail:
+        return (f"{need['what']} needs about {size_text(need['memory'])} of memory "
+                f"({need['parts']}), but {size_text(avail)} is available; "
+                f"{need['advice']}")
+    return None
+
+
+def refuse_unaffordable(need: dict) -> None:
+    """Raise :class:`SweepTooLarge` (nothing computed, nothing written) when
+    :func:`too_large` says why the call cannot run."""
+    why = too_large(need)
+    if why is not None:
+        raise SweepTooLarge(why)

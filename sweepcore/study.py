@@ -24,7 +24,6 @@ of a semantically bad key is found by scanning the text (:func:`key_line`).
 """
 from __future__ import annotations
 
-import difflib
 import math
 import numbers
 import re
@@ -34,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .options import METHODS
+from .options import METHODS, did_you_mean
 from .params import LONG_NAMES, RULES, UNITS, check_real
 from .study_basins import basins_table
 from .study_boundary import boundary_table
@@ -223,8 +222,7 @@ class _Checker:
     def known(self, table: dict, allowed, keypath=()):
         for key in table:
             if key not in allowed:
-                near = difflib.get_close_matches(key, allowed, n=1)
-                hint = f"; did you mean {near[0]!r}?" if near else ""
+                hint = did_you_mean(key, allowed)     # the API's: tolerance -> tol
                 where = f"[{'.'.join(keypath)}]" if keypath else "the top level"
                 self.fail(tuple(keypath) + (key,),
                           f"unknown key {key!r} in {where}{hint} "
@@ -240,10 +238,8 @@ class _Checker:
         if not isinstance(val, str):
             self.fail(keypath, f"must be a string, got {_describe(val)}")
         if choices is not None and val not in choices:
-            close = difflib.get_close_matches(val, list(choices), n=1)
             self.fail(keypath, f"must be one of {', '.join(map(repr, choices))}, "
-                               f"got {val!r}"
-                               + (f"; did you mean {close[0]!r}?" if close else ""))
+                               f"got {val!r}{did_you_mean(val, list(choices))}")
         return val
 
     def real(self, keypath, val, name=None, **rule) -> float:

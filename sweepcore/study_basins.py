@@ -52,4 +52,29 @@ def basins_table(ck, doc: dict, axes: dict) -> dict:
             if not name.endswith(suffix):
                 ck.fail(("basins", key), f"must end in {suffix}, got {name!r}")
             out[key] = name
+    _check_size(ck, doc, axes, table, out)
     return out
+
+
+def _check_size(ck, doc: dict, axes: dict, table: dict, out: dict) -> None:
+    """The size rule of :func:`sweepcore.basin_stability` (the estimate in the
+    message), before anything runs; blamed on the key that makes the call too large
+    (samples, checks, or the axes)."""
+    import math
+
+    from .sizing import basin_need, too_large
+
+    points = math.prod(a.values.size for a in axes.values())
+    chunks = doc.get("solver", {}).get("chunks") if isinstance(doc.get("solver"),
+                                                                dict) else None
+    chunks = chunks if isinstance(chunks, int) and chunks >= 1 else None
+    why = too_large(basin_need(points, out["samples"], out["checks"], out["route"],
+                               chunks))
+    if why is None:
+        return
+    alone = {key: too_large(basin_need(points, out["samples"] if key == "samples"
+                                       else 1, out["checks"] if key == "checks" else 1,
+                                       out["route"], chunks))
+             for key in ("samples", "checks")}
+    blamed = [k for k in ("samples", "checks") if alone[k] and k in table]
+    ck.fail(("basins", blamed[0]) if blamed else ("axes",), why)

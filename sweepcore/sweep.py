@@ -54,26 +54,18 @@ sweeps of 1e6 and 1e7 points and the time of a refusal.
 """
 from __future__ import annotations
 
-import functools
-import hashlib
-import json
 import logging
 import math
-import sys
 import uuid
-from pathlib import Path
 
-import numba
 import numpy as np
 import xarray as xr
-from tqdm.auto import tqdm
 
-from . import execute, labels, law, variables
+from . import execute, labels, law, resumable, variables
 from ._kernels import codes, layout
 from .boundary import BOUNDARY_VARIABLES, hopf_boundary, reversal_cycles
 from .grid import Grid, checked_grid
-from .io import WorkingStore, check_flag, chunk_shape, result_path, write_netcdf
-from .io.files import stale_temporaries
+from .io import WorkingStore, check_flag, chunk_shape, result_path
 from .options import check_method, checked_keywords, make_options
 from .sizing import (SweepTooLarge, default_chunk, estimate, refuse_if_too_large,
                      size_text)
@@ -206,27 +198,13 @@ def _streamed(grid, o, kind, target, progress, target_path, method, tol, options
               requested, call) -> None:
     """The sweep with a path: chunks into the working store, then the file."""
     with _working_store(target_path, grid, o, method, tol, options, requested) as store:
-        _compute_to_store(grid, o, kind, target, store, progress)
+        bounds = [store.bounds(i) for i in range(store.n_chunks)]
+        task = _chunk_task(grid, o, bounds)
+        resumable.compute_missing(store, kind, target, task, progress)
         # checked again before use: a chunk damaged meanwhile is computed again
-        _compute_to_store(grid, o, kind, target, store, False)
+        resumable.compute_missing(store, kind, target, task, False)
         ds = _dataset(grid, _stored_columns(grid, store), o, method, call)
-        # the lock is ours: a temporary beside the file is a killed write's leftover
-        for tmp in stale_temporaries(target_path):
-            tmp.unlink(missing_ok=True)
-        try:
-            write_netcdf(ds, target_path)
-        except OSError as err:
-            raise OSError(err.errno, f"{err.strerror or err} The working store "
-                          f"{store.directory} is kept: free space and rerun the same "
-                          "call to finish.") from err
-        store.remove()
-
-
-def _progress_bar(size, initial, progress):
-    show = sys.stderr.isatty() if progress is None else bool(progress)
-    return tqdm(total=size, initial=initial, unit="pt", unit_scale=True, desc="sweep",
-                disable=not show, delay=0.5 if progress is None else 0.0,
-                file=sys.stderr)
+        resumable.write_result(store, ds, target_path)
 
 
 def _chunk_task(grid, o, bounds):
@@ -240,7 +218,7 @@ def _compute(grid, o, kind, target, chunk, progress) -> np.ndarray:
     size = grid.size
     bounds = execute.chunk_bounds(size, chunk)
     cols = np.empty((layout.NOBS, size))     # one contiguous row per observable
-    with _progress_bar(size, 0, progress) as bar:
+    with resumable.progress_bar(size, 0, progress) as bar:
         def handle(i, result):
             a, b = bounds[i]
             cols[:, a:b] = result.T
@@ -249,27 +227,6 @@ def _compute(grid, o, kind, target, chunk, progress) -> np.ndarray:
         execute.run(kind, target, range(len(bounds)), _chunk_task(grid, o, bounds),
                     handle)
     return cols
-
-
-def _compute_to_store(grid, o, kind, target, store, progress) -> None:
-    """Compute the chunks the store lacks (or holds damaged), storing each as it
-    finishes; nothing grid-sized is held in memory."""
-    finished = set(store.verified())
-    bounds = [store.bounds(i) for i in range(store.n_chunks)]
-    todo = [i for i in range(len(bounds)) if i not in finished]
-    initial = sum(bounds[i][1] - bounds[i][0] for i in finished)
-    if finished and progress is not False:
-        # on stderr (not a log record): an interrupted run's user must see it
-        print(f"sweep: resuming {len(finished)} of {store.n_chunks} chunks (already "
-              f"stored in {store.directory}); computing the other {len(todo)}",
-              file=sys.stderr)
-    with _progress_bar(grid.size, initial, progress) as bar:
-        def handle(i, result):
-            store.write(i, result)
-            bar.update(bounds[i][1] - bounds[i][0])
-
-        if todo:
-            execute.run(kind, target, todo, _chunk_task(grid, o, bounds), handle)
 
 
 def _stored_columns(grid: Grid, store):
@@ -332,23 +289,12 @@ def _checked_arguments(grid, method, tol, chunks, options, overwrite,
     return o
 
 
-@functools.lru_cache(maxsize=1)
-def _kernel_digest() -> str:
-    """SHA-256 of the kernels' source: a resume must not mix two kernel versions."""
-    h = hashlib.sha256(numba.__version__.encode())
-    for src in sorted(Path(layout.__file__).parent.glob("*.py")):
-        h.update(src.name.encode() + src.read_bytes())
-    return h.hexdigest()
-
-
 def _working_store(path, grid, o, method, tol, options, chunk) -> WorkingStore:
     """The resumable store of ``path``, keyed by a hash of what fixes the results."""
-    config = {"grid": grid.fingerprint(), "options": o.tolist(), "version": labels.version(),
-              "kernels": _kernel_digest()}
-    digest = hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()
     readable = {"grid": repr(grid), "method": method, "tol": tol, **options}
-    return WorkingStore.open(path, digest, readable, grid.size, layout.NOBS, chunk,
-                             default_chunk(grid.size))
+    fixed = {"grid": grid.fingerprint(), "options": o.tolist()}
+    return resumable.open_store(path, fixed, readable, grid.size, layout.NOBS, chunk,
+                                default_chunk(grid.size))
 
 
 # ------------------------------------------------------------------ labels
@@ -386,6 +332,9 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
     for name, (col, *meta) in variables.OBSERVABLES.items():
         values = column(col)
         if name in variables.INTEGER:
+            fill = variables.INTEGER[name]
+            if fill is not None:            # where no attractor was measured
+                values = np.where(np.isfinite(values), values, fill)
             values = values.astype(np.int64)
         data[name] = xr.Variable(dims, values, labels.attrs(*meta))
     status = column(layout.OB_STATUS).astype(np.int8)

@@ -22,7 +22,8 @@ OBSERVABLES = {
     "stick_fraction": (layout.OB_STICK_FRACTION, "1", "fraction of the period stuck",
                        "time stuck on the belt / period"),
     "sticks_per_period": (layout.OB_STICKS_PER_PERIOD, "1", "finite sticks per period",
-                          "number of sticks of finite duration in one period"),
+                          "number of sticks of finite duration in one period; -1 "
+                          "where no attractor was measured (see status)"),
     "t_settle": (layout.OB_T_SETTLE, "s", "settling time",
                  "time at which the measured period of the attractor began"),
     "x_max": (layout.OB_X_MAX, "cm", "largest x on the attractor", ""),
@@ -38,10 +39,10 @@ OBSERVABLES = {
                 "all stepper calls, including rejected steps and event polishing"),
 }
 
-# observables stored as integers (int64): counts that are never NaN, so they read as
-# counts in every tool (CSV "68", not "68.0"); sticks_per_period stays float64: NaN
-# marks a point without a measured attractor
-INTEGER = ("n_steps",)
+# observables stored as integers (int64), counts, so that they read as counts in
+# every tool (CSV "68", not "68.0"): name -> the value stored where the kernel
+# measured none (NaN), or None where it always measures one
+INTEGER = {"n_steps": None, "sticks_per_period": -1}
 REGIME = {
     "units": "1",
     "long_name": "attractor regime",

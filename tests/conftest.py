@@ -7,6 +7,8 @@ import pytest
 import sweepcore as sc
 
 PAPER = dict(m=5.0, k=50.0, r_y=10.0, v=5.0)          # the paper's Fig. 3 values
+# the [axes] of a study of the bSTAB friction case (Stribeck law with damping), v apart
+BSTAB_AXES = "[axes]\nm = 1.0\nk = 1.0\nr_y = 1.0\nr_k = 0.5\nv_s = 0.5\nc = 0.1\n"
 
 
 @pytest.fixture(scope="session", autouse=True)

@@ -141,6 +141,22 @@ def test_a_tolerance_the_polygon_cannot_reach_is_said():
     assert int(auto.basin_route[0]) == 1 and int(auto.basin_status[0]) == 0
 
 
+def test_no_attractor_anywhere_is_labelled_none_not_failed(tmp_path):
+    """Where no point found any attractor (the exact route, not applicable at any
+    point), the one placeholder attractor is 'none' of regime 'none', never a
+    'failed' attractor that no run ended on; the file keeps the label."""
+    v = 0.99 * sc.Params(**SUPER, v=1.0).v_star
+    ds = sc.basin_stability(sc.Grid(**SUPER, v=np.array([v])), **BOX, route="exact",
+                            path=tmp_path / "b.nc", progress=False)
+    for got in (ds, sc.open_result(tmp_path / "b.nc")):
+        assert list(got.attractor.values) == ["none"]
+        codes = dict(zip(got.attractor_regime.attrs["flag_values"].tolist(),
+                         got.attractor_regime.attrs["flag_meanings"].split()))
+        assert codes[int(got.attractor_regime[0])] == "none"
+        assert int(got.n_attractors[0]) == 0
+        assert np.isnan(got.basin_fraction.values).all()
+
+
 def test_auto_route_samples_where_the_exact_one_does_not_apply():
     """A supercritical law's stable slip cycle is no basin boundary: route='exact'
     says so (NaN fractions, a status); 'auto' samples there."""
@@ -394,3 +410,28 @@ def test_plot_basins_curves_and_maps():
     meshes = [a.collections[0] for a in maps.axes
               if a.get_title().startswith("basin fraction:")]
     assert len(meshes) == 2 and meshes[0].get_clim() == (0.0, 1.0)
+
+
+def test_basin_maps_show_where_attractors_coexist_and_the_hopf_curve():
+    """Over two parameters the first map is the number of attractors a point has
+    (2 where steady sliding and stick-slip coexist, between the Hopf point and the
+    fold), and every map carries the Hopf speed the file holds, at
+    v* = v_s ln((r_y - r_k)/(v_s c))."""
+    from sweepcore.plot import plot_basins
+    c = np.array([0.08, 0.1, 0.12])
+    g2 = sc.Grid(**{**BSTAB, "c": c}, v=np.array([1.0, 1.3, 1.6, 2.2]))
+    two = sc.basin_stability(g2, **BOX, route="exact", progress=False)
+    fig = plot_basins(two)
+    first = fig.axes[0]
+    assert first.get_title().startswith("attractors found: where they coexist")
+    mesh = first.collections[0].get_array().reshape(3, 4)      # c up, v across
+    np.testing.assert_array_equal(mesh, two.n_attractors.transpose("c", "v").values)
+    assert (mesh == 2).any() and (mesh == 1).any()
+    vstar = 0.5 * np.log(0.5 / (0.5 * c))
+    for ax in fig.axes:
+        if not ax.get_title():
+            continue                                # colour bars
+        (curve,) = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"]
+        v, cc = curve.get_xdata(), curve.get_ydata()
+        np.testing.assert_array_equal(cc, c)
+        np.testing.assert_allclose(v, vstar, rtol=1e-12)

@@ -58,3 +58,18 @@ def test_map_results_agree_with_references(smoke):
     wp = json.loads((out / "work_precision.json").read_text())
     exact = next(r for r in wp["settings"] if r["method"] == "exact")
     assert exact["const"]["amplitude_abs_max"] < 1e-12     # closed form, start stuck
+
+
+def test_pair_choice_reference_is_within_scipys_tolerance_range():
+    """The reference of benchmarks/pair_choice.py asks scipy for an rtol it honours
+    (100 eps): no warning, and the state after one period agrees with the tightest
+    ladder rung to better than 1e-10 L."""
+    import warnings
+    if str(ROOT) not in sys.path:
+        sys.path.insert(0, str(ROOT))
+    from benchmarks import pair_choice
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        res = pair_choice.one_point(5.5, 0.01)
+    tight = [r for r in res["rows"] if r["method"] == "DOP853" and r["rtol"] == 1e-11]
+    assert tight and tight[0]["error_over_L"] < 1e-10

@@ -15,7 +15,8 @@ What is proven:
 * unknown options get "did you mean", a missing output directory is refused
   (nothing is created), a closed output pipe ends the command quietly;
 * the compile notice appears exactly when numba's cache is cold;
-* ``sweepcore export`` writes CSV whose values are the file's, units in headers.
+* ``sweepcore export`` writes CSV whose values are the file's, under the variables'
+  names, with a table of their units.
 Subprocess tests run ``python -m sweepcore`` with the source tree on PYTHONPATH.
 """
 from __future__ import annotations
@@ -433,13 +434,32 @@ def test_export_csv_holds_the_file_values(small_run, tmp_path):
     ds = open_result(d / "small.nc")
     assert len(table) == ds.sizes["k"] * ds.sizes["v"]
     for _, row in table.iterrows():
-        point = ds.sel(k=row["k [kN cm-1]"], v=row["v [cm s-1]"])
-        assert row["amplitude [cm]"] == float(point.amplitude)     # round trip, exact
+        point = ds.sel(k=row["k"], v=row["v"])
+        assert row["amplitude"] == float(point.amplitude)     # round trip, exact
         code = int(point.regime)
         names = ds.regime.attrs["flag_meanings"].split()
         values = list(np.atleast_1d(ds.regime.attrs["flag_values"]))
         assert row["regime"] == names[values.index(code)]
-        assert row["m [kN s2 cm-1]"] == 5.0                           # fixed parameter
+        assert row["m"] == 5.0                                   # fixed parameter
+        assert row["sticks_per_period"] == int(point.sticks_per_period)   # a count
+
+
+def test_export_names_columns_plainly_and_tables_their_units(small_run, tmp_path):
+    """Column names are the variables' names (pandas reads them as they are); the
+    units and long names of every column are in OUT_units.csv, the file's own."""
+    d, _ = small_run
+    proc = sweepcore("export", d / "small.nc", "--csv", tmp_path / "small.csv",
+                     cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    import pandas as pd
+    table = pd.read_csv(tmp_path / "small.csv")
+    units = pd.read_csv(tmp_path / "small_units.csv", keep_default_na=False)
+    ds = open_result(d / "small.nc")
+    assert list(units["column"]) == list(table.columns)
+    assert set(table.columns) == set(ds.variables) - {"point"}
+    for _, row in units.iterrows():
+        assert row["units"] == ds[row["column"]].attrs.get("units", ""), row["column"]
+        assert row["long_name"] == ds[row["column"]].attrs.get("long_name", "")
 
 
 def test_export_simulation_splits_events(tmp_path):
@@ -452,8 +472,10 @@ def test_export_simulation_splits_events(tmp_path):
     samples = pd.read_csv(tmp_path / "run.csv")
     events = pd.read_csv(tmp_path / "run_events.csv")
     assert len(samples) == ds.sizes["time"] and len(events) == ds.sizes["event"]
-    np.testing.assert_array_equal(samples["time [s]"], ds.time.values)
-    np.testing.assert_array_equal(samples["x [cm]"], ds.x.values)
+    np.testing.assert_array_equal(samples["time"], ds.time.values)
+    np.testing.assert_array_equal(samples["x"], ds.x.values)
+    units = pd.read_csv(tmp_path / "run_units.csv")
+    assert dict(zip(units["column"], units["units"]))["time"] == "s"
     assert set(events["event_kind"]) <= set(ds.event_kind.attrs["flag_meanings"].split())
 
 

@@ -220,6 +220,27 @@ def test_sweep_files_suit_xarray_and_csv(tmp_path, capsys):
     assert re.fullmatch(r"\d+", row["n_steps"]), row["n_steps"]
 
 
+def test_sticks_per_period_is_a_count_in_the_file_and_the_csv(tmp_path):
+    """A count is stored as int64 (-1 where no attractor was measured: status not
+    ok), so the CSV says "1", not "1.0"; stick-slip sticks once a period, an
+    equilibrium never."""
+    import csv
+    grid = sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, alpha2=0.01, v=[2.0, 8.0])
+    sc.sweep(grid, path=tmp_path / "r.nc").close()
+    sc.sweep(grid, path=tmp_path / "f.nc", max_steps=5).close()     # budget: failed
+    ds, failed = sc.open_result(tmp_path / "r.nc"), sc.open_result(tmp_path / "f.nc")
+    assert ds.sticks_per_period.dtype == np.int64
+    regimes = dict(zip(ds.regime.attrs["flag_values"].tolist(),
+                       ds.regime.attrs["flag_meanings"].split()))
+    assert [regimes[int(r)] for r in ds.regime] == ["stick_slip", "equilibrium"]
+    assert ds.sticks_per_period.values.tolist() == [1, 0]
+    assert (failed.status.values != 0).all()
+    assert failed.sticks_per_period.values.tolist() == [-1, -1]
+    assert main(["export", str(tmp_path / "r.nc"), "--csv", str(tmp_path / "r.csv")]) == 0
+    with open(tmp_path / "r.csv") as f:
+        assert [row["sticks_per_period"] for row in csv.DictReader(f)] == ["1", "0"]
+
+
 def test_faceted_maps_share_one_colour_scale():
     """Rows of a faceted map (a third swept axis) use one colour scale per
     variable: the same colour is the same amplitude in every row."""

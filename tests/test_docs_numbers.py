@@ -292,4 +292,88 @@ def test_readme_commands_and_snippet_run_as_written(tmp_path, monkeypatch, capsy
                             snippet).group(1, 3)
     assert (f"{ob.amplitude:.5g}", f"{ob.period:.5g}") == (amp, period)
     assert ob.regime == "stick_slip" and ob.converged
-    assert (tmp_path / "map.nc").is_file() and (tmp_path / "map.csv").is_file()
+    # every file the README writes lands in out/ (whose contents git ignores)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out", "studies"]
+    assert {"map.nc", "map.csv", "map_units.csv", "map.png"} <= \
+        {p.name for p in (tmp_path / "out").iterdir()}
+
+
+def test_readme_quotes_what_the_boundary_command_prints(toml_studies, capsys):
+    """The Hopf point's distance from v* and the stick-onset ratio the README quotes
+    are those `sweepcore boundary studies/boundaries.toml` prints (its summary is
+    `sweepcore info`'s)."""
+    text = _info(toml_studies / "boundaries.nc", capsys)
+    readme = _doc("README.md")
+    dv = _number(r"\|v_hopf - v\*\| <= (\S+) cm s-1", text)
+    assert f"the Hopf point is `v*` to {dv} cm/s on every alpha2" in readme
+    assert f"`|v_hopf - v*| <= {dv} cm s-1`" in readme
+    onset = _number(r"v_stick_onset / v\* in \[(\S+), ", text)
+    assert f"sticking starts at `{onset} v*` for every alpha2" in readme
+
+
+def test_stribeck_map_numbers(toml_studies, capsys):
+    text = _info(toml_studies / "stribeck_map.nc", capsys)
+    studies = _doc("studies.md")
+    shares = dict(re.findall(r"^\s+(\w+)\s+\d+\s+\((\S+) %\)", text, flags=re.M))
+    assert (f"equilibrium {shares['equilibrium']} %, stick-slip {shares['stick_slip']} "
+            "%") in studies
+    rows, total = _number(r"measured boundary: (\d+) of (\d+) rows", text), \
+        _number(r"measured boundary: \d+ of (\d+) rows", text)
+    assert f"(on {rows} of the {total} rows;" in studies
+    lo, hi = re.search(r"v_measured - v\* in \[(\S+), (\S+)\] cm s-1", text).groups()
+    assert f"by {lo} to {hi} cm/s" in studies
+
+
+# ------------------------------------------------------------------ every study
+def test_every_study_is_in_the_table_and_in_run_all():
+    """Each TOML study and each study script is a row of docs/studies.md's table
+    and is run by studies/run_all.py (stribeck_map was neither)."""
+    sys.path.insert(0, str(STUDIES))
+    try:
+        import run_all
+    finally:
+        sys.path.remove(str(STUDIES))
+    table = re.findall(r"^\| `(\w+)` \|", (ROOT / "docs" / "studies.md").read_text(),
+                       flags=re.M)
+    for name in TOML + list(SCRIPTS):
+        assert name in table, name
+    assert sorted(run_all.TOML + run_all.BOUNDARY + run_all.BASINS) == TOML
+    assert {_command(n) for n in run_all.TOML} == {"run"}
+    assert set(SCRIPTS) <= set(run_all.SCRIPTS)
+
+
+def test_the_documented_errors_are_what_the_command_prints(tmp_path, monkeypatch,
+                                                          capsys):
+    """docs/studies.md shows `sweepcore run bad.toml` and `typo.toml`: the lines it
+    quotes are the ones printed for such files (the key list included)."""
+    studies = (ROOT / "docs" / "studies.md").read_text()
+    shown = dict(re.findall(r"^\$ sweepcore run (\w+\.toml)\n(.*)$", studies, flags=re.M))
+    assert set(shown) == {"bad.toml", "typo.toml"}
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "bad.toml").write_text("[axes]\nk = 50.0\nm = -5.0\nr_y = 10.0\nv = 5.0\n")
+    (tmp_path / "typo.toml").write_text("[axes]\nm = 5.0\nk = 50.0\nr_y = 10.0\n"
+                                        "v = 5.0\nalpha_1 = 1.0\n")
+    for name, line in shown.items():
+        capsys.readouterr()
+        assert main(["run", name]) == 2
+        assert capsys.readouterr().err.strip() == line
+
+
+SCRIPT_FILES = sorted(p for p in (*STUDIES.glob("*.py"), *(ROOT / "benchmarks").glob(
+    "*.py")) if "__main__" in p.read_text() and p.name != "run_all.py")
+
+
+@pytest.mark.parametrize("script", SCRIPT_FILES, ids=lambda p: p.name)
+def test_every_script_answers_help_without_running(script):
+    """``--help`` prints the usage and exits at once (method_orders, paper_claims and
+    pair_choice ran in full); the clock only guards a script that runs."""
+    env = {**os.environ, "NUMBA_NUM_THREADS": "1"}
+    # a module of the benchmarks package (relative imports) runs as `python -m`
+    as_module = "from . import" in script.read_text()
+    argv = ["-m", f"benchmarks.{script.stem}"] if as_module else [str(script)]
+    done = subprocess.run([sys.executable, *argv, "--help"], capture_output=True,
+                          text=True, env=env, cwd=ROOT if as_module else script.parent,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.startswith("usage: "), done.stdout[:300]
+    assert done.stderr == ""

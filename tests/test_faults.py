@@ -62,12 +62,13 @@ SCRIPT = textwrap.dedent("""\
     import numpy as np
     import importlib
     sm = importlib.import_module("sweepcore.sweep")
+    rs = importlib.import_module("sweepcore.resumable")
     from sweepcore.grid import Grid
 
     path, log, pause, n_v = sys.argv[1], sys.argv[2], float(sys.argv[3]), int(sys.argv[4])
     final_pause = float(sys.argv[5])
     real = sm.run_chunk
-    real_write = sm.write_netcdf
+    real_write = rs.write_netcdf
 
     def slow_write(ds, p):                     # a slow disk: room to be killed
         time.sleep(final_pause)
@@ -81,7 +82,7 @@ SCRIPT = textwrap.dedent("""\
         return out
 
     sm.run_chunk = logged
-    sm.write_netcdf = slow_write
+    rs.write_netcdf = slow_write
     grid = Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, v=np.linspace(3.0, 8.0, n_v),
                 alpha2=%r)
     sm.sweep(grid, path=path, scheduler="synchronous", progress=False, **%r)

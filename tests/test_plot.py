@@ -171,3 +171,148 @@ def test_failed_simulation_is_not_drawn():
     ds = sc.simulate(sc.Params(5.0, 50.0, 10.0, 5.0), 1.0, method="gps", dt=1.0)
     with pytest.raises(ValueError, match="failed simulation"):
         plot.plot_result(ds)
+
+
+# ------------------------------------- what the API refuses, and what it draws
+STRIBECK = dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.5)
+
+
+@pytest.fixture(scope="module")
+def stribeck_map():
+    """A (v, c) map of the exponential Stribeck law: x_eq depends on v only, v_star
+    on c only."""
+    return sweep(Grid(**STRIBECK, v=np.linspace(0.5, 2.5, 7), c=[0.05, 0.1, 0.2]))
+
+
+@pytest.fixture(scope="module")
+def files(hopf_small, stribeck_map):
+    """One result of every kind (tests/test_basins.py draws the basin maps)."""
+    diagram = sc.bifurcation_diagram(Grid(**STRIBECK, c=0.1, v=np.linspace(1, 2, 5)),
+                                     boundaries=False, unstable=False)
+    return {"sweep": hopf_small, "stribeck": stribeck_map, "diagram": diagram,
+            "simulation": sc.simulate(sc.Params(5.0, 50.0, 10.0, 5.0), 1.0),
+            "cycles": sc.slip_cycles(Grid(**STRIBECK, c=0.1, v=[1.3, 1.6])),
+            "basins": sc.basin_stability(Grid(**STRIBECK, c=0.1, v=[1.3, 1.6]),
+                                         route="exact", progress=False)}
+
+
+@pytest.mark.parametrize("function", ["plot_map", "plot_result", "plot_basins",
+                                      "plot_hysteresis", "plot_diagram",
+                                      "plot_boundaries", "plot_trajectory"])
+@pytest.mark.parametrize("bad", [None, "out.nc", {}, 5], ids=["None", "str", "dict", "5"])
+def test_what_is_not_a_result_is_refused_naming_ds(function, bad):
+    hint = r" \(a file name: read it with sweepcore.open_result first\)" \
+        if bad == "out.nc" else ""
+    with pytest.raises(TypeError, match=rf"^ds must be an xarray.Dataset, a result of "
+                                        rf"sweepcore, got .* of type "
+                                        rf"{type(bad).__name__}{hint}$"):
+        getattr(sc, function)(bad)
+
+
+@pytest.mark.parametrize("function, kind, wanted", [
+    ("plot_basins", "sweep", "a basin-stability result"),
+    ("plot_basins", "simulation", "a basin-stability result"),
+    ("plot_basins", "diagram", "a basin-stability result"),
+    ("plot_basins", "cycles", "a basin-stability result"),
+    ("plot_hysteresis", "sweep", "a bifurcation diagram"),
+    ("plot_hysteresis", "cycles", "a bifurcation diagram"),
+    ("plot_diagram", "simulation", "a bifurcation diagram"),
+    ("plot_boundaries", "sweep", "located boundaries"),
+    ("plot_trajectory", "diagram", "a simulation"),
+])
+def test_a_result_of_another_kind_is_refused_naming_both(files, function, kind, wanted):
+    got = {"sweep": "a sweep", "simulation": "a simulation", "diagram":
+           "a bifurcation diagram", "cycles": "a slip-cycle result"}[kind]
+    with pytest.raises(ValueError, match=rf"^ds must be {wanted} .*; got {got} "):
+        getattr(sc, function)(files[kind])
+
+
+@pytest.mark.parametrize("kwargs, exc, message", [
+    (dict(x="v", y="v"), ValueError, r"x and y are both 'v': a map needs two different "
+                                     r"dimensions \(swept: "),
+    (dict(x="nope"), ValueError, r"x='nope' is not a swept numeric dimension"),
+    (dict(x=5), TypeError, r"x must be a dimension name \(str\), got 5"),
+    (dict(variables=[]), ValueError, r"variables is empty"),
+    (dict(variables=["nope", "amplitude"]), ValueError,
+     r"variables: 'nope' is not a variable of the result \(has: amplitude, "),
+    (dict(variables=["amplitud"]), ValueError, r"did you mean 'amplitude'\?"),
+    (dict(variables=5), TypeError, r"variables must be a variable name or a sequence"),
+    (dict(boundary="no"), TypeError, r"boundary must be True or False"),
+    (dict(title=5), TypeError, r"title must be a str or None"),
+])
+def test_plot_map_names_the_argument_it_refuses(hopf_small, kwargs, exc, message):
+    with pytest.raises(exc, match=message):
+        plot.plot_map(hopf_small, **kwargs)
+
+
+def test_one_variable_name_is_one_panel(hopf_small):
+    fig = plot.plot_map(hopf_small, variables="amplitude")
+    titled = [ax for ax in fig.axes if ax.get_title()]
+    assert [ax.get_title() for ax in titled] == ["vibration amplitude"]
+    fig = plot.plot_lines(hopf_small.isel(alpha2=4), "v", variables="period")
+    assert [ax.get_ylabel() for ax in fig.axes] == ["period of the attractor $T$ [s]"]
+
+
+def test_a_variable_over_one_axis_of_a_map_is_drawn_as_a_line(stribeck_map):
+    """On a (v, c) map x_eq depends on v only and v* on c only: each is a line
+    against its axis beside the maps, at the closed forms x_eq = (r_k + (r_y - r_k)
+    exp(-v/v_s))/k and v* = v_s ln((r_y - r_k)/(v_s c)); a constant (omega) is a
+    line at its value."""
+    fig = plot.plot_map(stribeck_map, variables=["regime", "x_eq", "v_star", "omega"])
+    titles = {ax.get_title(): ax for ax in fig.axes}
+    (xeq,) = titles["steady-sliding equilibrium position (over v only)"].get_lines()
+    v = np.linspace(0.5, 2.5, 7)
+    np.testing.assert_array_equal(xeq.get_xdata(), v)
+    np.testing.assert_allclose(xeq.get_ydata(), 0.5 + 0.5 * np.exp(-v / 0.5), rtol=1e-12)
+    (vs,) = titles["analytic Hopf belt speed (the lowest) (over c only)"].get_lines()
+    c = np.array([0.05, 0.1, 0.2])
+    np.testing.assert_array_equal(vs.get_ydata(), c)      # c up, as on the maps
+    np.testing.assert_allclose(vs.get_xdata(), 0.5 * np.log(0.5 / (0.5 * c)), rtol=1e-12)
+    (om,) = titles["natural frequency sqrt(k/m) (constant)"].get_lines()
+    assert set(om.get_ydata()) == {1.0}
+
+
+def test_the_cli_draws_variables_over_one_axis(tmp_path, capsys):
+    """``sweepcore plot --variables regime,q,x_eq`` of a (v, c) map (five values
+    of c: drawn as maps, not lines) draws x_eq, which depends on v only."""
+    from sweepcore.cli import main
+    sweep(Grid(**STRIBECK, v=np.linspace(0.5, 2.5, 7), c=np.geomspace(0.05, 0.2, 5)),
+          path=tmp_path / "s.nc").close()
+    assert main(["plot", str(tmp_path / "s.nc"), "-o", str(tmp_path / "s.png"),
+                 "--variables", "regime,q,x_eq"]) == 0, capsys.readouterr().err
+    assert (tmp_path / "s.png").read_bytes()[:8] == PNG_MAGIC
+
+
+def test_a_stribeck_map_draws_the_hopf_curve_the_file_holds(stribeck_map):
+    """The file's v* over c, drawn over every map at v = v_s ln((r_y - r_k)/(v_s c))
+    where it lies inside the map's speeds; its label says the Hopf point is
+    subcritical (the file's first Lyapunov coefficient is positive)."""
+    fig = plot.plot_map(stribeck_map)
+    labels = _labels(fig)
+    assert r"analytic Hopf speed $v^*$ (stored, subcritical)" in labels
+    for ax in fig.axes[:2]:
+        (curve,) = [ln for ln in ax.get_lines() if ln.get_linestyle() == "--"]
+        v, c = curve.get_xdata(), curve.get_ydata()
+        ok = np.isfinite(v)
+        assert ok.sum() == 3
+        np.testing.assert_allclose(v[ok], 0.5 * np.log(1.0 / c[ok]), rtol=1e-12)
+
+
+@pytest.mark.parametrize("reference, message", [
+    ("x", r"reference must be a dict \{label: \(x, fraction, error\)\}, got 'x'"),
+    ({"a": ([1.5], [0.3], [0.01, 0.02])}, r"reference\['a'\]: x, fraction and error "
+                                          r"must have equal lengths, got 1, 1, 2"),
+    ({"a": ([1.5], [0.3])}, r"reference\['a'\] must be three sequences"),
+    ({"a": "xyz"}, r"reference\['a'\] must hold numbers"),
+    ({"a": (["p"], [0.3], [0.1])}, r"reference\['a'\] must hold numbers"),
+])
+def test_a_reference_table_that_cannot_be_drawn_is_refused(files, reference, message):
+    with pytest.raises((TypeError, ValueError), match=message):
+        plot.plot_basins(files["basins"], reference=reference)
+
+
+def test_hysteresis_variable_must_be_a_scanned_variable(files):
+    with pytest.raises(ValueError, match=r"variable: 'nope' is not a variable"):
+        plot.plot_hysteresis(files["diagram"], variable="nope")
+    with pytest.raises(ValueError, match=r"variable='v_star' is not over the scans"):
+        plot.plot_hysteresis(files["diagram"], variable="v_star")

@@ -157,3 +157,119 @@ def test_hopf_point_inside_a_bracket_of_nine_decades_is_located():
     assert float(ds.v_hopf) == pytest.approx(sc.Params(m=5.0, k=50.0, r_y=10.0, v=5.0,
                                                        alpha1=1.0, alpha2=0.01).v_star,
                                              abs=1e-6)
+
+
+# ------------------------------------------ the size rule of the newer entry points
+STRIBECK = dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.5, c=0.1)
+
+
+def stribeck(n=2):
+    return sc.Grid(**STRIBECK, v=np.linspace(1.3, 1.6, n))
+
+
+def ten_billion():
+    """1e10 points from two axes of 1e5 values (1.6 MB of axes)."""
+    return sc.Grid(**{**STRIBECK, "c": np.linspace(0.05, 0.2, 10**5)},
+                   v=np.linspace(1.0, 2.0, 10**5))
+
+
+def refused_fast(call, message, tmp_path=None):
+    """Refused with a SweepTooLarge naming ``message``, before any work: quickly
+    (the clock only guards an allocation or a hang) and with nothing written."""
+    t0 = time.perf_counter()
+    with pytest.raises(sc.SweepTooLarge, match=message) as err:
+        call()
+    assert time.perf_counter() - t0 < 20
+    if tmp_path is not None:
+        assert list(tmp_path.iterdir()) == []
+    return str(err.value)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    (dict(route="sampled", samples=10**9),
+     r"samples=1,000,000,000 starts a point .* needs about \S+ \S+ of memory \(the "
+     r"result \S+ \S+, a task of 1 point \S+ \S+\), but \S+ \S+ is available; lower "
+     r"samples"),
+    (dict(samples=10**20), r"samples=about 1e20 starts a point .* needs arrays of "
+                           r".* elements .*, more than numpy can index"),
+    (dict(samples=2**63), r"more than numpy can index"),
+    (dict(checks=10**12), r"checks=1,000,000,000,000 \(route 'auto'\) needs about"),
+    (dict(checks=10**400, route="exact"), r"checks=about 1e400 .* more than numpy"),
+], ids=["samples=1e9", "samples=1e20", "samples=2**63", "checks=1e12", "checks=1e400"])
+def test_basin_stability_beyond_the_memory_is_refused_with_the_estimate(
+        kwargs, message, tmp_path):
+    refused_fast(lambda: sc.basin_stability(stribeck(), path=tmp_path / "b.nc",
+                                            progress=False, **kwargs), message, tmp_path)
+
+
+def test_ten_billion_points_are_refused_before_any_chunk_is_cut(tmp_path):
+    """basin_stability cut 1e10 points into 5e8 chunk bounds (a hang), slip_cycles
+    allocated 4.37 TiB and locate_boundaries 820 GiB: each is refused with its
+    estimate instead."""
+    refused_fast(lambda: sc.basin_stability(ten_billion(), progress=False),
+                 r"basin stability of 10,000,000,000 points .* needs about \S+ TiB")
+    refused_fast(lambda: sc.slip_cycles(ten_billion(), path=tmp_path / "c.nc"),
+                 r"the cycle scan of 10,000,000,000 points needs about \S+ TiB",
+                 tmp_path)
+    grid = sc.Grid(m=5.0, k=50.0, r_y=10.0, v=[3.0, 8.0],
+                   alpha1=np.linspace(0.5, 1.5, 10**5),
+                   alpha2=np.geomspace(1e-3, 0.1, 10**5))
+    refused_fast(lambda: sc.locate_boundaries(grid),
+                 r"boundary searches at 10,000,000,000 points with scan=32 needs")
+
+
+@pytest.mark.parametrize("scan, message", [
+    (10**9, r"scan=1,000,000,000 needs about"),
+    (10**20, r"scan=about 1e20 needs arrays of .* more than numpy can index")])
+def test_a_scan_beyond_the_memory_is_refused(scan, message):
+    grid = sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, v=[3.0, 8.0],
+                   alpha2=[0.01, 0.02])
+    refused_fast(lambda: sc.locate_boundaries(grid, scan=scan), message)
+    refused_fast(lambda: sc.continue_boundary(grid, over="alpha2", scan=scan), message)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: sc.basin_stability(stribeck(), x0=(10**400, 1)),
+     r"x0 must be a pair \(lo, hi\) of finite numbers: x0\[0\] must be finite, got an "
+     r"integer of about 1e400"),
+    (lambda: sc.basin_stability(stribeck(), xdot0=(0, -10**400)),
+     r"xdot0\[1\] must be finite, got an integer of about -1e400"),
+    (lambda: sc.basin_stability(stribeck(), ftol=10**400), r"ftol must be finite"),
+    (lambda: sc.basin_stability(stribeck(), seed=2**64),
+     r"seed must be an integer in \[0, 9223372036854775807\]"),
+    (lambda: sc.basin_stability(stribeck(), overwrite="no"),
+     "overwrite must be True or False"),
+    (lambda: sc.slip_cycles(stribeck(), tol=10**400),
+     r"tol must be a number in \(0, 1\), got an integer of about 1e400"),
+    (lambda: sc.slip_cycles(stribeck(), max_steps=10**5000),
+     r"max_steps must be an integer in \[1, 2\*\*53\], got an integer of about 1e5000"),
+    (lambda: sc.bifurcation_diagram(stribeck(3), boundaries="no"),
+     "boundaries must be True or False"),
+    (lambda: sc.bifurcation_diagram(stribeck(3), unstable="no"),
+     "unstable must be True or False"),
+    (lambda: sc.bifurcation_diagram(stribeck(3), method="gps"),
+     r"unstable=True needs the ODE's return map"),
+    (lambda: sc.continue_boundary(sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0,
+                                          v=[3.0, 8.0], alpha2=[0.01, 0.02]), over="c"),
+     r"over='c': continue_boundary needs 'c' swept"),
+], ids=["x0=1e400", "xdot0=-1e400", "ftol=1e400", "seed=2**64", "overwrite", "tol=1e400",
+        "max_steps=1e5000", "boundaries", "unstable", "diagram gps", "over"])
+def test_newer_entry_points_name_what_they_refuse(call, message):
+    with pytest.raises((TypeError, ValueError), match=message):
+        call()
+
+
+@pytest.mark.parametrize("table, key", [
+    ('route = "sampled"\nsamples = 9223372036854775807', "basins.samples"),
+    ('route = "sampled"\nsamples = 1_000_000_000', "basins.samples"),
+    ("checks = 1_000_000_000_000", "basins.checks"),
+])
+def test_a_basins_table_beyond_the_memory_is_refused_with_key_and_line(table, key):
+    text = ("[axes]\nm = 1.0\nk = 1.0\nr_y = 1.0\nr_k = 0.5\nv_s = 0.5\nc = 0.1\n"
+            f"v = [1.3, 1.6]\n[basins]\n{table}\n")
+    line = text.splitlines().index(table.splitlines()[-1]) + 1
+    t0 = time.perf_counter()
+    with pytest.raises(StudyError, match=rf"<study>:{line}: {key}: basin stability of "
+                                         r"2 points .* needs (about|arrays)"):
+        parse_study(text)
+    assert time.perf_counter() - t0 < 20

@@ -22,7 +22,7 @@ from sweepcore import compiled
 from sweepcore.laws import ANALYTIC
 from sweepcore.boundary import hopf_boundary
 from sweepcore.grid import Grid
-from sweepcore import law
+from sweepcore import law, resumable
 from sweepcore.io import WorkingStore, open_result
 from sweepcore.options import make_options
 from sweepcore.sweep import sweep
@@ -431,7 +431,7 @@ def test_finished_store_is_written_without_computing(paper_map, tmp_path, monkey
     def crash(ds, p):
         raise Interrupt
     with monkeypatch.context() as patch:
-        patch.setattr(sweep_mod, "write_netcdf", crash)
+        patch.setattr(resumable, "write_netcdf", crash)
         with pytest.raises(Interrupt):
             sweep(paper_map, chunks=30, path=path, progress=False)
     assert not path.exists()
@@ -465,7 +465,7 @@ def test_resume_after_a_kernel_change_is_refused(paper_map, tmp_path, monkeypatc
     spy_chunks(monkeypatch, path, interrupt_after=1)
     with pytest.raises(Interrupt):
         sweep(paper_map, chunks=10, path=path, progress=False)
-    monkeypatch.setattr(sweep_mod, "_kernel_digest", lambda: "edited kernels")
+    monkeypatch.setattr(resumable, "kernel_digest", lambda: "edited kernels")
     with pytest.raises(ValueError, match="kernels changed"):
         sweep(paper_map, chunks=10, path=path, progress=False)
 

@@ -141,12 +141,13 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
     if along != "v":
         raise ValueError(f"continue_boundary follows boundaries along v only, got "
                          f"along={along!r}")
-    values = _scan_values(grid, along, bracket, scan)
+    values = _scan_values(grid, along, bracket, scan, LOOKAHEAD)
     o = make_options(method, tol=tol, **options)
     other = _other_grid(grid, along, float(values[0]))
     if other.swept != (over,):
-        raise ValueError(f"continue_boundary needs {over!r} swept and every other "
-                         f"parameter fixed (apart from {along!r}); swept: "
+        raise ValueError(f"over={over!r}: continue_boundary needs {over!r} swept "
+                         f"and every other parameter fixed (apart from {along!r}); "
+                         f"swept: "
                          f"{other.swept}"
                          f"{'' if over in AXES else did_you_mean(over, AXES[:6])}")
     start = _start(grid)

@@ -21,6 +21,7 @@ from ..grid import AXES, COLUMNS, Grid, checked_grid
 from ..laws import ANALYTIC
 from ..options import checked_keywords, did_you_mean, make_options
 from ..params import UNITS, check_real
+from ..sizing import boundary_need, refuse_unaffordable
 from .dataset import _dataset
 from .drive import _drive, _together
 from .fold import cycle_boundaries
@@ -187,7 +188,11 @@ def _locate_point(pt: _Point, values: np.ndarray, xtol: float, offset: float, st
 
 
 # ------------------------------------------------------------------ arguments
-def _scan_values(grid: Grid, along: str, bracket, scan: int) -> np.ndarray:
+def _scan_values(grid: Grid, along: str, bracket, scan: int,
+                 chunks: int | None = None) -> np.ndarray:
+    """The coarse scan along ``along``, after the size rule of the searches
+    (:func:`sweepcore.sizing.boundary_need`; a task of ``chunks`` searches, default
+    all of them)."""
     checked_grid(grid)
     ax = grid.axis(along)
     if bracket is None:
@@ -208,6 +213,8 @@ def _scan_values(grid: Grid, along: str, bracket, scan: int) -> np.ndarray:
     if isinstance(scan, bool) or not isinstance(scan, (int, np.integer)) or scan < 3:
         raise ValueError(f"scan must be an integer >= 3 (coarse scan points), got "
                          f"{scan!r}")
+    points = grid.size // (ax.size if isinstance(ax, np.ndarray) else 1)
+    refuse_unaffordable(boundary_need(points, int(scan), chunks or points))
     if lo > 0.0 and hi / lo > GEOMETRIC_SCAN:
         # linear points over decades would all sit in the top one (a bracket
         # (1e-3, 1e6) has none between 1e-3 and 3e4, where v* = 5.77 is)
@@ -335,13 +342,13 @@ def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 
         ``along``.)
     """
     _check_search(along, xtol, offset)
-    values = _scan_values(grid, along, bracket, scan)
+    execute.check_chunks(chunks)
+    values = _scan_values(grid, along, bracket, scan, chunks)
     o = make_options(method, tol=tol, **options)
     kind, target = execute.resolve(client, scheduler)
     other = _other_grid(grid, along, float(values[0]))
     start = _start(grid)
     size = other.size
-    execute.check_chunks(chunks)
     chunk = size if chunks is None else min(int(chunks), size)
     bounds = execute.chunk_bounds(size, chunk)
     parts = [None] * len(bounds)

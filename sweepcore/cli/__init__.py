@@ -12,7 +12,8 @@ directories are never created: a missing one is refused, as by the Python API.
 
 Rooms: :mod:`.parser` (the subcommands and their options, one table),
 :mod:`.commands` (what each subcommand does), :mod:`.summaries` (what ``info`` and
-the commands print about a result); here, :func:`main` and its error handling.
+the commands print about a result), :mod:`.tables` (what ``export`` writes); here,
+:func:`main` and its error handling.
 """
 from __future__ import annotations
 
@@ -26,6 +27,15 @@ from .commands import COMPILE_MESSAGE, SimulationFailed, UsageError
 from .parser import build_parser, set_threads
 
 __all__ = ["main", "build_parser", "unknown_option", "COMPILE_MESSAGE", "UsageError"]
+
+
+# what an interruption leaves, per command (a command says more where it knows:
+# args.on_interrupt)
+INTERRUPTED = {
+    "run": "rerun the same command to resume: the finished chunks are kept",
+    "basins": "rerun the same command to resume: the finished chunks are kept",
+    "boundary": "nothing written", "simulate": "nothing written",
+    "plot": "nothing written", "info": "nothing written", "export": "nothing written"}
 
 
 # --------------------------------------------------------------------- main
@@ -64,8 +74,8 @@ def _main(argv) -> int:
     try:
         return args.func(args)
     except KeyboardInterrupt:
-        print("sweepcore: interrupted (rerun the same command to resume a sweep)",
-              file=sys.stderr)
+        what = getattr(args, "on_interrupt", None) or INTERRUPTED[args.command]
+        print(f"sweepcore {args.command}: interrupted ({what})", file=sys.stderr)
         return 130
     except BrokenPipeError:
         raise

@@ -2,6 +2,7 @@
 simulate (one slider), plot, info and export (result files)."""
 from __future__ import annotations
 
+import os
 import shlex
 import sys
 import time
@@ -12,6 +13,7 @@ import numpy as np
 from ..execute import LOCAL_SCHEDULERS
 from ..labels import run_statuses, timestamp, version
 from ..options import did_you_mean
+from .tables import csv_tables, units_table
 from .summaries import (basin_lines, boundary_lines, describe, describe_basins,
                         describe_boundaries, regime_line, simulation_summary)
 
@@ -140,6 +142,8 @@ def _finish(ds, study, args, out, png, t0, n, summary, plot=None, attrs=None) ->
             print(line)
     if png is not None:
         from ..plot import plot_result, save
+        args.on_interrupt = (f"while drawing; the result {out} is complete, "
+                             f"`sweepcore plot {out} -o {png}` draws it")
         save(plot_result(ds, **(plot or {})), png)
         if not args.quiet:
             print(f"wrote {png}")
@@ -184,6 +188,7 @@ def cmd_plot(args) -> int:
         raise UsageError(f"{args.result} holds {what} (status {' '.join(failed)}): "
                          "nothing to draw")
     kwargs = {}
+    _check_plot_options(args, ds)
     if "time" not in ds.dims:
         kwargs = {k: getattr(args, k) for k in ("x", "y") if getattr(args, k)}
         swept = [d for d in ds.dims if ds.sizes[d] > 1 and ds[d].dtype.kind in "iuf"]
@@ -199,15 +204,33 @@ def cmd_plot(args) -> int:
                              f"axes (swept: {', '.join(swept)})")
         if args.variables:
             kwargs["variables"] = _variable_names(args, ds, ("regime", *ds.data_vars))
-        elif "study" in ds.attrs:
-            from ..study import StudyError, parse_study
+        elif "study" in ds.attrs and ds.attrs.get("sweepcore_kind") is None:
+            from ..study import StudyError, parse_study     # a sweep's [plot] table
             try:
                 kwargs = {**parse_study(ds.attrs["study"]).plot, **kwargs}
             except StudyError:    # a study of another version: default picture
                 pass
+    args.on_interrupt = f"while drawing; {out} not written"
     save(plot_result(ds, **kwargs), out)
     print(f"wrote {out}")
     return 0
+
+
+def _check_plot_options(args, ds) -> None:
+    """Refuse --variables, --x and --y where the picture has no use for them (they
+    would be ignored): --variables apply to sweeps, --x and --y to sweeps and basin
+    maps."""
+    from ..plot.checks import KINDS, kind_of
+
+    kind = kind_of(ds)
+    given = [f"--{k}" for k in ("variables", "x", "y") if getattr(args, k)]
+    takes = {"sweep": ("--variables", "--x", "--y"), "basins": ("--x", "--y")}
+    refused = [g for g in given if g not in takes.get(kind, ())]
+    if refused:
+        taken = ", ".join(takes.get(kind, ())) or "none"
+        raise UsageError(f"{' and '.join(refused)}: {args.result} holds {KINDS[kind]}, "
+                         f"whose picture takes {taken} of them (--variables: sweeps; "
+                         "--x, --y: maps of sweeps and basins)")
 
 
 def cmd_simulate(args) -> int:
@@ -319,51 +342,23 @@ def cmd_export(args) -> int:
     if args.variables:
         ds = ds[_variable_names(args, ds, list(ds.data_vars))]
     tables = csv_tables(ds)
-    written = []
-    for suffix, frame in tables.items():
-        path = out.with_name(out.stem + suffix + out.suffix)
-        frame.to_csv(path, index=False)
-        written.append(f"{path} ({len(frame)} rows)")
-    print("wrote " + ", ".join(written))
+    tables["_units"] = units_table(ds, [c for frame in tables.values()
+                                        for c in frame.columns])
+    from ..io import temporary_name
+    done = []
+    try:        # every table under a temporary name first, then all renamed
+        for suffix, frame in tables.items():
+            path = out.with_name(out.stem + suffix + out.suffix)
+            done.append((temporary_name(path, ".tmp"), path))
+            frame.to_csv(done[-1][0], index=False)
+        for tmp, path in done:
+            os.replace(tmp, path)
+    finally:
+        for tmp, _path in done:
+            tmp.unlink(missing_ok=True)
+    print("wrote " + ", ".join(f"{path} ({len(frame)} rows)" for (_t, path), frame
+                               in zip(done, tables.values())))
     return 0
-
-
-def csv_tables(ds) -> dict:
-    """``{file suffix: pandas.DataFrame}``: one table per group of dimensions.
-
-    A sweep is one table over its grid (variables on fewer dimensions, such as the
-    measured boundary, are repeated along the others); a simulation one over
-    ``time`` ("") and one over ``event`` ("_events"). Scalar coordinates (fixed
-    parameters) are repeated as columns. Flag variables become their names; headers are
-    ``name [units]``.
-    """
-    if "event" not in ds.dims:
-        return {"": _frame(ds)}
-    on_event = [n for n, v in ds.data_vars.items() if "event" in v.dims]
-    rest = [n for n in ds.data_vars if n not in on_event]
-    tables = {"": _frame(ds[rest])} if rest else {}
-    if on_event:
-        tables["_events"] = _frame(ds[on_event].drop_vars("time", errors="ignore"))
-    return tables
-
-
-def _frame(ds):
-    if not ds.dims:             # a one-point sweep: one row (pandas needs an index)
-        ds = ds.expand_dims("row")
-        frame = ds.to_dataframe().reset_index(drop=True)
-    else:
-        frame = ds.to_dataframe().reset_index()
-    columns = {}
-    for name in frame.columns:
-        attrs = ds[name].attrs if name in ds.variables else {}
-        if "flag_values" in attrs and "flag_meanings" in attrs:
-            codes = dict(zip(np.atleast_1d(attrs["flag_values"]).tolist(),
-                             str(attrs["flag_meanings"]).split()))
-            frame[name] = frame[name].map(lambda c: codes.get(int(c), f"code {c}"))
-        units = str(attrs.get("units", ""))
-        units = "s" if " since " in units else units
-        columns[name] = f"{name} [{units}]" if units not in ("", "1") else name
-    return frame.rename(columns=columns)
 
 
 def _variable_names(args, ds, known) -> list[str]:
@@ -468,10 +463,13 @@ def cmd_basins(args) -> int:
         print(f"sweepcore basins {args.study}: {grid.size} points, route {b['route']}, "
               f"{b['samples']} samples a point where sampled", flush=True)
     t0 = time.perf_counter()
+    # with path: run's rules for the file (no symbolic link, FIFO, read-only file,
+    # ...) checked before any work, and an interrupted run resumes from the store
     ds = basin_stability(grid, x0=b["x0"], xdot0=b["xdot0"], samples=b["samples"],
                          route=b["route"], sampling=b["sampling"], seed=b["seed"],
                          checks=b["checks"], ftol=b["ftol"], match=b["match"],
                          method=study.method, tol=study.tol,
                          chunks=args.chunks or study.chunks, scheduler=args.scheduler,
-                         progress=False if args.quiet else None, **study.options)
+                         path=out, progress=False if args.quiet else None,
+                         **study.options)
     return _finish(ds, study, args, out, png, t0, grid.size, basin_lines)

@@ -187,7 +187,10 @@ def _simulate_options(p):
                    help="stepper (default auto: exact for a piecewise-linear law, "
                         "else dop853 below tol 1e-7, dopri5 above)")
     p.add_argument("--tol", type=float, default=1e-10,
-                   help="tolerance of the adaptive steppers (default 1e-10)")
+                   help="tolerance of the adaptive steppers (default 1e-10, tighter "
+                        "than run's 1e-8: a time history carries the error of every "
+                        "step to t_end, where an attractor's observables converge "
+                        "onto the attractor; sweepcore.simulate's default too)"),
     p.add_argument("--dt", type=float, default=None,
                    help="fixed step of gps and rk4 [s] (default 2 pi/omega/50)")
     p.add_argument("-o", "--output", metavar="RUN.nc", help="write the run as netCDF")
@@ -258,8 +261,9 @@ SUBCOMMANDS = {
         "write a result file as CSV (one row per point or sample)",
         "Write a result as CSV: a sweep as one row per grid point (the swept "
         "parameters, then every variable), a simulation as one row per time sample "
-        "(its event log goes to <OUT stem>_events.csv). Column headers carry the "
-        "units, e.g. 'amplitude [cm]'; regime, status and other flag variables are "
+        "(its event log goes to <OUT stem>_events.csv). Column headers are the "
+        "variables' names (as pandas reads them); their units and long names go to "
+        "<OUT stem>_units.csv; regime, status and other flag variables are "
         f"written as names. Meanings: {doc('variables.md')}.",
         _export_options),
     "boundary": (

@@ -9,7 +9,7 @@ import numpy as np
 
 from .._kernels import codes
 from ..boundaries import LOCATED
-from ..labels import parameter, run_dims, run_statuses
+from ..labels import parameter, run_dims, run_statuses, slider_parameters
 
 
 def _units(var) -> str:
@@ -99,13 +99,37 @@ def _boundary_lines(ds) -> list[str]:
     vs = vs.isel(v=0) if "v" in vs.dims else vs
     diff = (measured - vs).values
     sel = ok & np.isfinite(diff)
-    res = ds["v_hopf_resolution"].values[sel] if "v_hopf_resolution" in ds else None
-    text = (f"  measured Hopf boundary: {int(ok.sum())} of {ok.size} rows switch; "
-            f"|v_measured - v*| <= {np.max(np.abs(diff[sel])):.3g} cm s-1"
-            if sel.any() else "")
-    if res is not None and res.size:
-        text += f" (grid resolution +-{np.max(res):.3g})"
-    return ([text] if text else []) + _onset_lines(ds, vs)
+    sub = _subcritical(ds, measured)
+    res = ds["v_hopf_resolution"].values[sel & ~sub] if "v_hopf_resolution" in ds \
+        else None
+    text = ""
+    if (sel & ~sub).any():
+        text = (f"  measured Hopf boundary: {int(ok.sum())} of {ok.size} rows switch; "
+                f"|v_measured - v*| <= {np.max(np.abs(diff[sel & ~sub])):.3g} cm s-1"
+                + (" where the Hopf point is supercritical" if sub.any() else ""))
+        if res is not None and res.size:
+            text += f" (grid resolution +-{np.max(res):.3g})"
+    lines = [text] if text else []
+    if (sel & sub).any():
+        d = diff[sel & sub]
+        lines.append(f"  measured boundary: {int(ok.sum())} of {ok.size} rows switch "
+                     "from a cycle to equilibrium; where the Hopf point is subcritical "
+                     f"({int((sel & sub).sum())} rows) v_measured - v* in "
+                     f"[{d.min():.3g}, {d.max():.3g}] cm s-1: above v*, as it should "
+                     "be, for from the stuck start the stick-slip cycle coexists with "
+                     "steady sliding above v* up to its fold (sweepcore boundary "
+                     "locates both)")
+    return lines + _onset_lines(ds, vs)
+
+
+def _subcritical(ds, measured) -> np.ndarray:
+    """Where the Hopf point of a row of the measured boundary is subcritical (the
+    file's first Lyapunov coefficient > 0), over the boundary's dimensions."""
+    if "first_lyapunov" not in ds:
+        return np.zeros(measured.shape, bool)
+    l1 = ds["first_lyapunov"]
+    l1 = l1.isel(v=0) if "v" in l1.dims else l1
+    return (l1 > 0).broadcast_like(measured).transpose(*measured.dims).values
 
 
 def _onset_lines(ds, vs) -> list[str]:
@@ -132,10 +156,9 @@ def _describe_simulation(ds) -> str:
     a = ds.attrs
     t = ds.time.values
     lines = [f"  simulation: {t.size} samples over t in [{t[0]:.6g}, {t[-1]:.6g}] s",
-             "  slider: " + ", ".join(f"{n} = {parameter(ds, n):.6g}{_units(ds[n])}"
-                                      if n in ds.coords else f"{n} = {parameter(ds, n):.6g}"
-                                      for n in ("m", "k", "r_y", "v", "alpha1", "alpha2")
-                                      if np.isfinite(parameter(ds, n))),
+             "  slider: " + ", ".join(f"{n} = {value:.6g}{_units(ds[n])}"
+                                      if n in ds.coords else f"{n} = {value:.6g}"
+                                      for n, value in slider_parameters(ds)),
              f"  start: x0 = {parameter(ds, 'x0'):.6g} cm, "
              f"xdot0 = {parameter(ds, 'xdot0'):.6g} cm s-1",
              *_run_lines(ds)]

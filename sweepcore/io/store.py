@@ -78,7 +78,9 @@ class WorkingStore:
 
     One file per finished chunk, ``chunk-NNNNNN.START-STOP.SHA256.npy``: an ``.npy``
     array ``(ncols, STOP - START)`` (one contiguous row per observable, so a column
-    is read without the others) of the flat grid points ``START <= i < STOP``,
+    is read without the others; a store of ``ncols`` None takes chunks of any width,
+    for answers whose size varies, such as the attractors of a basin point) of the
+    flat grid points ``START <= i < STOP``,
     whose SHA-256 (of the store's configuration digest followed by the whole file)
     is part of its name: a chunk copied from a store of other settings fails it. Each file is written to a
     temporary name and renamed into place, so one that exists was complete when
@@ -98,8 +100,8 @@ class WorkingStore:
 
     FORMAT = 3          # 3: chunk hashes include the configuration digest
 
-    def __init__(self, directory: Path, chunk: int, n_points: int, ncols: int, lock,
-                 digest: str):
+    def __init__(self, directory: Path, chunk: int, n_points: int, ncols: int | None,
+                 lock, digest: str):
         self.directory = directory
         self._salt = digest.encode("ascii")
         self.chunk = chunk
@@ -129,7 +131,7 @@ class WorkingStore:
         return path.parent / name
 
     @classmethod
-    def open(cls, path, digest: str, config: dict, n_points: int, ncols: int,
+    def open(cls, path, digest: str, config: dict, n_points: int, ncols: int | None,
              chunk: int | None, default_chunk: int) -> WorkingStore:
         """Resume the store of ``path`` (locked), or create it (locked).
 
@@ -253,10 +255,16 @@ class WorkingStore:
             arr = np.load(io.BytesIO(data), allow_pickle=False)
         except Exception as err:  # noqa: BLE001 - any parse failure means unusable
             return f"is not a readable array ({type(err).__name__})"
-        if arr.shape != (self.ncols, stop - start) or arr.dtype != np.float64:
+        if not self._fits(arr, stop - start):
             return (f"holds {arr.dtype} {arr.shape}, expected float64 "
-                    f"{(self.ncols, stop - start)}")
+                    f"{(self.ncols or 'any', stop - start)}")
         return arr.T
+
+    def _fits(self, arr, n: int) -> bool:
+        """A chunk's array: float64 (ncols, n); ``ncols`` None: any width >= 1."""
+        width = arr.shape[0] if arr.ndim == 2 and arr.shape[0] >= 1 else -1
+        return arr.dtype == np.float64 and arr.ndim == 2 and \
+            arr.shape == (self.ncols or width, n)
 
     def verified(self) -> list[int]:
         """Indices of the finished chunks, each read back and checked.
@@ -323,7 +331,7 @@ class WorkingStore:
         start, stop = self.bounds(i)
         try:
             arr = np.load(entry, mmap_mode="r", allow_pickle=False)
-            if arr.shape != (self.ncols, stop - start) or arr.dtype != np.float64:
+            if not self._fits(arr, stop - start):
                 raise ValueError(f"holds {arr.dtype} {arr.shape}")
             return np.array(arr[col, lo:hi])
         except Exception as err:  # noqa: BLE001 - anything here means unusable

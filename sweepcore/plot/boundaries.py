@@ -11,6 +11,7 @@ from matplotlib.patches import Patch
 
 from .._kernels import codes
 from ..options import checked_keywords
+from .checks import checked_result, checked_title
 from .maps import map_panel
 from .style import REGIME_COLOURS, axis_scale, fixed_parameters, label
 
@@ -31,6 +32,8 @@ def plot_diagram(ds: xr.Dataset, title: str | None = None) -> Figure:
     point and stick onset and the analytic v* as vertical lines. Right: the Floquet
     multiplier of the cycles (0 for stick-slip, < 1 for stable slip cycles).
     """
+    checked_result(ds, "bifurcation_diagram")
+    checked_title(title)
     along = ds.attrs.get("along", [d for d in ds.dims if d != "branch"][0])
     fig = Figure(figsize=(12.0, 4.8), layout="constrained")
     ax, axf = fig.subplots(1, 2, gridspec_kw={"width_ratios": [2.2, 1.0]})
@@ -95,10 +98,19 @@ def plot_boundaries(ds: xr.Dataset, over: xr.Dataset | None = None,
     Middle: v_hopf - v* [cm/s] (with the estimated error). Right: the stick-onset
     ratio v_stick_onset/v* against the averaging value sqrt(4/5).
     """
+    checked_result(ds, "boundaries")
+    checked_title(title)
     dims = [d for d in ds.dims if d != "transition" and ds.sizes[d] > 1]
     if len(dims) != 1:
         raise ValueError(f"boundary curves need one swept parameter, got {dims}")
     p = dims[0]
+    if over is not None:
+        checked_result(over, "sweep", name="over")
+        if not {"v", p} <= {d for d in over.dims if over.sizes[d] > 1} or \
+                "regime" not in over:
+            raise ValueError(f"over must be a regime map over v and {p} (a sweep "
+                             f"with both swept), got one over "
+                             f"{', '.join(over.dims) or 'no dimension'}")
     fig = Figure(figsize=(16.0, 5.0), layout="constrained")
     ax, axh, axs = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1.6, 1.0, 1.0]})
     y = ds[p].values

@@ -8,6 +8,7 @@ from matplotlib.figure import Figure
 
 from .._kernels import codes
 from ..options import checked_keywords
+from .checks import checked_names, checked_result, checked_title
 from .style import fixed_parameters, label
 
 # per scan: colour, marker, and the side of the jump arrow
@@ -38,7 +39,17 @@ def plot_hysteresis(ds: xr.Dataset, variable: str = "amplitude",
     regimes as arrows in the scan's direction, the unstable slip cycles
     (``unstable_<variable>``) dashed, and the located boundaries as vertical
     lines."""
+    checked_result(ds, "bifurcation_diagram")
+    checked_title(title)
+    if not isinstance(variable, str):
+        raise TypeError(f"variable must be a variable name (str), got {variable!r}")
+    (variable,) = checked_names("variable", variable, ds)
     along = ds.attrs.get("along", [d for d in ds.dims if d != "branch"][0])
+    if set(ds[variable].dims) != {"branch", along}:
+        scanned = [n for n, v in ds.data_vars.items()
+                   if set(v.dims) == {"branch", along} and v.dtype.kind == "f"]
+        raise ValueError(f"variable={variable!r} is not over the scans (branch, "
+                         f"{along}); choose one of {', '.join(scanned)}")
     fig = Figure(figsize=(9.0, 5.0), layout="constrained")
     ax = fig.subplots()
     x = ds[along].values

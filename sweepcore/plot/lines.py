@@ -10,6 +10,7 @@ from matplotlib.lines import Line2D
 from .. import labels
 from .._kernels import codes
 from ..options import checked_keywords
+from .checks import checked_dimension, checked_names, checked_result, checked_title
 from .style import (REGIME_COLOURS, axis_scale, flag_axis, fmt, label, regime_codes,
                     sweep_title)
 
@@ -28,7 +29,7 @@ _MARKERS = "osD^vP"
 
 
 @checked_keywords
-def plot_lines(ds: xr.Dataset, dim: str, variables=("amplitude", "mean"),
+def plot_lines(ds: xr.Dataset, dim: str, variables=None,
                title: str | None = None, series: str | None = None) -> Figure:
     """Observables of a 1-D sweep against ``dim``, points coloured by regime.
 
@@ -36,11 +37,20 @@ def plot_lines(ds: xr.Dataset, dim: str, variables=("amplitude", "mean"),
     amplitude (eq. 39), x_eq for the mean (eq. 43); v* as a vertical line when ``dim``
     is v and alpha1, alpha2 are fixed. ``series``: a second dimension (e.g. several
     starts), one marker per value (at most six; further dimensions at their first
-    value).
+    value). ``variables``: a name or a sequence of names (default amplitude and
+    mean, those the result holds).
     """
-    variables = [v for v in variables if v in ds]
+    checked_result(ds)
+    checked_title(title)
+    swept = [d for d in ds.dims if ds.sizes[d] > 1]
+    if not isinstance(dim, str):
+        raise TypeError(f"dim must be a dimension name (str), got {dim!r}")
+    checked_dimension("dim", dim, [d for d in swept if ds[d].dtype.kind in "iuf"])
+    checked_dimension("series", series, [d for d in swept if d != dim])
+    variables = checked_names("variables", variables, ds, ("amplitude", "mean"))
     if not variables:
-        raise ValueError(f"none of the variables {variables} is in the result")
+        raise ValueError(f"variables: the result holds neither amplitude nor mean; "
+                         f"name the panels (has: {', '.join(ds.data_vars)})")
     keep = (dim, series) if series else (dim,)
     ds = ds.isel({d: 0 for d in ds.dims if d not in keep and ds.sizes[d] > 1})
     ds = ds.isel({series: slice(0, len(_MARKERS))}) if series else ds

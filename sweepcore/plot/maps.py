@@ -13,9 +13,11 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from .. import law
+from ..io import check_flag
 from ..options import checked_keywords
-from .style import (REGIME_COLOURS, SYMBOLS, axis_scale, fmt, is_geometric, label,
-                    pretty_units, regime_codes, sweep_title)
+from .checks import checked_dimension, checked_names, checked_result, checked_title
+from .style import (REGIME_COLOURS, SYMBOLS, axis_scale, flag_axis, fmt, is_geometric,
+                    label, pretty_units, regime_codes, sweep_title)
 
 
 def _edges(values: np.ndarray, log: bool) -> np.ndarray:
@@ -35,16 +37,21 @@ def _plane(ds: xr.Dataset, x: str | None, y: str | None):
     reduce any further dimensions to their first value (said in ``note``)."""
     dims = [d for d in ds.dims if ds.sizes[d] > 1]
     numeric = [d for d in dims if ds[d].dtype.kind in "iuf"]
+    checked_dimension("x", x, numeric)
+    checked_dimension("y", y, numeric)
+    if x is not None and x == y:
+        raise ValueError(f"x and y are both {x!r}: a map needs two different "
+                         f"dimensions (swept: {', '.join(numeric)})")
     rest = [d for d in numeric if d not in (x, y)]
     if x is None:
         x = "v" if "v" in rest else rest.pop(0) if rest else None
         rest = [d for d in rest if d != x]
     if y is None:
         y = rest.pop(0) if rest else None
-    for d in (x, y):
-        if d is None or d not in numeric:
-            raise ValueError(f"{d!r} is not a numeric swept dimension of the result "
-                             f"(numeric swept: {', '.join(numeric) or 'none'})")
+    if x is None or y is None:
+        raise ValueError(f"ds must have two swept numeric dimensions for a map; this "
+                         f"result has {', '.join(numeric) or 'none'} (plot_result "
+                         "draws it)")
     others = [d for d in dims if d not in (x, y)]
     facet = others.pop(0) if others and ds.sizes[others[0]] <= 6 else None
     note = ""
@@ -57,40 +64,55 @@ def _plane(ds: xr.Dataset, x: str | None, y: str | None):
 
 @checked_keywords
 def plot_map(ds: xr.Dataset, x: str | None = None, y: str | None = None,
-             variables=("regime", "amplitude"), title: str | None = None,
+             variables=None, title: str | None = None,
              boundary: bool = True) -> Figure:
     """Maps of a 2-D sweep: categorical regime map and colour maps of observables.
 
     Parameters
     ----------
     ds : xarray.Dataset
-        A sweep result with at least two numeric swept dimensions. A third swept
+        A result with at least two numeric swept dimensions. A third swept
         dimension of at most six values (e.g. a friction law or a start) gives one
         row per value; further dimensions are reduced to their first value (said in
         the title).
     x, y : str, optional
         Dimensions on the horizontal and vertical axes; default v (if swept) across.
-    variables : sequence of str
+    variables : str or sequence of str, optional
         Panels, left to right: ``"regime"`` (categorical, legend of regime names) or
-        any numeric data variable (colour bar with units).
+        any numeric data variable (colour bar with units); a variable over one of
+        the two axes only (x_eq over v, v_star over c, ...) is drawn as a line
+        against that axis, one that is constant as a line at its value. Default
+        regime and amplitude (those the result holds).
     boundary : bool
-        Draw the analytic v* curve (and the estimate 2 v*/sqrt(5) of the end of
-        stick-slip) and, when x or y is v, the measured Hopf boundary and end of
-        stick-slip (:mod:`sweepcore.boundary`).
+        Draw the analytic v* curve (and, for the paper's law, the estimate 2
+        v*/sqrt(5) of the end of stick-slip; for any law, the Hopf speed v_star the
+        file holds over the other axis) and, when x or y is v, the measured Hopf
+        boundary and end of stick-slip (:mod:`sweepcore.boundary`).
     """
+    checked_result(ds)
+    checked_title(title)
+    check_flag("boundary", boundary)
     ds, x, y, facet, note = _plane(ds, x, y)
-    variables = [v for v in variables if v in ds]
+    variables = checked_names("variables", variables, ds, ("regime", "amplitude"))
     if not variables:
-        raise ValueError("none of the requested variables is in the result")
+        raise ValueError(f"variables: the result holds neither regime nor amplitude; "
+                         f"name the panels (has: {', '.join(ds.data_vars)})")
     rows = [ds.isel({facet: i}) for i in range(ds.sizes[facet])] if facet else [ds]
     n = len(variables)
     fig = Figure(figsize=(5.6 * n + 0.6, 5.0 * len(rows) + 0.4), layout="constrained")
-    axs = np.atleast_2d(fig.subplots(len(rows), n, sharex=True, sharey=True))
+    axs = np.atleast_2d(fig.subplots(len(rows), n))
     curves = {}
-    shared = _shared_scales(ds, variables) if facet else {}
+    shared = _shared_scales(ds, variables, x, y) if facet else {}
+    first = None
     for row_axs, sub in zip(axs, rows):
         overlays = _overlays(sub, x, y) if boundary else []
-        for ax, name in zip(row_axs, variables):
+        # the maps first: the line panels share their axes
+        for ax, name in sorted(zip(row_axs, variables),
+                               key=lambda pair: not _is_map(sub, pair[1], x, y)):
+            if not _is_map(sub, name, x, y):
+                _line_panel(ax, sub, name, x, y, first)
+                continue
+            first = _share_axes(ax, first, "xy")
             map_panel(fig, ax, sub, name, x, y, **shared.get(name, {}))
             for draw in overlays:
                 # on the regime map the measured boundaries are the colour edges
@@ -110,13 +132,62 @@ def plot_map(ds: xr.Dataset, x: str | None = None, y: str | None = None,
     return fig
 
 
-def _shared_scales(ds: xr.Dataset, variables) -> dict:
+def _is_map(ds, name: str, x: str, y: str) -> bool:
+    return {x, y} <= set(ds[name].dims)
+
+
+def _share_axes(ax, first, which: str):
+    """Share ``ax``'s axes ``which`` ("x", "y", "xy") with the first map panel
+    ``first`` (None: ``ax`` is the first); returns the first map panel."""
+    if first is None:
+        return ax if which == "xy" else None
+    if "x" in which:
+        ax.sharex(first)
+    if "y" in which:
+        ax.sharey(first)
+    return first
+
+
+def _line_panel(ax, ds, name: str, x: str, y: str, first) -> None:
+    """A variable over one of the map's axes (or none) beside the maps: a line
+    against that axis, drawn so that the axis lines up with the maps' (over y: the
+    value across, y up), shared with the first map panel ``first``."""
+    da = ds[name]
+    rest = [d for d in da.dims if d not in (x, y)]
+    if rest:
+        da = da.isel({d: 0 for d in rest})
+    along = y if y in da.dims else x
+    coord = ds[along].values
+    order = np.argsort(coord)
+    values = np.broadcast_to(da.values, coord.shape) if da.ndim == 0 else \
+        da.transpose(along).values
+    style = dict(color="#0072B2", marker=".", ms=4, lw=1.2)
+    _share_axes(ax, first, "y" if along == y else "x")
+    if along == y:
+        ax.plot(values[order], coord[order], **style)
+        ax.set_yscale(axis_scale(ds, y))
+        ax.set_xlabel(label(da, name))
+        ax.set_ylabel(label(ds[y], y))
+        flag_axis(ax, da, "x")
+    else:
+        ax.plot(coord[order], values[order], **style)
+        ax.set_xscale(axis_scale(ds, x))
+        ax.set_xlabel(label(ds[x], x))
+        ax.set_ylabel(label(da, name))
+        flag_axis(ax, da, "y")
+    over = "constant" if da.ndim == 0 else f"over {along} only"
+    ax.set_title(f"{da.attrs.get('long_name', name)} ({over})", fontsize=10)
+    ax.grid(alpha=0.3)
+
+
+def _shared_scales(ds: xr.Dataset, variables, x: str, y: str) -> dict:
     """``{name: {"vmin", "vmax"}}``: one colour scale per variable over every row of
     a faceted map, so that a colour means the same value in each row (a variable
     uniform over the whole map keeps its own "uniform" panel)."""
     out = {}
     for name in variables:
-        if name == "regime" or ds[name].dtype.kind not in "iuf":
+        if name == "regime" or ds[name].dtype.kind not in "iuf" or \
+                not _is_map(ds, name, x, y):
             continue
         data = np.ma.masked_invalid(ds[name].values.astype(float))
         if data.count() and _uniform(data) is None:
@@ -221,6 +292,13 @@ class _Overlay:
                 markerfacecolor=self.handle.get_markerfacecolor(), zorder=4)
 
 
+def hopf_curves(ds: xr.Dataset, x: str, y: str) -> list:
+    """The analytic curves of the (x, y) plane (v* and, for the paper's law, the
+    estimate of the stick onset), each a callable drawing it on an axes, with a
+    ``handle`` for the legend."""
+    return _analytic_curves(ds, x, y)
+
+
 def _overlays(ds: xr.Dataset, x: str, y: str) -> list:
     out = _analytic_curves(ds, x, y)
     if "v" in (x, y):
@@ -245,11 +323,15 @@ _ANALYTIC = (
 def _analytic_curves(ds, x, y) -> list:
     """v* and the averaging estimate of the stick onset in the (x, y) plane.
 
-    Drawn when one axis is v and the other alpha1 or alpha2 (the other fixed).
+    Drawn when one axis is v and the other alpha1 or alpha2 (the other fixed);
+    with any other law or axis, the Hopf speed v_star the result holds over the
+    other axis (:func:`_stored_hopf_curve`).
     """
     other = y if x == "v" else x if y == "v" else None
-    if other not in ("alpha1", "alpha2"):
+    if other is None:
         return []
+    if other not in ("alpha1", "alpha2"):
+        return _stored_hopf_curve(ds, x, y, other)
     fixed = "alpha2" if other == "alpha1" else "alpha1"
     if fixed not in ds.coords or ds[fixed].ndim != 0:
         return []
@@ -268,6 +350,34 @@ def _analytic_curves(ds, x, y) -> list:
             out.append(_Overlay(*((vv, s) if x == "v" else (s, vv)), handle,
                                 analytic=True))
     return out
+
+
+def _stored_hopf_curve(ds, x, y, other) -> list:
+    """The analytic Hopf speed the result holds (``v_star``, any friction law) as
+    a curve over the map's other axis, or a line where it does not depend on it;
+    the label says whether the Hopf point is sub- or supercritical where the result
+    holds the first Lyapunov coefficient."""
+    if "v_star" not in ds or not set(ds["v_star"].dims) <= {other}:
+        return []
+    s = ds[other].values
+    vv = np.broadcast_to(ds["v_star"].transpose(*ds["v_star"].dims).values, s.shape)
+    vmin, vmax = float(np.nanmin(ds.v.values)), float(np.nanmax(ds.v.values))
+    vv = np.where((vv >= vmin) & (vv <= vmax), vv, np.nan)
+    if not np.isfinite(vv).any():
+        return []
+    kind = ""
+    if "first_lyapunov" in ds and set(ds["first_lyapunov"].dims) <= {other}:
+        l1 = np.unique(np.sign(ds["first_lyapunov"].values[np.isfinite(
+            ds["first_lyapunov"].values)]))
+        kind = {1.0: ", subcritical", -1.0: ", supercritical"}.get(
+            float(l1[0]), "") if l1.size == 1 else ""
+    order = np.argsort(s)
+    handle = Line2D([], [], color="white", ls="--", lw=2.0,
+                    label=rf"analytic Hopf speed $v^*$ (stored{kind})",
+                    path_effects=[patheffects.withStroke(linewidth=4,
+                                                         foreground="0.45")])
+    xs, ys = vv[order], s[order]
+    return [_Overlay(*((xs, ys) if x == "v" else (ys, xs)), handle, analytic=True)]
 
 
 def _measured_boundaries(ds, x, y) -> list:

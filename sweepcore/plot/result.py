@@ -12,6 +12,7 @@ from ..options import checked_keywords
 from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
 from .branches import plot_hysteresis
+from .checks import checked_result
 from .lines import plot_lines
 from .maps import plot_map
 from .style import SYMBOLS, flag_axis, fmt, label
@@ -25,6 +26,7 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
     Keyword arguments go to :func:`plot_trajectory`, :func:`plot_lines` or
     :func:`plot_map`.
     """
+    checked_result(ds)
     kind = ds.attrs.get("sweepcore_kind")
     if kind == "basins":
         return plot_basins(ds, **kwargs)

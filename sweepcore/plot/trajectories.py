@@ -6,8 +6,9 @@ import numpy as np
 import xarray as xr
 from matplotlib.figure import Figure
 
-from ..labels import parameter
+from ..labels import parameter, slider_parameters
 from ..options import checked_keywords
+from .checks import checked_result, checked_title
 from .style import SYMBOLS, label
 
 _EVENT_STYLE = {
@@ -53,6 +54,8 @@ def plot_trajectory(ds: xr.Dataset, title: str | None = None) -> Figure:
     (f) phase plane (x, xdot), with the belt speed and the events (slip, stick,
     normal and abnormal stops) marked.
     """
+    checked_result(ds, "simulation")
+    checked_title(title)
     fig = Figure(figsize=(13, 7.2), layout="constrained")
     axs = fig.subplots(2, 3)
     v = parameter(ds, "v")
@@ -84,9 +87,8 @@ def plot_trajectory(ds: xr.Dataset, title: str | None = None) -> Figure:
 
 
 def _trajectory_title(ds: xr.Dataset) -> str:
-    p = ", ".join(f"${SYMBOLS[n]}$ = {parameter(ds, n):.4g}" for n in
-                  ("m", "k", "r_y", "v", "alpha1", "alpha2")
-                  if np.isfinite(parameter(ds, n)))
+    p = ", ".join(f"${SYMBOLS[n]}$ = {value:.4g}" for n, value in
+                  slider_parameters(ds))
     start = (f"start ($x_0$, $\\dot{{x}}_0$) = ({parameter(ds, 'x0'):.4g}, "
              f"{parameter(ds, 'xdot0'):.4g})")
     return f"Single slider: {p}; {start}; method {ds.attrs.get('method', '?')}"
@@ -106,6 +108,15 @@ def plot_cases(runs, labels, title: str | None = None,
     equilibria : sequence of float, optional
         Equilibrium x_eq of each run [cm], marked in the phase plane.
     """
+    if isinstance(runs, xr.Dataset) or not isinstance(runs, (list, tuple)) or not runs:
+        raise TypeError(f"runs must be a non-empty list of simulations (xarray "
+                        f"Datasets), got {type(runs).__name__}")
+    for i, run in enumerate(runs):
+        checked_result(run, "simulation", name=f"runs[{i}]")
+    if isinstance(labels, str) or len(labels) != len(runs):
+        raise ValueError(f"labels must be a list of {len(runs)} row titles, one per "
+                         f"run, got {labels!r}")
+    checked_title(title)
     n = len(runs)
     fig = Figure(figsize=(13, 3.3 * n + 0.6), layout="constrained")
     axs = np.atleast_2d(fig.subplots(n, 3))

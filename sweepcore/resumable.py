@@ -1,0 +1,103 @@
+"""Resumable work with a result path, shared by sweep, basin stability and the cycle
+scan: each finished chunk is kept in the working store of the path
+(:class:`sweepcore.io.WorkingStore`, keyed and salted by a hash of everything that
+fixes the results), a rerun of the same call checks the stored chunks and computes
+only the rest, and the result file appears only when complete.
+
+* :func:`open_store`: the locked store of a path for one call's configuration;
+* :func:`compute_missing`: run the chunks the store lacks (or holds damaged),
+  storing each as it finishes, with a progress bar and a line saying what resumes;
+* :func:`write_result`: under the store's lock, remove the temporaries a killed
+  write left beside the path, write the file atomically, remove the store.
+"""
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import sys
+from pathlib import Path
+
+import numba
+import xarray as xr
+from tqdm.auto import tqdm
+
+from . import execute, labels
+from ._kernels import layout
+from .io import WorkingStore, write_netcdf
+from .io.files import stale_temporaries
+
+
+@functools.lru_cache(maxsize=1)
+def kernel_digest() -> str:
+    """SHA-256 of the kernels' source: a resume must not mix two kernel versions."""
+    h = hashlib.sha256(numba.__version__.encode())
+    for src in sorted(Path(layout.__file__).parent.glob("*.py")):
+        h.update(src.name.encode() + src.read_bytes())
+    return h.hexdigest()
+
+
+def open_store(path, fixed: dict, readable: dict, n_points: int, ncols: int | None,
+               chunk: int | None, default_chunk: int) -> WorkingStore:
+    """The working store of ``path`` (created, or resumed and locked), keyed by the
+    SHA-256 of ``fixed`` (what fixes the results: grid, option row, settings), the
+    version and the kernels' source; ``readable`` is written beside it for people.
+    ``ncols`` None: chunks of any width (a variable-width answer per point)."""
+    config = {**fixed, "version": labels.version(), "kernels": kernel_digest()}
+    digest = hashlib.sha256(json.dumps(config, sort_keys=True).encode()).hexdigest()
+    return WorkingStore.open(path, digest, readable, n_points, ncols, chunk,
+                             default_chunk)
+
+
+def progress_bar(size: int, initial: int, progress, desc: str = "sweep"):
+    """A tqdm bar on stderr; ``progress`` None: only on a terminal, after 0.5 s."""
+    show = sys.stderr.isatty() if progress is None else bool(progress)
+    return tqdm(total=size, initial=initial, unit="pt", unit_scale=True, desc=desc,
+                disable=not show, delay=0.5 if progress is None else 0.0,
+                file=sys.stderr)
+
+
+def compute_missing(store: WorkingStore, kind, target, task, progress,
+                    what: str = "sweep") -> None:
+    """Compute the chunks ``store`` lacks (or holds damaged) with the executor
+    ``(kind, target)`` (:func:`sweepcore.execute.resolve`), ``task(i)`` giving the
+    function and arguments of chunk ``i``; each is stored as it finishes, so
+    nothing grid-sized is held here."""
+    finished = set(store.verified())
+    bounds = [store.bounds(i) for i in range(store.n_chunks)]
+    todo = [i for i in range(len(bounds)) if i not in finished]
+    initial = sum(bounds[i][1] - bounds[i][0] for i in finished)
+    if finished and progress is not False:
+        # on stderr (not a log record): an interrupted run's user must see it
+        print(f"{what}: resuming {len(finished)} of {store.n_chunks} chunks (already "
+              f"stored in {store.directory}); computing the other {len(todo)}",
+              file=sys.stderr)
+    with progress_bar(store.n_points, initial, progress, what) as bar:
+        def handle(i, result):
+            store.write(i, result)
+            bar.update(bounds[i][1] - bounds[i][0])
+
+        if todo:
+            execute.run(kind, target, todo, task, handle)
+
+
+def stored_chunks(store: WorkingStore) -> list:
+    """Every chunk of a complete store, read back and checked (in order)."""
+    return [store.read(i) for i in range(store.n_chunks)]
+
+
+def write_result(store: WorkingStore, ds: xr.Dataset, path: Path) -> None:
+    """Write ``ds`` to ``path`` and remove the store (its work is in the file).
+
+    The lock is the caller's: a temporary beside the file is a killed write's
+    leftover, removed first. A failed write keeps the store, so that rerunning the
+    same call only writes."""
+    for tmp in stale_temporaries(path):
+        tmp.unlink(missing_ok=True)
+    try:
+        write_netcdf(ds, path)
+    except OSError as err:
+        raise OSError(err.errno, f"{err.strerror or err} The working store "
+                      f"{store.directory} is kept: free space and rerun the same "
+                      "call to finish.") from err
+    store.remove()
