@@ -402,9 +402,9 @@ def run(profile, outdir):
                        "regimes": default["regimes"]}
     save_fields(outdir, outs[1e-8])
     from . import regimes
-    res["regimes"] = {"this_run": regimes.table(
-        P[:, layout.V], P[:, layout.A1], P[:, layout.A2], outs[1e-8][:, OB_REGIME],
-        outs[1e-8][:, layout.OB_NSTEPS])}
+    res["regimes"] = {"this_run": regimes.table(          # rows: v slow, alpha2 fast
+        P[:, layout.V], common.PAPER["alpha1"], np.tile(a2, v.size),
+        outs[1e-8][:, OB_REGIME], outs[1e-8][:, layout.OB_NSTEPS])}
     if profile.get("regimes_before"):
         log(f"  steps by regime and wall time, this checkout against "
             f"{profile['regimes_before']} (interleaved probes)")

@@ -353,9 +353,9 @@ class Grid:
         for name in AXES:
             val = self.axis(name)
             col = COLUMNS[name]
-            if val is None:     # start stuck on the belt; no Stribeck term; a law object
+            if val is None:     # start stuck on the belt; a law's parameter left out
                 P[:, col] = P[:, layout.V] if name == "xdot0" else \
-                    P[:, layout.RY] if name == "r_k" and self.law is None else np.nan
+                    self.laws[0].missing_column(name, P)
             elif isinstance(val, np.ndarray):
                 P[:, col] = val[index[name]]
             else:

@@ -142,11 +142,10 @@ def _over(coords, name: str, formula, laws=(ANALYTIC,)) -> xr.DataArray:
         if isinstance(parts[0], xr.Variable):
             return xr.Variable.concat(parts, dim=LAW_DIM)
         return xr.concat(parts, dim=LAW_DIM)
-    one = laws[0]
-    names = law.names_of(name, {"law": None if one is ANALYTIC else one})
+    one = {"law": laws[0]}
+    names = law.names_of(name, one)
     given = [n for n in names if n in coords]      # absent: the law's default
-    extra = {} if one is ANALYTIC else {"law": one}
-    return xr.apply_ufunc(lambda *vals: formula({**dict(zip(given, vals)), **extra}),
+    return xr.apply_ufunc(lambda *vals: formula({**dict(zip(given, vals)), **one}),
                           *(coords[n] for n in given), keep_attrs=False,
                           dask="parallelized", output_dtypes=[np.float64])
 
@@ -178,7 +177,7 @@ def law_labels(laws) -> tuple[dict, dict]:
     object its attributes (``FrictionLaw.attrs``) and its table (``law_speed``,
     ``law_force`` on ``law_point``, where it has one); for a ``law`` dimension each
     attribute as a variable over ``law`` and the tables side by side (NaN-padded)."""
-    laws = tuple(one for one in laws if one is not ANALYTIC)
+    laws = tuple(one for one in laws if one.attrs())     # the analytic law has none
     if not laws:
         return {}, {}
     tables = [one.table() for one in laws]

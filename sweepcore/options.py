@@ -13,10 +13,10 @@ from ._kernels import codes, layout, stepper
 # every method of the kernels' table (stepper.METHODS), and "auto"
 METHODS = ("auto", *codes.METHOD_CODES)
 CLOSED_FORM = tuple(row[0] for row in stepper.METHODS if row[5])
-AUTO = -1.0   # resolved per point in the kernel: a closed form where the law allows
-              # one (no cubic and no Stribeck term), else dop853 below tol 1e-7
-              # where the motion is far above float64's rounding of x, else
-              # dopri5 (stepper.auto_method)
+AUTO = -1.0   # resolved per point before the kernels run: a closed form where the
+              # law allows one (no cubic and no Stribeck term), else dop853 below
+              # tol 1e-7 where the motion is far above float64's rounding of x,
+              # else dopri5 (sweepcore.compiled.methods_of)
 MAX_STEPS_CAP = 2**53   # largest integer a float64 option row holds exactly
 # Largest touch tolerance: the accuracy of an answer (1e-6 relative). A touch reset to
 # the breakaway point drops the excursion of zdot past 0; above this it can drop a

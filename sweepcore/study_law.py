@@ -15,17 +15,15 @@ line of every error (the checker of :mod:`sweepcore.study`).
     f_s = 1.0                # kN
     delta = 3.0              # s/cm
 
-A list of them (``[[law]]``) is a ``law`` dimension. The table's path is relative to
-the study file.
+``kind`` names a class of the law table (``sweepcore.laws.LAWS``; default
+``"table"``), whose ``STUDY_KEYS`` are the keys it takes. A list of them
+(``[[law]]``) is a ``law`` dimension. A table's path is relative to the study file.
 """
 from __future__ import annotations
 
 from pathlib import Path
 
-from .laws import analytic
-
-KINDS = {"table": ("table", "static", "smoothing", "name"),
-         "leine": ("f_s", "delta", "name")}
+from .laws import OBJECTS, analytic
 
 
 def law_table(ck, doc: dict, axes: dict, path):
@@ -50,29 +48,25 @@ def law_table(ck, doc: dict, axes: dict, path):
 
 
 def _one(ck, table: dict, path):
-    from .laws import LeineLaw, TableLaw
-    kind = ck.string(("law", "kind"), table.get("kind", "table"), tuple(KINDS))
-    ck.known(table, ("kind",) + KINDS[kind], ("law",))
-    opts = {}
+    kinds = {cls.kind: cls for cls in OBJECTS}
+    cls = kinds[ck.string(("law", "kind"), table.get("kind", "table"), tuple(kinds))]
+    ck.known(table, ("kind", "name") + tuple(cls.STUDY_KEYS), ("law",))
+    values = {}
+    for key, what in cls.STUDY_KEYS.items():
+        kp = ("law", key)
+        if key not in table:
+            if what.endswith("required"):
+                ck.fail(("law",), f"the {cls.kind} law needs {key}")
+            continue
+        if what.startswith("path"):
+            file = Path(ck.string(kp, table[key]))
+            values[key] = file if file.is_absolute() or path is None else \
+                Path(path).parent / file
+        else:
+            values[key] = ck.real(kp, table[key], name=key, positive=True)
     if "name" in table:
-        opts["name"] = ck.string(("law", "name"), table["name"])
+        values["name"] = ck.string(("law", "name"), table["name"])
     try:
-        if kind == "leine":
-            for key in ("f_s", "delta"):
-                if key not in table:
-                    ck.fail(("law",), f"Leine's law needs {key}")
-            return LeineLaw(ck.real(("law", "f_s"), table["f_s"], name="f_s"),
-                            ck.real(("law", "delta"), table["delta"], name="delta"),
-                            **opts)
-        if "table" not in table:
-            ck.fail(("law",), "needs table = \"FILE.csv\" (columns 'speed [cm/s],force "
-                              "[kN]')")
-        csv = Path(ck.string(("law", "table"), table["table"]))
-        if not csv.is_absolute() and path is not None:
-            csv = Path(path).parent / csv
-        for key in ("static", "smoothing"):
-            if key in table:
-                opts[key] = ck.real(("law", key), table[key], name=key, positive=True)
-        return TableLaw.from_csv(csv, **opts)
+        return cls.from_study(values)
     except (OSError, ValueError, TypeError) as err:
         ck.fail(("law",), str(err))

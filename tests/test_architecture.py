@@ -8,6 +8,7 @@ What is proven:
 * no such module exceeds the size the page states;
 * the Python side's method list is the kernels' method table plus "auto".
 """
+import ast
 import importlib
 import re
 from pathlib import Path
@@ -86,3 +87,141 @@ def test_no_python_room_is_larger_than_the_page_says():
 def test_the_method_list_is_the_kernels_table():
     assert options.METHODS == ("auto", *codes.METHOD_CODES)
     assert set(codes.METHOD_CODES) == set(codes.METHOD_NAMES.values())
+
+
+# --------------------------------------------------- the friction law, one unit
+LAW_COLUMNS = {"RY", "RK", "A1", "A2", "VS"}      # the analytic law's row columns
+KERNEL_LAWS = PACKAGE / "_kernels" / "laws"
+PYTHON_LAWS = PACKAGE / "laws"
+# the law's own modules: the two interfaces, the layout that defines the columns,
+# and one module per law kind on each side
+LAW_MODULES = ({PACKAGE / "law.py", PACKAGE / "_kernels" / "law.py",
+                PACKAGE / "_kernels" / "layout.py"}
+               | set(KERNEL_LAWS.glob("*.py")) | set(PYTHON_LAWS.glob("*.py")))
+OUTSIDE = [p for p in sorted(PACKAGE.rglob("*.py")) + sorted(
+    (ROOT / "benchmarks").glob("*.py")) if p not in LAW_MODULES]
+
+
+def _layout_aliases(tree):
+    """Names bound to the layout module in a module (``from ._kernels import layout
+    as L``, ``import sweepcore._kernels.layout as L``)."""
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            for a in node.names:
+                if a.name == "layout":
+                    names.add(a.asname or a.name)
+        elif isinstance(node, ast.Import):
+            for a in node.names:
+                if a.name.endswith(".layout") and a.asname:
+                    names.add(a.asname)
+    return names
+
+
+def test_only_the_law_modules_read_the_laws_columns():
+    """A file outside the law modules that reads r_y, alpha1, alpha2, r_k or v_s
+    from a kernel row (``layout.RY`` ..., or imports those columns) fails here: the
+    law's data reach the other rooms only through its interface."""
+    found = []
+    for path in OUTSIDE:
+        tree = ast.parse(path.read_text())
+        aliases = _layout_aliases(tree)
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").endswith("layout"):
+                found += [f"{path.name}:{node.lineno} imports {a.name}"
+                          for a in node.names if a.name in LAW_COLUMNS]
+            if isinstance(node, ast.Attribute) and node.attr in LAW_COLUMNS and \
+                    isinstance(node.value, ast.Name) and node.value.id in aliases:
+                found.append(f"{path.name}:{node.lineno} reads {node.value.id}.{node.attr}")
+    assert found == []
+
+
+def test_only_the_law_modules_test_the_laws_kind():
+    """Outside the law modules nothing asks which law a row has: no data class of a
+    kind, no ``instance_class``, no kind name compared, no ``is ANALYTIC``, no
+    isinstance of a law class."""
+    from sweepcore._kernels import laws as kernel_laws
+    from sweepcore import laws
+    classes = {row[1].__name__ for row in kernel_laws.LAWS} | \
+        {cls.__name__ for cls, _kinds in laws.LAWS}
+    kinds = {row[0] for row in kernel_laws.LAWS}
+    found = []
+    for path in OUTSIDE:
+        if "_kernels" in path.parts and path.name == "prefetch.py":
+            continue            # builds a kind's data type by name, from the table
+        for node in ast.walk(ast.parse(path.read_text())):
+            where = f"{path.name}:{getattr(node, 'lineno', '?')}"
+            if isinstance(node, ast.Attribute) and node.attr == "instance_class":
+                found.append(f"{where} instance_class")
+            elif isinstance(node, ast.Compare):
+                parts = [node.left, *node.comparators]
+                if any(isinstance(p, ast.Constant) and p.value in kinds for p in parts):
+                    found.append(f"{where} compares a kind name")
+                if any(isinstance(op, (ast.Is, ast.IsNot)) for op in node.ops) and any(
+                        isinstance(p, ast.Name) and p.id == "ANALYTIC" for p in parts):
+                    found.append(f"{where} tests 'is ANALYTIC'")
+            elif isinstance(node, ast.Call) and getattr(node.func, "id", "") == "isinstance":
+                names = {n.id for n in ast.walk(node.args[1]) if isinstance(n, ast.Name)}
+                if names & classes:
+                    found.append(f"{where} isinstance of a law class")
+            elif isinstance(node, ast.Name) and node.id in classes - {"TableLaw",
+                                                                      "LeineLaw"}:
+                found.append(f"{where} names {node.id}")
+    assert found == []
+
+
+def test_every_law_kind_is_a_module_with_the_primitives():
+    """The kernels' law table: each kind's module defines its data class and the
+    primitives the interface has no generic form of; the Python side's table runs
+    every kind, each with one class."""
+    from sweepcore._kernels import law as interface
+    from sweepcore._kernels import laws as kernel_laws
+    from sweepcore import laws
+    required = [name for name in ("force", "derivatives", "static_limits", "slope_bound")
+                if name not in interface._DEFAULTS]
+    assert required == ["force", "derivatives", "static_limits", "slope_bound"]
+    for name, data, module in kernel_laws.LAWS:
+        assert Path(module.__file__).parent == KERNEL_LAWS
+        assert getattr(module, data.__name__) is data
+        missing = [f for f in required if not hasattr(module, f)]
+        assert missing == [], f"law kind {name} lacks {missing}"
+    run = [kind for _cls, kinds in laws.LAWS for kind in kinds]
+    assert sorted(run) == sorted(row[0] for row in kernel_laws.LAWS)
+    for cls, _kinds in laws.LAWS:
+        assert Path(importlib.import_module(cls.__module__).__file__).parent == PYTHON_LAWS
+
+
+def test_python_calls_only_entry_kernels():
+    """A kernel without a CPython wrapper (an internal one) called from Python
+    crashes the interpreter instead of raising: every kernel a Python room holds is
+    an entry (``kernel(entry=True)``)."""
+    from numba.core.dispatcher import Dispatcher
+    bad = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        if "_kernels" in path.parts or path.name == "__main__.py":
+            continue
+        name = ".".join(path.relative_to(ROOT).with_suffix("").parts).removesuffix(
+            ".__init__")
+        module = importlib.import_module(name)
+        for attr, obj in vars(module).items():
+            if isinstance(obj, Dispatcher) and obj.targetoptions.get("no_cpython_wrapper"):
+                bad.append(f"{name}.{attr}")
+    assert bad == []
+
+
+def test_the_second_compilers_signature_is_the_kernels():
+    """``sweepcore._kernels.prefetch`` compiles the search half of a cold kernel for
+    the signature the attractor kernel calls it with; were it another, the cache would
+    never be hit (no error: only the time lost). Run the kernel, compare."""
+    import numpy as np
+    import sweepcore as sc
+    from sweepcore._kernels import attractor, prefetch, stepper
+    sc.attractor(sc.Params(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, alpha2=0.01, v=5.0))
+    want = prefetch.search_signature(stepper.DOP853, "polynomial")
+    if not attractor.on_event.signatures:    # the kernel came whole from the cache
+        attractor.on_event.compile(want)
+        assert len(attractor.on_event.signatures) == 1
+        return      # (cache hits are what the kernel's own typing would ask for)
+    assert want in [tuple(s) for s in attractor.on_event.signatures]
+    assert np.all(prefetch.derived_signature("table")[1] ==
+                  prefetch.law_type("table"))

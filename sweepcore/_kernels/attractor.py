@@ -136,7 +136,7 @@ def answer_failure(out, w, acc, status, n_steps, unbounded):
 @kernel
 def resolve_options(meth, p, lw, o_in):
     """Per-point option row: the method (a compile-time code: "auto" is resolved per
-    point before the call, ``sweepcore.options.auto_methods``), default dt and GPS
+    point before the call, ``sweepcore.compiled.methods_of``), default dt and GPS
     shift resolved."""
     o = o_in.copy()
     omega = math.sqrt(p[K] / p[M])

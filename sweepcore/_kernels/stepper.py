@@ -33,7 +33,7 @@ from numba import types
 from numba.core.errors import TypingError
 from numba.extending import overload
 
-from .jit import OVERLOAD_OPTIONS, kernel
+from .jit import OVERLOAD_OPTIONS
 
 from .dop853 import dop853_step
 from .dopri5 import dopri5_step
@@ -110,16 +110,3 @@ def _proposal(meth, x, zd, s, p, lw, o, h_prev):
     if ADAPTIVE[code]:
         return lambda meth, x, zd, s, p, lw, o, h_prev: h_prev
     return lambda meth, x, zd, s, p, lw, o, h_prev: o[O_DT]
-
-
-@kernel(inline="always")
-def auto_method(closed_form, rtol, rounding):
-    """The method "auto" resolves to: the closed form where the law allows one, else
-    the adaptive pair that wins at ``rtol`` where the motion's ``rounding`` (the
-    ratio above) allows it."""
-    if closed_form:
-        return EXACT
-    if rtol < AUTO_DOP853_BELOW and rounding <= AUTO_DOP853_ROUNDING:
-        return DOP853
-    return DOPRI5
-

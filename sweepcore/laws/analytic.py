@@ -50,6 +50,10 @@ class AnalyticLaw(FrictionLaw):
                 out.append((code, rows, _kernel_laws.LAWS[code][1]()))
         return out
 
+    def missing_column(self, name, P):
+        """r_k left out is r_y (no Stribeck term), v_s left out is not used (NaN)."""
+        return P[:, layout.RY] if name == "r_k" else np.nan
+
     def closed_form(self, P):
         return (P[:, layout.A2] == 0.0) & (P[:, layout.RY] == P[:, layout.RK])
 

@@ -24,6 +24,14 @@ class FrictionLaw:
 
     kind: str = ""
     name: str = ""
+    # the keys of a study file's [law] table besides kind and name: "number" (> 0)
+    # or "path" (relative to the study file), "... required" where it must be given
+    STUDY_KEYS: dict = {}
+
+    @classmethod
+    def from_study(cls, values: dict):
+        """The law of a study's validated ``[law]`` table (``sweepcore.study_law``)."""
+        return cls(**values)
 
     # ---- the kernels' view
     def data(self):
@@ -33,6 +41,11 @@ class FrictionLaw:
     def kernel_groups(self, P: np.ndarray):
         """``[(kind code, row indices, law data)]`` of the rows P: one group."""
         return [(_kernel_laws.KIND_CODES[self.kind], np.arange(P.shape[0]), self.data())]
+
+    def missing_column(self, name: str, P: np.ndarray):
+        """The kernel row's column of analytic parameter ``name``, not given:
+        unused by a law object (NaN: any use would show)."""
+        return np.nan
 
     def closed_form(self, P: np.ndarray) -> np.ndarray:
         """Rows whose sliding field is linear (method "exact"): none."""

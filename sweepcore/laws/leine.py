@@ -29,6 +29,7 @@ class LeineLaw(FrictionLaw):
     """
 
     kind = "leine"
+    STUDY_KEYS = {"f_s": "number, required", "delta": "number, required"}
 
     def __init__(self, f_s, delta, name=None):
         for label, val in (("f_s", f_s), ("delta", delta)):

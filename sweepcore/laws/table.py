@@ -94,6 +94,12 @@ class TableLaw(FrictionLaw):
     """
 
     kind = "table"
+    STUDY_KEYS = {"table": "path, required", "static": "number", "smoothing": "number"}
+
+    @classmethod
+    def from_study(cls, values: dict):
+        values = dict(values)
+        return cls.from_csv(values.pop("table"), **values)
 
     def __init__(self, speed, force, static=None, name=None, smoothing=None):
         s = _finite_1d("speed", speed)

@@ -93,6 +93,40 @@ def _friction(zd, s, cf, d):
 
 
 @kernel(inline="always")
+def force(lw, cf, zd, s):
+    return _friction(zd, s, cf, cf[8])
+
+
+@kernel(inline="always")
+def derivatives(p, lw, zd):
+    """``(F', F'', F''')`` at zd != 0 (the Stribeck term's sign follows zd)."""
+    f1 = slope(p, lw, zd)
+    f2 = 6.0 * p[A2] * zd
+    f3 = 6.0 * p[A2]
+    d = p[RY] - p[RK]
+    if d != 0.0:
+        e = d * math.exp(-abs(zd) / p[VS])
+        sg = 1.0 if zd > 0.0 else -1.0
+        f2 += sg * e / (p[VS] * p[VS])
+        f3 -= e / p[VS] ** 3
+    return f1, f2, f3
+
+
+@kernel
+def slope_bound(p, lw, lo, hi):
+    """The least F' on [lo, hi]: the polynomial part's ``-alpha1 + 3 alpha2 s^2``
+    (alpha2 >= 0) is least where |s| is, the Stribeck part's ``-(d/v_s)
+    exp(-|s|/v_s)`` where |s| is least for d > 0, greatest for d < 0."""
+    near = 0.0 if lo <= 0.0 <= hi else min(abs(lo), abs(hi))
+    far = max(abs(lo), abs(hi))
+    least = -p[A1] + 3.0 * p[A2] * near * near
+    d = p[RY] - p[RK]
+    if d != 0.0:
+        least -= d / p[VS] * math.exp(-(near if d > 0.0 else far) / p[VS])
+    return least
+
+
+@kernel(inline="always")
 def sliding_force(lw, cf, zd, s):
     return _force(zd, s, cf, cf[8])
 
