@@ -8,8 +8,13 @@ stuck start at the default tolerance (1e-8) is compared with tests/reference.py
 (scipy DOP853 at rtol 1e-12 .. 1e-13, no sweepcore code): stick-slip cycles from the
 breakaway point, slip cycles by shooting (with their Floquet multiplier), equilibria
 by the force balance. Belt speeds include the hard cases: slip cycles next to the
-Hopf point and stick-slip cycles next to the fold. Prints one markdown table; errors
-are in units of the point's length scale L = r_y/k + |v|/omega.
+Hopf point and stick-slip cycles next to the fold. Laws given as objects
+(sweepcore.TableLaw, sweepcore.LeineLaw) against tests/reference_law.py, the same
+machinery with F from numpy: a table against the same interpolant evaluated there
+(the representation is the law it solves), the bSTAB law sampled as a table against
+the analytic reference (its error includes the representation's), Leine's law
+against its formula. Prints one markdown table; errors are in units of the point's
+length scale L = r_y/k + |v|/omega (the static bound for r_y).
 """
 import math
 import sys
@@ -23,6 +28,7 @@ import sweepcore as sc
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 from reference import (reference_equilibrium, reference_slip_cycle,  # noqa: E402
                        reference_stick_slip_cycle)
+import reference_law as RL  # noqa: E402
 
 LAWS = {
     "cubic (eq. 40)": (dict(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, alpha2=0.01),
@@ -61,6 +67,55 @@ def error(p, a):
     return e / L, abs(a.period - ref["period"]) / ref["period"], fl
 
 
+# laws given as objects: (slider, law, speeds, reference branch of F or None: the
+# analytic law's reference, with these parameters)
+SPEEDS_OBJECTS = [0.2, 0.5, 1.0, 1.175, 1.5, 2.5]
+STICTION_S = np.array([0.0, 0.05, 0.1, 0.2, 0.35, 0.5, 0.8, 1.2, 1.8, 2.5, 3.5, 5.0, 7.0])
+
+
+def object_laws():
+    """(name, slider, law, speeds, branch of F for the reference, analytic parameters)"""
+    stiction = sc.TableLaw(STICTION_S, 0.6 + 0.35 * np.exp(-STICTION_S / 0.4)
+                           + 0.02 * STICTION_S, static=1.1, name="stiction")
+    bstab = sc.TableLaw.from_function(
+        lambda s: np.sign(s) * (0.5 + 0.5 * np.exp(-np.abs(s) / 0.5)), speed_max=8.0,
+        tol=1e-11, name="bstab")
+    leine = sc.LeineLaw(1.0, 3.0)
+
+    def leine_branch(s, sgn):
+        u = 1.0 + 3.0 * sgn * s
+        return sgn / u, -3.0 / (u * u)
+    return [
+        ("table with stiction (13 points), same interpolant", dict(m=1.0, k=1.0, c=0.05),
+         stiction, SPEEDS_OBJECTS, RL.pp_branch(*stiction._pos[:2]), None),
+        (f"bSTAB law as a table ({bstab.speed.size} points), analytic reference",
+         dict(m=1.0, k=1.0, c=0.1), bstab, SPEEDS_OBJECTS, None,
+         dict(r_y=1.0, r_k=0.5, v_s=0.5)),
+        ("Leine (f_s = 1, delta = 3), its formula", dict(m=1.0, k=1.0, c=0.1), leine,
+         SPEEDS_OBJECTS, leine_branch, None),
+    ]
+
+
+def object_error(slider, law, v, branch, analytic, a):
+    """As ``error``, for a law object: against reference_law with ``branch``, or
+    against the analytic reference with the parameters ``analytic``."""
+    if analytic is not None:
+        return error(sc.Params(**slider, **analytic, v=v), a)
+    static = max(law.static_limits())
+    L = static / slider["k"] + abs(v) / math.sqrt(slider["k"] / slider["m"])
+    mod = RL.LawModel(slider["m"], slider["k"], v, slider["c"], branch, static)
+    if a.regime == "equilibrium":
+        return abs(a.mean - RL.equilibrium(mod)["x_eq"]) / L, 0.0, 0.0
+    if a.regime == "stick_slip":
+        ref, fl = RL.stick_slip_cycle(mod), abs(a.floquet)
+        e = max(abs(getattr(a, n) - ref[n]) for n in ("amplitude", "mean", "x_max",
+                                                       "x_min"))
+    else:
+        ref = RL.slip_cycle(mod, a.x_max)
+        e, fl = abs(a.x_max - ref["x_max"]), abs(a.floquet - ref["floquet"])
+    return e / L, abs(a.period - ref["period"]) / ref["period"], fl
+
+
 def main():
     t0 = time.perf_counter()
     print("| law | points | regimes (ok) | max error of amplitude, mean, extrema [L] "
@@ -74,6 +129,17 @@ def main():
             regimes[a.regime] = regimes.get(a.regime, 0) + (a.status == "ok")
             if a.status == "ok":
                 errs.append(error(p, a))
+        e = np.array(errs)
+        reg = ", ".join(f"{k} {n}" for k, n in sorted(regimes.items()))
+        print(f"| {name} | {len(speeds)} | {reg} | {e[:, 0].max():.1e} | "
+              f"{e[:, 1].max():.1e} | {e[:, 2].max():.1e} |")
+    for name, slider, law, speeds, branch, analytic in object_laws():
+        errs, regimes = [], {}
+        for v in speeds:
+            a = sc.attractor(sc.Params(**slider, v=v, law=law))
+            regimes[a.regime] = regimes.get(a.regime, 0) + (a.status == "ok")
+            if a.status == "ok":
+                errs.append(object_error(slider, law, v, branch, analytic, a))
         e = np.array(errs)
         reg = ", ".join(f"{k} {n}" for k, n in sorted(regimes.items()))
         print(f"| {name} | {len(speeds)} | {reg} | {e[:, 0].max():.1e} | "

@@ -12,7 +12,6 @@ from __future__ import annotations
 import atexit
 import itertools
 import json
-import math
 import os
 import subprocess
 import sys
@@ -27,7 +26,6 @@ from numba.core import event
 
 from ._kernels import codes, entries, layout, stepper
 from ._kernels import laws as _kernel_laws
-from .laws import ANALYTIC
 
 EPS = np.finfo(np.float64).eps
 

@@ -23,18 +23,17 @@ import xarray as xr
 from tqdm.auto import tqdm
 
 from . import execute, labels
-from ._kernels import layout
 from .io import WorkingStore, write_netcdf
 from .io.files import stale_temporaries
 
 
 @functools.lru_cache(maxsize=1)
 def kernel_digest() -> str:
-    """SHA-256 of the kernels' source: a resume must not mix two kernel versions."""
-    h = hashlib.sha256(numba.__version__.encode())
-    for src in sorted(Path(layout.__file__).parent.glob("*.py")):
-        h.update(src.name.encode() + src.read_bytes())
-    return h.hexdigest()
+    """SHA-256 of the kernels' source (every module under ``sweepcore/_kernels/``, the
+    law kinds' included: ``SOURCE_HASH``): a resume must not mix two kernel
+    versions."""
+    from ._kernels import SOURCE_HASH
+    return hashlib.sha256(numba.__version__.encode() + SOURCE_HASH.encode()).hexdigest()
 
 
 def open_store(path, fixed: dict, readable: dict, n_points: int, ncols: int | None,

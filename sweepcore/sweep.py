@@ -61,7 +61,7 @@ import uuid
 import numpy as np
 import xarray as xr
 
-from . import execute, labels, law, resumable, variables
+from . import execute, labels, resumable, variables
 from ._kernels import codes, layout
 from .boundary import BOUNDARY_VARIABLES, hopf_boundary, reversal_cycles
 from .grid import Grid, checked_grid

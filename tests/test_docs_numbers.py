@@ -36,7 +36,7 @@ ROOT = Path(__file__).resolve().parents[1]
 STUDIES = ROOT / "studies"
 SCRIPTS = ("paper_fig3", "paper_fig4", "paper_fig5", "design_map", "initial_conditions")
 TABLES = {"paper_claims": "physics.md", "method_orders": "methods.md",
-          "normal_form": "physics.md"}
+          "normal_form": "physics.md", "law_accuracy": "physics.md"}
 TOML = sorted(p.stem for p in STUDIES.glob("*.toml"))
 
 

@@ -26,7 +26,7 @@ from . import codes
 from .attractor import answer_cycle, clear, method_status, resolve_options
 from .driver import advance, init_state
 from .law import x_eq
-from .layout import (K, M, NA, NO, NOBS, NP, NS, O_LX, O_MAX_STEPS, O_METHOD, O_RTOL,
+from .layout import (K, M, NA, NO, NOBS, NP, NS, O_LX, O_MAX_STEPS, O_RTOL,
                      OB_NSTEPS, OB_REGIME, OB_STATUS, S_N, S_X, V)
 from .return_map import return_slope
 from .sections import RTOL_FLOOR
