@@ -167,9 +167,8 @@ def trajectory(row: np.ndarray, law, o: np.ndarray, *arrays):
 def options(row: np.ndarray, law, o: np.ndarray):
     """``(option row, a-priori status)`` of one point: "auto" resolved, the default
     dt and GPS shift filled in (``attractor.resolve_options``)."""
-    ((meth, kind, _rows, lw),) = groups(row[None, :], (law,), o)
-    with compiling("options", meth, kind):
-        return entries.entry("options", meth)(row, lw, o)
+    ((meth, _kind, _rows, lw),) = groups(row[None, :], (law,), o)
+    return entries.entry("options", meth)(row, lw, o)
 
 
 # ------------------------------------------------------- a second compiler
@@ -223,20 +222,23 @@ ESTIMATES = Path(__file__).with_name("compile_estimates.json")
 
 
 def _what(entry: str, meth: int, kind: int) -> str:
-    return (f"the {entry} kernel for method {codes.METHOD_NAMES[meth]} and the "
-            f"{_kernel_laws.LAWS[kind][0]} law")
+    return (f"the {entry} kernel ({codes.METHOD_NAMES[meth]}, "
+            f"{_kernel_laws.LAWS[kind][0]} law)")
 
 
-def _estimates() -> dict:
-    """Compile seconds measured before: on this machine (numba's cache directory)
-    over the benchmark's (``python benchmarks/run.py``, shipped with the package)."""
-    out = {}
-    for path in (ESTIMATES, _local_estimates()):
+def _estimate(key: str) -> str:
+    """How long compiling ``key`` took before: on this machine (the last time, kept
+    in numba's cache directory), else in the benchmark (``python benchmarks/run.py``,
+    shipped with the package); "" where neither measured it."""
+    for path, where in ((_local_estimates(), "here"),
+                        (ESTIMATES, "by the benchmark run")):
         try:
-            out.update(json.loads(Path(path).read_text()))
-        except (OSError, ValueError, TypeError):
-            pass
-    return out
+            seconds = json.loads(Path(path).read_text()).get(key)
+        except (OSError, ValueError, TypeError, AttributeError):
+            continue
+        if seconds:
+            return f", about {seconds:g} s measured {where}"
+    return ""
 
 
 def _local_estimates() -> Path:
@@ -279,17 +281,16 @@ class compiling:
             took = time.perf_counter() - self.started
             _remember(self.key, took)
             if notice is not None:
-                notice(f"sweepcore: compiled {self.what} in {took:.1f} s (cached for "
-                       "later runs)")
+                notice(f"sweepcore: compiled in {took:.1f} s (kept in numba's cache "
+                       "for later runs)")
         return False
 
     def begin(self):
         self.started = time.perf_counter()
         if notice is None:
             return
-        known = _estimates().get(self.key)
-        guess = f", about {known:g} s measured before" if known else ""
-        notice(f"sweepcore: compiling {self.what} (first use{guess})")
+        notice(f"sweepcore: compiling {self.what}: first use in this install"
+               f"{_estimate(self.key)}")
         threading.Thread(target=self._tick, daemon=True).start()
 
     def _tick(self):

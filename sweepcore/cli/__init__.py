@@ -23,10 +23,10 @@ import sys
 import traceback
 
 from ..options import did_you_mean
-from .commands import COMPILE_MESSAGE, SimulationFailed, UsageError
+from .commands import SimulationFailed, UsageError
 from .parser import build_parser, set_threads
 
-__all__ = ["main", "build_parser", "unknown_option", "COMPILE_MESSAGE", "UsageError"]
+__all__ = ["main", "build_parser", "unknown_option", "UsageError"]
 
 
 # what an interruption leaves, per command (a command says more where it knows:
@@ -57,6 +57,10 @@ def main(argv=None) -> int:
         return 0
 
 
+def _notice(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
+
+
 def _main(argv) -> int:
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(map(str, argv))
@@ -68,6 +72,8 @@ def _main(argv) -> int:
         return 2
     args = parser.parse_args(argv)
     args.argv = argv
+    from .. import compiled       # while a kernel compiles, say so on stderr
+    compiled.notice = None if getattr(args, "quiet", False) else _notice
     if args.threads:
         set_threads(args.threads)
     from ..study import StudyError

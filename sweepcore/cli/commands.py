@@ -4,13 +4,11 @@ from __future__ import annotations
 
 import os
 import shlex
-import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from ..execute import LOCAL_SCHEDULERS
 from ..labels import run_statuses, timestamp, version
 from ..options import did_you_mean
 from .tables import csv_tables, units_table
@@ -20,39 +18,6 @@ from .summaries import (basin_lines, boundary_lines, describe, describe_basins,
 
 class UsageError(ValueError):
     """A refused command line (exit code 2)."""
-
-
-# ----------------------------------------------------------- compilation
-# numba keys its cache on each source file's path and modification time: a new
-# install location or a fresh checkout compiles again, not only the first run
-COMPILE_MESSAGE = ("sweepcore: compiling kernels, ~25 s (once per install location "
-                   "and kernel source: numba's cache is empty for these files)")
-
-
-def kernels_cold(command: str, dask: bool = False) -> bool:
-    """True when the numba cache holds no fresh machine code for the kernels that
-    ``command`` ("run" or "simulate") calls first, so they compile on this call.
-
-    Reads numba's cache index (the same test numba makes before compiling: index
-    present, numba version and source stamp unchanged). Any surprise in numba's
-    private cache API counts as warm: then no message, never a wrong one.
-    """
-    from .._kernels import attractor, trajectory
-    try:
-        if command == "simulate":
-            kernels = (trajectory.run_trajectory, attractor.resolve_options)
-        else:
-            kernels = (attractor.attractor_rows if dask
-                       else attractor.attractor_rows_parallel,)
-        return any(not k._cache._cache_file._load_index() for k in kernels)
-    except Exception:   # kernels renamed, or numba's cache internals changed: say nothing
-        return False
-
-
-def announce_compile(command: str, dask: bool, quiet: bool) -> None:
-    """One line on stderr before a cold-cache compilation (silent otherwise)."""
-    if not quiet and kernels_cold(command, dask):
-        print(COMPILE_MESSAGE, file=sys.stderr, flush=True)
 
 
 # ---------------------------------------------------------------- commands
@@ -115,10 +80,6 @@ def _run(args, study, grid, out, png) -> int:
         print(f"sweepcore run {args.study}: {grid.size} points "
               f"({' x '.join(f'{d}: {n}' for d, n in zip(grid.dims, grid.shape))}), "
               f"method {study.method}, tol {study.tol:g}", flush=True)
-    # local schedulers run the kernels from this machine's numba cache; a remote
-    # scheduler's cache is its workers' (and an unknown name is refused by sweep)
-    if args.scheduler is None or args.scheduler in LOCAL_SCHEDULERS:
-        announce_compile("run", args.scheduler is not None, args.quiet)
     t0 = time.perf_counter()
     ds = sweep(grid, method=study.method, tol=study.tol,
                chunks=args.chunks or study.chunks, scheduler=args.scheduler, path=out,
@@ -247,7 +208,6 @@ def cmd_simulate(args) -> int:
         from ..io import result_path
         result_path(args.output)
     extra = {"dt": args.dt} if args.dt is not None else {}
-    announce_compile("simulate", False, False)
     ds = simulate(p, t_end=args.t_end, x0=args.x0, xdot0=args.xdot0, method=args.method,
                   output_dt=args.output_dt, tol=args.tol, **extra)
     ds.attrs["history"] = _command_line(args)
