@@ -49,6 +49,8 @@ def s(x):
         return f"{x * 1e6:.3g} us"
     if x < 1:
         return f"{x * 1e3:.3g} ms"
+    if x >= 600:
+        return f"{x / 60:.3g} min"
     return f"{x:.3g} s"
 
 
