@@ -10,7 +10,7 @@ Measured here:
   threads, processes, a 2-worker LocalCluster), i.e. the dask overhead;
 * thread scaling: ``numba.set_num_threads(1)`` against 2;
 * cold compile (fresh process, empty ``NUMBA_CACHE_DIR``), warm-cache load, and peak
-  resident memory (``ru_maxrss``) of a fresh process that runs the map;
+  resident memory (VmHWM of /proc/self/status) of a fresh process that runs the map;
 * error of the map on a random subsample against a tight reference (dopri5 at
   tol 1e-12, cross-checked by rk4 at dt = 1e-3 and, on a handful of points, by the
   independent scipy DOP853 event-driven solver of ``peers.py``).
