@@ -108,23 +108,26 @@ def run_one(x0, xd0, v=V):
     return peak, calls, nfev
 
 
-def exact_check(starts, labels):
-    """Classify the starts by the exact basin boundary (the unstable slip cycle, from
-    the independent reference; not part of the timed baseline) and compare."""
+def exact_check(starts, labels, v=V):
+    """Classify the starts by the exact basin boundary at belt speed v (the unstable
+    slip cycle, from the independent reference; not part of the timed baseline) and
+    compare with ``labels`` (True: steady sliding)."""
     import sys
     from matplotlib.path import Path as MplPath
     sys.path.insert(0, str(ROOT))
     from tests.reference import (reference_basin_fraction, reference_cycle_polygon,
                                  reference_find_slip_cycles)
     p = dict(m=1.0, k=1.0, r_y=R_Y, alpha1=0.0, alpha2=0.0, c=C, r_k=R_K, v_s=V_S)
-    cy = reference_find_slip_cycles(v=V, **p, n_scan=24)[-1]
-    _t, x, xd = reference_cycle_polygon(v=V, a=cy["x_max"], **p)
+    cy = reference_find_slip_cycles(v=v, **p, n_scan=24)[-1]
+    _t, x, xd = reference_cycle_polygon(v=v, a=cy["x_max"], **p)
     inside = MplPath(np.column_stack([x, xd])).contains_points(starts)
     labels = np.asarray(labels)
-    return dict(exact_fraction=reference_basin_fraction(v=V, a=cy["x_max"], box=BOX,
+    return dict(exact_fraction=reference_basin_fraction(v=v, a=cy["x_max"], box=BOX,
                                                         **p)["fraction"],
                 exact_steady_in_subset=int(inside.sum()),
-                disagreements=int(np.sum(inside != labels)))
+                disagreements=int(np.sum(inside != labels)),
+                inside_labelled_stick_slip=int(np.sum(inside & ~labels)),
+                outside_labelled_steady=int(np.sum(~inside & labels)))
 
 
 def machine():

@@ -59,6 +59,19 @@ def rows(v, alpha2, alpha1=PAPER["alpha1"], x0=0.0, xdot0=None, product=True):
     return grid.rows(0, grid.size)
 
 
+def attractor_map(P, method="auto", tol=1e-8, out=None):
+    """Observables rows (n, layout.NOBS) of the kernel rows P on all numba threads.
+
+    The one direct kernel call of the peers' sections (heyoka, pybasin): the
+    kernels' entry names live here only.
+    """
+    from sweepcore._kernels.layout import NOBS
+    from sweepcore.options import make_options
+    out = np.empty((P.shape[0], NOBS)) if out is None else out
+    kernel()(P, make_options(method, tol=tol), out, True)
+    return out
+
+
 def length_scale(P):
     """The kernels' length scale r_y/k + |v|/omega of each row [cm] (error unit)."""
     from sweepcore import law

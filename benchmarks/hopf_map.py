@@ -10,7 +10,7 @@ Measured here:
   threads, processes, a 2-worker LocalCluster), i.e. the dask overhead;
 * thread scaling: ``numba.set_num_threads(1)`` against 2;
 * cold compile (fresh process, empty ``NUMBA_CACHE_DIR``), warm-cache load, and peak
-  resident memory (``ru_maxrss``) of a fresh process that runs the map;
+  resident memory (VmHWM of /proc/self/status) of a fresh process that runs the map;
 * the main job, ``sweepcore run studies/hopf_map.toml``, from an empty kernel cache
   and again warm, back to back (``main_job``);
 * error of the map on a random subsample against a tight reference (dopri5 at
@@ -24,15 +24,15 @@ import os
 import subprocess
 import sys
 import tempfile
-from pathlib import Path
 import time
+from pathlib import Path
 
 import numpy as np
 
 from . import common
 from .common import log
 from sweepcore._kernels import layout
-from sweepcore._kernels.layout import (NOBS, OB_AMPLITUDE, OB_FLOQUET, OB_REGIME, OB_STATUS,
+from sweepcore._kernels.layout import (NOBS, OB_AMPLITUDE, OB_REGIME, OB_STATUS,
                                        OB_X_MAX)
 
 
@@ -276,31 +276,31 @@ def accuracy(P, out, profile, tols_out):
     return res, idx, ref
 
 
-def hardest_points(P, outs, per_column):
-    """Errors on the points where waiting for convergence failed: in every alpha2
-    column of the map, the ``per_column`` slip-cycle points nearest below v* (where
-    the cycle's contraction per period 1 - mu is smallest), against the independent
-    scipy shooting solve of ``tests/reference.py`` (DOP853 at rtol 1e-13, secant on
-    the return map). The reference's own noise is ~1e-13 L / (1 - mu); points where
-    that exceeds 1e-9 L are reported apart (``reference_unresolved``), and the closest
-    of them are checked against the Hopf normal form instead, with its measured
-    second-order term (studies/normal_form.py), whose remainder ~10 A (1.2 q/omega)^2
-    is far below 1e-9 there. Also: every point above v* must be an equilibrium.
+def hardest_references(P, base, per_column):
+    """The points where waiting for convergence fails and their independent
+    references: in every alpha2 column of the map, the ``per_column`` slip-cycle
+    points of the run ``base`` nearest below v* (where the cycle's contraction per
+    period 1 - mu is smallest), against the scipy shooting solve of
+    ``tests/reference.py`` (DOP853 at rtol 1e-13, secant on the return map). The
+    reference's own noise is ~1e-13 L / (1 - mu); points where that exceeds 1e-9 L
+    are unresolved, and the closest of them are checked against the Hopf normal form
+    instead, with its measured second-order term (studies/normal_form.py), whose
+    remainder ~10 A (1.2 q/omega)^2 is far below 1e-9 there.
+
+    Returns (picks, refs): row indices into P and {index: dict(amplitude, floquet,
+    resolved, source)}.
     """
     from tests.reference import reference_slip_cycle
 
     m, k, ry, a1 = P[0, 0], P[0, 1], P[0, 2], P[0, 4]
     w = np.sqrt(k / m)
-    base = outs[min(outs)]                     # choose the points on the tightest run
-    a2s = np.unique(P[:, 5])
     picks = []
-    for a2 in a2s:
+    for a2 in np.unique(P[:, 5]):
         col = np.flatnonzero(P[:, 5] == a2)
         vs = np.sqrt(a1 / (3.0 * a2))
         below = col[(P[col, 3] < vs) & (base[col, OB_REGIME] == 1)]
         below = below[np.argsort(vs - P[below, 3])][:per_column]
         picks += list(below)
-    t0 = time.perf_counter()
     refs = {}
     for i in picks:
         v, a2 = P[i, 3], P[i, 5]
@@ -321,45 +321,76 @@ def hardest_points(P, outs, per_column):
         except (ValueError, IndexError) as err:        # reaches belt speed, no event
             refs[i] = dict(amplitude=np.nan, floquet=np.nan, resolved=False,
                            source=f"scipy failed: {err}")
-    t_ref = time.perf_counter() - t0
+    return picks, refs
+
+
+def hardest_errors(P, amplitude, ok, picks, refs):
+    """Errors of ``amplitude`` [cm] (where ``ok``) on the picked points against their
+    resolved references: the maximum overall, over L and in bands of v / v*."""
+    a1 = P[0, 4]
+    L = common.length_scale(P)
+    errors = []
+    for i in picks:
+        r = refs[i]
+        if not ok[i] or not r["resolved"]:
+            continue
+        errors.append((P[i, 3] / np.sqrt(a1 / (3.0 * P[i, 5])),
+                       abs(amplitude[i] - r["amplitude"]), L[i]))
+    bands = {}
+    for lo, hi, label in ((0.0, 0.99, "< 0.99 v*"), (0.99, 0.999, "0.99-0.999 v*"),
+                          (0.999, 1.0, "0.999-1 v*")):
+        sel = [e for x, e, _L in errors if lo <= x < hi]
+        bands[label] = {"n": len(sel), "max_amp_err": max(sel) if sel else None}
+    errs = [e for _x, e, _L in errors]
+    return dict(n_compared=len(errs), max_amp_err=max(errs) if errs else None,
+                median_amp_err=float(np.median(errs)) if errs else None,
+                max_amp_err_over_L=max(e / L_ for _x, e, L_ in errors) if errs else None,
+                bands=bands)
+
+
+def save_references(outdir, picks, refs):
+    """The hardest points' references, for the peers' sections of the same run."""
+    np.savez_compressed(Path(outdir) / "hardest_references.npz", picks=np.array(picks, int),
+                        amplitude=np.array([refs[i]["amplitude"] for i in picks]),
+                        resolved=np.array([refs[i]["resolved"] for i in picks]))
+
+
+def load_references(outdir):
+    """(picks, refs) saved by this run's Hopf-map section, or None."""
+    path = Path(outdir) / "hardest_references.npz"
+    if not path.exists():
+        return None
+    f = np.load(path)
+    picks = [int(i) for i in f["picks"]]
+    return picks, {i: dict(amplitude=float(a), resolved=bool(r))
+                   for i, a, r in zip(picks, f["amplitude"], f["resolved"])}
+
+
+def hardest_points(P, outs, per_column, outdir=None):
+    """Errors of every run of ``outs`` on the hardest points (``hardest_references``,
+    chosen on the tightest run), and whether every point above v* is at rest."""
+    t0 = time.perf_counter()
+    picks, refs = hardest_references(P, outs[min(outs)], per_column)
+    if outdir is not None:
+        save_references(outdir, picks, refs)
     res = {"n_points": len(picks), "per_column": per_column,
-           "reference_time_s": t_ref,
+           "reference_time_s": time.perf_counter() - t0,
            "reference_sources": {s: sum(r["source"] == s for r in refs.values())
                                  for s in {r["source"] for r in refs.values()}},
            "reference_unresolved": sum(not r["resolved"] for r in refs.values()),
            "by_tol": {}}
-    above = P[:, 3] > np.sqrt(a1 / (3.0 * P[:, 5]))
+    above = P[:, 3] > np.sqrt(P[0, 4] / (3.0 * P[:, 5]))
     for tol, out in outs.items():
-        L = common.length_scale(P)
-        stat = {"status_counts": {}, "errors": []}
+        counts = {}
         for i in picks:
             name = common.STATUSES.get(int(out[i, OB_STATUS]), str(int(out[i, OB_STATUS])))
-            stat["status_counts"][name] = stat["status_counts"].get(name, 0) + 1
-            r = refs[i]
-            if out[i, OB_STATUS] != 0 or not r["resolved"]:
-                continue
-            vs = np.sqrt(a1 / (3.0 * P[i, 5]))
-            stat["errors"].append({"v_over_v_star": P[i, 3] / vs,
-                                   "amp_err": abs(out[i, OB_AMPLITUDE] - r["amplitude"]),
-                                   "amp_err_over_L": abs(out[i, OB_AMPLITUDE] - r["amplitude"]) / L[i],
-                                   "one_minus_mu": 1.0 - r["floquet"],
-                                   "floquet_err": abs(out[i, OB_FLOQUET] - r["floquet"]),
-                                   "source": r["source"]})
-        errs = [e["amp_err"] for e in stat["errors"]]
-        bands = {}
-        for lo, hi, label in ((0.0, 0.99, "< 0.99 v*"), (0.99, 0.999, "0.99-0.999 v*"),
-                              (0.999, 1.0, "0.999-1 v*")):
-            sel = [e["amp_err"] for e in stat["errors"] if lo <= e["v_over_v_star"] < hi]
-            bands[label] = {"n": len(sel), "max_amp_err": max(sel) if sel else None}
-        stat.update(n_compared=len(errs), max_amp_err=max(errs) if errs else None,
-                    median_amp_err=float(np.median(errs)) if errs else None,
-                    max_amp_err_over_L=max(e["amp_err_over_L"] for e in stat["errors"])
-                    if errs else None, bands=bands,
-                    above_v_star_not_equilibrium=int(((out[:, OB_REGIME] != 0) & above).sum()))
-        del stat["errors"]
+            counts[name] = counts.get(name, 0) + 1
+        stat = {"status_counts": counts,
+                **hardest_errors(P, out[:, OB_AMPLITUDE], out[:, OB_STATUS] == 0, picks, refs),
+                "above_v_star_not_equilibrium": int(((out[:, OB_REGIME] != 0) & above).sum())}
         res["by_tol"][f"{tol:g}"] = stat
-        log(f"    hardest points, tol={tol:g}: {len(errs)} compared, max |amp err| "
-            f"{stat['max_amp_err'] if errs else float('nan'):.2e} cm, statuses "
+        log(f"    hardest points, tol={tol:g}: {stat['n_compared']} compared, max |amp err| "
+            f"{stat['max_amp_err'] if stat['n_compared'] else float('nan'):.2e} cm, statuses "
             f"{stat['status_counts']}, above v* not equilibrium: "
             f"{stat['above_v_star_not_equilibrium']}")
     return res
@@ -430,7 +461,7 @@ def run(profile, outdir):
     acc, idx, ref = accuracy(P, outs, profile, outs)
     res["accuracy"] = acc
     log("  accuracy on the hardest points (next to v*) against independent solvers")
-    res["accuracy_hardest"] = hardest_points(P, outs, profile["hard_per_column"])
+    res["accuracy_hardest"] = hardest_points(P, outs, profile["hard_per_column"], outdir)
     for tol, r in acc["map"].items():
         log(f"    tol={tol}: max |amp err| {r['amplitude_abs']['max']:.2e} cm on "
             f"{r['n_compared']} points, regime mismatches {r['n_regime_mismatch']}")
@@ -446,7 +477,7 @@ def save_fields(outdir, out):
                         regime=out[:, 8].astype(np.int8))
 
 
-def replot(outdir, res, peer_res=None):
+def replot(outdir, res, peer_res=None, heyoka_res=None):
     """Redraw the map figure from the saved run, with the peers when they ran."""
     path = outdir / "hopf_map_fields.npz"
     if path.exists():
@@ -455,10 +486,10 @@ def replot(outdir, res, peer_res=None):
         out[:, 0] = f["amplitude"]
         out[:, 8] = f["regime"]
         v, a2 = common.map_axes(res["grid"]["nv"], res["grid"]["na"])
-        plot(v, a2, out, res, outdir, peer_res)
+        plot(v, a2, out, res, outdir, peer_res, heyoka_res)
 
 
-def plot(v, a2, out, res, outdir, peer_res=None):
+def plot(v, a2, out, res, outdir, peer_res=None, heyoka_res=None):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -512,6 +543,13 @@ def plot(v, a2, out, res, outdir, peer_res=None):
                          else "extrapolated)"))
         vals.append(pm["map_seconds"])
         colors.append("#ccbb44")
+    if heyoka_res and "median" in heyoka_res:
+        for mode in ("batch", "scalar"):
+            if mode in heyoka_res["median"]:
+                labels.append(f"heyoka.py {mode}, tol {heyoka_res['chosen_tol']:g}\n"
+                              f"(rerun here, {heyoka_res['processes']} processes)")
+                vals.append(heyoka_res["median"][mode]["wall"])
+                colors.append("#aa3377")
     ax = axs[2]
     y = np.arange(len(vals))
     ax.barh(y, vals, color=colors)
@@ -519,7 +557,6 @@ def plot(v, a2, out, res, outdir, peer_res=None):
     ax.invert_yaxis()
     ax.axvline(10.0, color="r", ls="--", lw=1, label="target 10 s")
     ax.axvline(1.0, color="orange", ls="--", lw=1, label="aim 1 s")
-    ax.axvline(35.0, color="k", ls=":", lw=1, label="best peer, quoted (35 s)")
     ax.set_xscale("log")
     ax.set_xlabel("wall time of the map [s] (median, warm)")
     ax.legend(fontsize=7, loc="lower right")

@@ -49,6 +49,8 @@ def s(x):
         return f"{x * 1e6:.3g} us"
     if x < 1:
         return f"{x * 1e3:.3g} ms"
+    if x >= 600:
+        return f"{x / 60:.3g} min"
     return f"{x:.3g} s"
 
 
@@ -85,14 +87,17 @@ def write_readme(outdir, readme, mode, total):
     T = _load(outdir, "throughput")
     Pe = _load(outdir, "peers")
     C = _load(outdir, "cost_model")
-    anyres = next((r for r in (H, W, T, Pe, C) if r), None)
+    Hy = _load(outdir, "heyoka")
+    Pb = _load(outdir, "pybasin")
+    anyres = next((r for r in (H, W, T, Pe, C, Hy, Pb) if r), None)
     parts = [fill("head")]
     if anyres is None:
         readme.write_text("\n".join(parts))
         return
     m = anyres["machine"]
     sections = {n: r for n, r in zip(("hopf_map", "work_precision", "throughput", "peers",
-                                      "cost_model"), (H, W, T, Pe, C)) if r}
+                                      "cost_model", "heyoka", "pybasin"),
+                                     (H, W, T, Pe, C, Hy, Pb)) if r}
     stamps = {(r["machine"]["git_commit"], r["machine"]["sweepcore_dirty"])
               for r in sections.values()}
     mixed = ""
@@ -101,7 +106,7 @@ def write_readme(outdir, readme, mode, total):
             f"{n}: `{r['machine']['git_commit'][:10]}`"
             f"{' + uncommitted changes' if r['machine']['sweepcore_dirty'] else ''}"
             f" ({r['machine']['date']})" for n, r in sections.items()))
-    minutes = sum(r.get("section_seconds", 0) for r in (H, W, T, Pe, C) if r) / 60
+    minutes = sum(r.get("section_seconds", 0) for r in sections.values()) / 60
     parts.append(fill(
         "results", mode=mode, date=m["date"], minutes=f"{minutes:.1f}",
         cpu_model=m["cpu_model"], mhz=f"{m['cpu_mhz']:.0f}", cores=m["cores"],
@@ -120,6 +125,10 @@ def write_readme(outdir, readme, mode, total):
         parts.append(_peers(Pe, H))
     if C:
         parts.append(_cost(C))
+    if Hy and "skipped" not in Hy:
+        parts.append(_heyoka(Hy))
+    if Pb:
+        parts.append(_pybasin(Pb))
     from benchmarks import boundaries, memory     # their own scripts' results
     parts.append(boundaries.stored_section())
     parts.append(memory.stored_section())
@@ -425,6 +434,103 @@ def _cost(C):
     return "\n".join(out) + "\n"
 
 
+def _cpu_wall(r):
+    return f"{s(r['wall'])} wall, {s(r['cpu'])} CPU"
+
+
+def _heyoka(Hy):
+    hard = Hy["references"]
+    last = Hy["ladder"][-1]["errors"]
+    out = [fill("heyoka_head", nv=Hy["grid"]["nv"], na=Hy["grid"]["na"],
+                version=Hy["heyoka"], processes=Hy["processes"],
+                map_converged=hard["map_converged"], hard_resolved=hard["hardest_resolved"],
+                no_ref=last["n_without_reference"])]
+    rows = []
+    for r in Hy["ladder"]:
+        e = r["errors"]
+        rows.append([f"tol={r['tol']:g}", s(r["wall_s"]), s(r["cpu_s"]), g(e["amp_err_max_all"]),
+                     g(e["amp_err_max"]), f"{e['n_regime_mismatch']} "
+                     f"(max amp err {g(e['amp_err_max_regime_mismatch'])})",
+                     g(e["hardest"]["max_amp_err"]), e["n_unconverged"], g(r["steps"])])
+    out.append(table(["heyoka, scalar", "wall time", "CPU time", "max amp err, every point "
+                      "[cm]", "same regime", "regime mismatches", "hardest points",
+                      "unconverged", "Taylor steps"], rows))
+    chosen = next(r for r in Hy["ladder"] if r["tol"] == Hy["chosen_tol"])
+    sc = Hy["sweepcore_errors"]
+    out.append(fill("heyoka_chosen", tol=f"{Hy['chosen_tol']:g}",
+                    note="" if Hy["chosen_meets_target"] else
+                    " (none of the ladder meets it: the tightest is shown)",
+                    sc_err=g(sc["amp_err_max_all"]), sc_mismatch=sc["n_regime_mismatch"],
+                    sc_steps=g(Hy["sweepcore_steps"]), hy_steps=g(chosen["steps"]),
+                    top1000=f"{100 * chosen['steps_share_top1000']:.0f} %"))
+    med, rat, runs = Hy["median"], Hy["ratios"], Hy["runs"]
+    out.append(fill("heyoka_ratios", tol=f"{Hy['chosen_tol']:g}", n_sc=len(runs["sweepcore"]),
+                    n_scalar=len(runs["scalar"]), n_batch=len(runs.get("batch", [])),
+                    compile=f"{max(r['compile_s'] for r in runs['scalar']):.2f}"))
+    rows = [["sweepcore (kernel, 2 threads, tol 1e-8)", s(med["sweepcore"]["wall"]),
+             s(med["sweepcore"]["cpu"]), "1", "1"]]
+    for mode, label in (("scalar", "heyoka scalar mode"),
+                        ("batch", f"heyoka batch mode ({Hy['batch_size']} lanes)")):
+        if mode in med:
+            rows.append([f"{label}, {Hy['processes']} processes", s(med[mode]["wall"]),
+                         s(med[mode]["cpu"]), f"**{g(rat[mode + '_wall'])}x**",
+                         f"**{g(rat[mode + '_cpu'])}x**"])
+    out.append(table(["map", "wall time", "CPU time", "wall / sweepcore's",
+                      "CPU / sweepcore's"], rows))
+    return "\n".join(out) + "\n"
+
+
+def _pybasin(Pb):
+    peer = Pb.get("pybasin")
+    scs = Pb["sweepcore"]
+    if not peer:
+        return ("### 7. Basin stability against pybasin\n\npybasin's environment was "
+                "absent and no saved results exist: sweepcore's side only, in "
+                "`pybasin.json`.\n")
+    v = peer["versions"]
+    m = peer["machine"]
+    source = ("pybasin ran live in this run" if peer["source"] == "live" else
+              f"**pybasin from its saved results** (`benchmarks/results/pybasin_peer.json`, "
+              f"{m['date']}): its environment was absent from this run")
+    out = [fill("pybasin_head", source=source, version=v["pybasin"], python=v["python"],
+                jax=v["jax"], diffrax=v["diffrax"], p_cpu=m["cpu_model"], p_cores=m["cores"],
+                p_date=m["date"][:10], samples=peer["settings"]["samples"],
+                command=peer["command"],
+                curve=(f" and the {scs['curve']['points']} speeds of "
+                       "`studies/bstab_basins.toml`" if "curve" in scs else ""),
+                repeats=len(scs["speeds"][0]["exact"]["walls_s"]))]
+    by_v = {round(r["v"], 9): r for r in scs["speeds"]}
+    rows = []
+    for p in peer["speeds"]:
+        sc = by_v[round(p["v"], 9)]
+        ec = p.get("exact_check", {})
+        rows.append([f"{p['v']:g}", f"{p['fraction']:.4f} +- {p['error']:.4f}",
+                     f"{sc['exact']['fraction']:.5f}",
+                     f"{sc['sampled']['fraction']:.4f} +- {sc['sampled']['error']:.4f}",
+                     ec.get("inside_labelled_stick_slip", "-"),
+                     f"{s(p['wall_s'])} / {s(p['cpu_s'])}",
+                     f"{s(sc['exact']['wall_s'])} / {s(sc['exact']['cpu_s'])}",
+                     f"{s(sc['sampled']['wall_s'])} / {s(sc['sampled']['cpu_s'])}"])
+    out.append(table(["v", "pybasin fraction", "sweepcore exact", "sweepcore sampled",
+                      "inside, labelled stick-slip", "pybasin wall / CPU",
+                      "sweepcore exact wall / CPU", "sweepcore sampled wall / CPU"], rows))
+    rat = Pb["ratios"]
+    rows = [[f"{r['v']:g}", f"**{g(r['wall_exact'])}x** / {g(r['cpu_exact'])}x",
+             f"**{g(r['wall_sampled'])}x** / {g(r['cpu_sampled'])}x"]
+            for r in rat["per_speed"]]
+    out.append("")
+    out.append(table(["v", "pybasin / sweepcore exact (wall / CPU)",
+                      "pybasin / sweepcore sampled (wall / CPU)"], rows))
+    if "curve" in rat:
+        c, sc = rat["curve"], scs["curve"]
+        out.append(f"\nThe {sc['points']}-speed curve: pybasin {s(c['pybasin_wall_s_extrapolated'])} "
+                   f"wall, {s(c['pybasin_cpu_s_extrapolated'])} CPU (its median per speed x "
+                   f"{sc['points']}), sweepcore's exact route {s(sc['wall_s'])} wall, "
+                   f"{s(sc['cpu_s'])} CPU: **{g(c['wall'])}x** wall, {g(c['cpu'])}x CPU.")
+    out.append(fill("pybasin_tail"))
+    return "\n".join(out) + "\n"
+
+
 # ------------------------------------------------ the top-level README's block
 START, END = "<!-- bench:start -->", "<!-- bench:end -->"
 
@@ -497,6 +603,7 @@ def readme_block(outdir) -> str:
         rows.append([f"scipy `solve_ivp` RK45 loop ({r['scipy_setting']}), per point on "
                      f"one core, {len(Pe['points'])} points", f"{g(r['per_point_1core_ratio'])}x "
                      "the time of sweepcore on the same points"])
+    rows += _heyoka_rows(_load(outdir, "heyoka")) + _pybasin_rows(_load(outdir, "pybasin"))
     th = H.get("threads", {})
     if "2" in th.get("grid order", {}):
         rows.append(["thread scaling 1 -> 2 threads", f"{g(th['grid order']['2']['speedup'])}x "
@@ -511,6 +618,70 @@ def readme_block(outdir) -> str:
     head = fill("readme_block_head", date=m["date"][:10], cpu_model=m["cpu_model"],
                 cores=m["cores"], commit=m["git_commit"][:10], rel=rel)
     return head + "\n\n" + table(["", "measured"], rows)
+
+
+def _heyoka_rows(Hy):
+    """The README's rows of the heyoka section (none when it did not run)."""
+    if not Hy or "skipped" in Hy:
+        return []
+    tol = Hy["chosen_tol"]
+    e = next(r for r in Hy["ladder"] if r["tol"] == tol)["errors"]
+    med, rat = Hy["median"], Hy["ratios"]
+    tols = ", ".join(f"{r['tol']:g}" for r in Hy["ladder"])
+    modes = "; ".join(
+        f"{label} {_cpu_wall(med[mode])}: **{g(rat[mode + '_cpu'])}x** CPU, "
+        f"{g(rat[mode + '_wall'])}x wall" for mode, label in
+        (("scalar", "scalar mode"), ("batch", f"batch mode ({Hy['batch_size']} lanes)"))
+        if mode in med)
+    return [[f"heyoka.py {Hy['heyoka']} (Taylor method compiled by LLVM, events by root "
+             f"finding), same map, written for the job (`benchmarks/heyoka_peer.py`), "
+             f"{Hy['processes']} processes, tol {tol:g}: the cheapest of {tols} with "
+             f"amplitude error <= 1e-6 cm on every point" +
+             ("" if Hy["chosen_meets_target"] else " (none met it: the tightest)"),
+             f"{modes}; sweepcore in the same run {_cpu_wall(med['sweepcore'])}; heyoka's "
+             f"max amplitude error {g(e['amp_err_max_all'])} cm on every point with a "
+             f"reference"]]
+
+
+def _pybasin_rows(Pb):
+    """The README's rows of the pybasin section (none without pybasin's results)."""
+    if not Pb or not Pb.get("pybasin"):
+        return []
+    peer, sc, rat = Pb["pybasin"], Pb["sweepcore"], Pb["ratios"]
+    v = peer["versions"]
+    src = ("rerun in the same run" if peer["source"] == "live" else
+           f"from its saved results of {peer['machine']['date'][:10]}, "
+           "`benchmarks/results/pybasin_peer.json`")
+    per = {w: common.median([p[f"{w}_s"] for p in peer["speeds"]]) for w in ("wall", "cpu")}
+
+    def med(route, w):
+        return common.median([r[route][f"{w}_s"] for r in sc["speeds"]])
+
+    def ratio(route, w):
+        return common.median([r[f"{w}_{route}"] for r in rat["per_speed"]])
+    speeds = ", ".join(f"{p['v']:g}" for p in peer["speeds"])
+    text = (f"{s(per['wall'])} wall, {s(per['cpu'])} CPU a speed (v = {speeds}); "
+            f"sweepcore's exact route {s(med('exact', 'wall'))} wall, "
+            f"{s(med('exact', 'cpu'))} CPU: **{g(ratio('exact', 'wall'))}x** wall, "
+            f"{g(ratio('exact', 'cpu'))}x CPU; sampled route, same starts a speed, "
+            f"{s(med('sampled', 'wall'))} wall: **{g(ratio('sampled', 'wall'))}x** wall, "
+            f"{g(ratio('sampled', 'cpu'))}x CPU")
+    if "curve" in rat:
+        text += (f"; the {sc['curve']['points']}-speed curve "
+                 f"{s(rat['curve']['pybasin_wall_s_extrapolated'])} (per speed x "
+                 f"{sc['curve']['points']}) against {s(sc['curve']['wall_s'])}")
+    rows = [[f"pybasin {v['pybasin']} (JAX/diffrax), its published friction case as "
+             f"shipped, {peer['settings']['samples']:,} starts a belt speed, {src}", text]]
+    near = min(peer["speeds"], key=lambda p: p["v"])
+    exact = next(r for r in sc["speeds"] if abs(r["v"] - near["v"]) < 1e-9)["exact"]
+    if "exact_check" in near:
+        rows.append([f"pybasin at v = {near['v']:g}" + (" (next to the Hopf point)"
+                                                       if near["v"] < 1.2 else ""),
+                     f"steady sliding {near['fraction']:.4f} +- {near['error']:.4f}, exact "
+                     f"{exact['fraction']:.5f}: {near['exact_check']['inside_labelled_stick_slip']}"
+                     f" of its {near['samples']:,} starts lie inside the unstable cycle and "
+                     "are labelled stick-slip (not settled by t = 400)"])
+    return rows
 
 
 def update_block(readme, block: str) -> bool:

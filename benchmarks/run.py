@@ -3,12 +3,16 @@
     python benchmarks/run.py            # full mode (duration: in benchmarks/README.md)
     python benchmarks/run.py --quick    # a few minutes, smaller ladders and samples
     python benchmarks/run.py --quick --sections hopf,peers,cost
+    python benchmarks/run.py --sections heyoka,pybasin    # the strongest peers only
 
 Results go to ``benchmarks/results/<mode>/`` (one JSON file per section, PNG figures).
 A full run then rewrites ``benchmarks/README.md`` and the generated speed block of the
 top-level ``README.md`` from ``benchmarks/results/full/``; a quick run writes its
 summary to ``benchmarks/results/quick/README.md`` and never touches the full-mode
-tables (its folder is not tracked by git). Numba kernels are compiled into
+tables (its folder is not tracked by git). The pybasin section runs pybasin in its own
+Python >= 3.12 environment ($PYBASIN_PYTHON, else ../pybasin-venv/bin/python beside
+the repository; benchmarks/pybasin_compare.py says how to make it) or, without it,
+reads pybasin's saved results. Numba kernels are compiled into
 a private, fresh ``NUMBA_CACHE_DIR`` for the run (a stale cache of kernels edited
 since it was written can never be timed), removed at the end.
 """
@@ -26,7 +30,7 @@ ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-SECTIONS = ("hopf", "wp", "throughput", "peers", "cost")
+SECTIONS = ("hopf", "wp", "throughput", "peers", "cost", "heyoka", "pybasin")
 
 PROFILES = {
     # end-to-end check on a handful of points (tests/test_benchmarks_smoke.py)
@@ -38,7 +42,10 @@ PROFILES = {
         wp_dopri5_tol=[1e-8], wp_dop853_tol=[1e-8], wp_repeats=1, wp_boundary_iters=4,
         tp_sides=[4, 8], tp_repeats_small=1, tp_repeats_large=1,
         peer_points=2, peer_ref_tol=1e-10, peer_rk45_tols=[1e-6], peer_rk4_dt=[0.01],
-        peer_numba_repeats=1, peer_map_points=8),
+        peer_numba_repeats=1, peer_map_points=8,
+        heyoka_map_shape=(12, 12), heyoka_tols=[1e-13], heyoka_repeats=1,
+        heyoka_processes=2, heyoka_batch=8,
+        pybasin_speeds=[1.5], pybasin_samples=200, pybasin_repeats=1, pybasin_curve=False),
     "quick": dict(
         map_shape=(256, 256), map_tols=[1e-8, 1e-10], map_repeats=3, map_ladder_repeats=1,
         scaling_repeats=3, dask_schedulers=["threads", "processes", "localcluster"],
@@ -51,7 +58,10 @@ PROFILES = {
         wp_boundary_iters=20,
         tp_sides=[10, 32, 100, 316], tp_repeats_small=3, tp_repeats_large=1,
         peer_points=6, peer_ref_tol=1e-12, peer_rk45_tols=[1e-8],
-        peer_rk4_dt=[0.02, 0.01, 0.005], peer_numba_repeats=1, peer_map_points=4096),
+        peer_rk4_dt=[0.02, 0.01, 0.005], peer_numba_repeats=1, peer_map_points=4096,
+        heyoka_map_shape=(64, 64), heyoka_tols=[1e-13, 1e-14], heyoka_repeats=1,
+        heyoka_processes=2, heyoka_batch=8,
+        pybasin_speeds=[1.175, 1.5], pybasin_samples=5000, pybasin_repeats=3),
     "full": dict(
         map_shape=(256, 256), map_tols=[1e-6, 1e-8, 1e-10, 1e-12], map_repeats=5,
         map_ladder_repeats=2, scaling_repeats=3,
@@ -67,7 +77,10 @@ PROFILES = {
         tp_sides=[10, 32, 100, 316, 1000], tp_repeats_small=3, tp_repeats_large=2,
         peer_points=17, peer_ref_tol=1e-13, peer_rk45_tols=[1e-6, 1e-8, 1e-10],
         peer_rk4_dt=[0.04, 0.02, 0.01, 0.005, 0.0025, 0.001], peer_numba_repeats=1,
-        peer_map_points=65536, regimes_before="cd6c8a2", regimes_rounds=3),
+        peer_map_points=65536, regimes_before="cd6c8a2", regimes_rounds=3,
+        heyoka_map_shape=(256, 256), heyoka_tols=[1e-12, 1e-13, 1e-14], heyoka_repeats=2,
+        heyoka_processes=2, heyoka_batch=8,
+        pybasin_speeds=[1.175, 1.25, 1.5], pybasin_samples=5000, pybasin_repeats=3),
 }
 
 
@@ -164,11 +177,23 @@ def _run(args):
             t0 = time.perf_counter()
             results["cost_model"] = save("cost_model", cost_model.run(
                 profile, outdir, hopf, results.get("peers") or load("peers")), t0)
+    if "heyoka" in args.sections:
+        from benchmarks import heyoka_compare
+        t0 = time.perf_counter()
+        results["heyoka"] = save("heyoka", heyoka_compare.run(
+            profile, outdir, results.get("hopf_map") or load("hopf_map")), t0)
+    if "pybasin" in args.sections:
+        from benchmarks import pybasin_compare
+        t0 = time.perf_counter()
+        official = summary_targets(args.mode, outdir, args.outdir, args.readme)[1]
+        results["pybasin"] = save("pybasin", pybasin_compare.run(profile, outdir, official),
+                                  t0)
     # the map's and the work-precision figures show the peers next to sweepcore
     hopf = results.get("hopf_map") or load("hopf_map")
     if hopf is not None:
         from benchmarks import hopf_map
-        hopf_map.replot(outdir, hopf, results.get("peers") or load("peers"))
+        hopf_map.replot(outdir, hopf, results.get("peers") or load("peers"),
+                        results.get("heyoka") or load("heyoka"))
     wp = results.get("work_precision") or load("work_precision")
     if wp is not None:
         from benchmarks import work_precision

@@ -12,6 +12,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
 pytest.importorskip("scipy")
 pytest.importorskip("matplotlib")
 
@@ -30,7 +32,8 @@ def smoke(tmp_path_factory):
 
 def test_every_section_writes_json_with_machine_and_commit(smoke):
     out, _ = smoke
-    for name in ("hopf_map", "work_precision", "throughput", "peers", "cost_model"):
+    for name in ("hopf_map", "work_precision", "throughput", "peers", "cost_model",
+                 "heyoka", "pybasin"):
         data = json.loads((out / f"{name}.json").read_text())
         assert data["mode"] == "smoke"
         assert {"date", "git_commit", "cpu_model", "numba", "numba_threading_layer"} \
@@ -43,8 +46,10 @@ def test_figures_and_readme_are_written(smoke):
         assert (out / png).stat().st_size > 1000
     text = readme.read_text()
     for heading in ("1. Hopf map", "2. Work-precision", "3. Throughput", "4. Peers",
-                    "5. Cost model"):
+                    "5. Cost model", "7. Basin stability against pybasin"):
         assert heading in text
+    heyoka = json.loads((out / "heyoka.json").read_text())
+    assert ("6. heyoka.py on the Hopf map" in text) == ("skipped" not in heyoka)
 
 
 def test_map_results_agree_with_references(smoke):
@@ -73,3 +78,46 @@ def test_pair_choice_reference_is_within_scipys_tolerance_range():
         res = pair_choice.one_point(5.5, 0.01)
     tight = [r for r in res["rows"] if r["method"] == "DOP853" and r["rtol"] == 1e-11]
     assert tight and tight[0]["error_over_L"] < 1e-10
+
+
+# ------------------------------------------------------------ the strongest peers
+PAPER = dict(m=5.0, k=50.0, r_y=10.0, alpha1=1.0)
+
+
+@pytest.mark.parametrize("batch_size", [None, 4])
+def test_heyoka_peer_agrees_with_the_scipy_reference(batch_size):
+    """The heyoka peer on one point of each regime, scalar and batch mode, against the
+    independent scipy references of tests/reference.py (no timing)."""
+    pytest.importorskip("heyoka", reason="heyoka is in the bench extra, not in test")
+    import numpy as np
+    from benchmarks.heyoka_peer import EQUILIBRIUM, SLIP_CYCLE, STICK_SLIP, solve
+    from tests.reference import (reference_equilibrium, reference_slip_cycle,
+                                 reference_stick_slip_cycle)
+    m, k, r_y, a1 = PAPER.values()
+    a2 = 0.01                                          # v* = 5.77 cm/s
+    rows = [(m, k, r_y, v, a1, a2) for v in (0.5, 5.5, 8.0)]
+    out, _cpu = solve(rows, 1e-13, batch_size=batch_size)
+    assert list(out[:, 3]) == [STICK_SLIP, SLIP_CYCLE, EQUILIBRIUM]
+    stick = reference_stick_slip_cycle(m, k, r_y, 0.5, a1, a2)
+    assert abs(out[0, 0] - stick["amplitude"]) < 1e-8
+    x_eq = reference_equilibrium(m, k, r_y, 5.5, a1, a2)["x_eq"]
+    slip = reference_slip_cycle(m, k, r_y, 5.5, a1, a2, x_eq + out[1, 0])
+    assert abs(out[1, 0] - slip["amplitude"]) < 1e-6
+    assert out[2, 0] == 0.0
+    assert abs(out[2, 1] - reference_equilibrium(m, k, r_y, 8.0, a1, a2)["x_eq"]) < 1e-12
+    assert np.all(out[:, 4] > 0)                       # Taylor steps counted
+
+
+def test_pybasin_runs_its_friction_case_in_its_own_environment():
+    """pybasin's case as a subprocess of its own interpreter, 200 starts at v = 1.5
+    (the published fraction there is 0.304); skipped without that environment."""
+    from benchmarks import pybasin_compare
+    python = pybasin_compare.interpreter()
+    if python is None:
+        pytest.skip("no pybasin environment ($PYBASIN_PYTHON or ../pybasin-venv): "
+                    "see benchmarks/pybasin_compare.py")
+    res = pybasin_compare.run_pybasin(python, [1.5], 200)
+    (row,) = res["speeds"]
+    assert res["versions"]["pybasin"] and row["samples"] == 200
+    assert 0.15 < row["fraction"] < 0.45
+    assert row["exact_check"]["outside_labelled_steady"] <= 2
