@@ -34,9 +34,10 @@ def available():
 
 def _points(P):
     """(m, k, r_y, v, alpha1, alpha2) of the kernel rows P (the peer's rows)."""
-    from sweepcore._kernels import layout
-    return np.column_stack([P[:, c] for c in (layout.M, layout.K, layout.RY, layout.V,
-                                              layout.A1, layout.A2)])
+    from sweepcore import law
+    rows = [law.from_row(p) for p in P]            # each row's parameters by name
+    return np.array([[r[n] for n in ("m", "k", "r_y", "v", "alpha1", "alpha2")]
+                     for r in rows])
 
 
 def references(P, profile, outdir, same_grid):

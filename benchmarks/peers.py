@@ -92,12 +92,15 @@ def _start_mode(x0, xd0, v, k, r_y):
 
 
 def scipy_protocol(p, method="RK45", rtol=1e-8, atol=1e-8, t_end=T_END, max_step=np.inf):
-    """The fixed-horizon protocol for one row p = (m, k, r_y, v, a1, a2, x0, xd0).
+    """The fixed-horizon protocol for one kernel row p of the paper's law (eq. 40).
 
     Returns dict(amplitude, mean, events, n_rhs): samples of x on t = 150 + 0.01 j.
     """
-    m, k, r_y, v, a1, a2 = map(float, p[:6])     # the paper's law (row layout: common.rows)
-    x0, xd0 = float(p[9]), float(p[10])
+    from sweepcore import law
+    from sweepcore._kernels import layout
+    par = law.from_row(p)              # the row's parameters by name
+    m, k, r_y, v, a1, a2 = (par[n] for n in ("m", "k", "r_y", "v", "alpha1", "alpha2"))
+    x0, xd0 = float(p[layout.X0]), float(p[layout.XD0])
     assert v > 0.0
     ts = sample_times()
     ts = ts[ts <= t_end]

@@ -89,15 +89,16 @@ def write_readme(outdir, readme, mode, total):
     C = _load(outdir, "cost_model")
     Hy = _load(outdir, "heyoka")
     Pb = _load(outdir, "pybasin")
-    anyres = next((r for r in (H, W, T, Pe, C, Hy, Pb) if r), None)
+    La = _load(outdir, "laws")
+    anyres = next((r for r in (H, W, T, Pe, C, Hy, Pb, La) if r), None)
     parts = [fill("head")]
     if anyres is None:
         readme.write_text("\n".join(parts))
         return
     m = anyres["machine"]
     sections = {n: r for n, r in zip(("hopf_map", "work_precision", "throughput", "peers",
-                                      "cost_model", "heyoka", "pybasin"),
-                                     (H, W, T, Pe, C, Hy, Pb)) if r}
+                                      "cost_model", "heyoka", "pybasin", "laws"),
+                                     (H, W, T, Pe, C, Hy, Pb, La)) if r}
     stamps = {(r["machine"]["git_commit"], r["machine"]["sweepcore_dirty"])
               for r in sections.values()}
     mixed = ""
@@ -129,6 +130,8 @@ def write_readme(outdir, readme, mode, total):
         parts.append(_heyoka(Hy))
     if Pb:
         parts.append(_pybasin(Pb))
+    if La:
+        parts.append(_laws(La))
     from benchmarks import boundaries, memory     # their own scripts' results
     parts.append(boundaries.stored_section())
     parts.append(memory.stored_section())
@@ -245,6 +248,17 @@ def _hopf(H, Pe, rel):
                          f"{warm['rss_after_first_call_mib']:.0f} MiB"])
         out.append(table(["", "import kernels", "first call, parallel kernel",
                           "then first call, serial kernel", "peak RSS after"], rows))
+    mj = H.get("main_job")
+    if mj and "ratio_wall" in mj:
+        out.append(fill("hopf_main_job", ratio=g(mj["ratio_wall"])))
+        out.append(table(["`sweepcore run studies/hopf_map.toml`", "wall", "CPU (with the "
+                          "second compiler)"],
+                         [[label, s(mj[label]["wall_s"]), s(mj[label]["cpu_s"])]
+                          for label in ("cold", "warm")]))
+        if mj.get("compile_seconds"):
+            out.append(fill("hopf_compile_seconds", kernels="; ".join(
+                f"{k.replace('/', ', ')} {s(v)}"
+                for k, v in sorted(mj["compile_seconds"].items()))))
         if "rss_after_map_mib" in warm:
             after_sweep = fill("hopf_memory_sweep",
                                after_sweep=f"{warm['rss_after_sweep_mib']:.0f}") \
@@ -610,6 +624,7 @@ def readme_block(outdir) -> str:
                      "in grid order" + (f", {g(th['shuffled rows']['2']['speedup'])}x on "
                                         "shuffled rows" if "2" in th.get("shuffled rows", {})
                                         else "")])
+    rows += _laws_rows(_load(outdir, "laws")) + _main_job_rows(H)
     c = H.get("compile", {})
     if "t_first_call_parallel" in c.get("cold", {}):
         rows.append(["kernel compilation (first call in a fresh process)",
@@ -618,6 +633,61 @@ def readme_block(outdir) -> str:
     head = fill("readme_block_head", date=m["date"][:10], cpu_model=m["cpu_model"],
                 cores=m["cores"], commit=m["git_commit"][:10], rel=rel)
     return head + "\n\n" + table(["", "measured"], rows)
+
+
+def _laws(La):
+    """The table-law section: cost per point against the analytic law, agreement,
+    and what a second table compiled."""
+    med, pp = La["median_s"], La["per_point_us"]
+    rows = [[name, s(med[name]), f"{g(pp[name])} us"] for name in ("analytic", "table")]
+    return "\n".join([
+        fill("laws_head", case=La["case"], table=La["table"], n=La["grid"]["n_points"],
+             nv=La["grid"]["nv"], nx=La["grid"]["nx"], v0=g(La["grid"]["v"][0]),
+             v1=g(La["grid"]["v"][1]), x0=g(La["grid"]["x0"][0]),
+             x1=g(La["grid"]["x0"][1]), repeats=len(La["times_s"]["table"])),
+        table(["law", "median wall time (all points)", "per point"], rows),
+        fill("laws_result", ratio=g(La["ratio_table_over_analytic"]),
+             amp=g(La["max_amp_diff_over_L"]), deviation=g(La["law_deviation"]),
+             regimes=La["regime_mismatches"], statuses=La["status_mismatches"],
+             second=s(La["second_table"]["seconds"]),
+             compiled=La["second_table"]["n_compiled"])]) + "\n"
+
+
+def _laws_rows(La):
+    """The README's row of the table-law section."""
+    if not La:
+        return []
+    return [[f"a friction table ({La['table']}) against the analytic law it samples, "
+             f"{La['grid']['n_points']:,} points of bSTAB's oscillator",
+             f"{g(La['ratio_table_over_analytic'])}x the analytic law's time per point; "
+             f"answers within {g(La['max_amp_diff_over_L'])} L of it; a second table in "
+             f"the same process: {s(La['second_table']['seconds'])}, "
+             f"{La['second_table']['n_compiled']} kernels compiled"]]
+
+
+def _main_job_rows(H):
+    """The README's row of the main job from an empty cache and warm."""
+    mj = H.get("main_job")
+    if not mj or "ratio_wall" not in mj:
+        return []
+    return [["the main job (`sweepcore run studies/hopf_map.toml`) from an empty kernel "
+             "cache, then warm, back to back",
+             f"{s(mj['cold']['wall_s'])} cold, {s(mj['warm']['wall_s'])} warm: "
+             f"**{g(mj['ratio_wall'])}x** (wall)"]]
+
+
+def compile_estimates(outdir, path=None) -> bool:
+    """Write the compile seconds the main job's cold run measured into
+    ``sweepcore/compile_estimates.json`` (the estimates the command line prints
+    while a kernel compiles on a machine that has not compiled it before)."""
+    H = _load(outdir, "hopf_map")
+    seconds = (H or {}).get("main_job", {}).get("compile_seconds")
+    if not seconds:
+        return False
+    path = Path(path or common.ROOT / "sweepcore" / "compile_estimates.json")
+    path.write_text(json.dumps({k: round(v, 1) for k, v in sorted(seconds.items())},
+                               indent=1) + "\n")
+    return True
 
 
 def _heyoka_rows(Hy):
@@ -705,6 +775,7 @@ def main(argv=None):
     write_readme(args.outdir, common.BENCH / "README.md", "full", None)
     if not update_block(common.ROOT / "README.md", readme_block(args.outdir)):
         raise SystemExit("README.md has no <!-- bench:start --> ... <!-- bench:end --> block")
+    compile_estimates(args.outdir)
     print(f"wrote {common.BENCH / 'README.md'} and the speed block of "
           f"{common.ROOT / 'README.md'} from {args.outdir}")
 

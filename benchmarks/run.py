@@ -30,7 +30,7 @@ ROOT = Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-SECTIONS = ("hopf", "wp", "throughput", "peers", "cost", "heyoka", "pybasin")
+SECTIONS = ("hopf", "wp", "throughput", "peers", "cost", "heyoka", "pybasin", "laws")
 
 PROFILES = {
     # end-to-end check on a handful of points (tests/test_benchmarks_smoke.py)
@@ -45,7 +45,8 @@ PROFILES = {
         peer_numba_repeats=1, peer_map_points=8,
         heyoka_map_shape=(12, 12), heyoka_tols=[1e-13], heyoka_repeats=1,
         heyoka_processes=2, heyoka_batch=8,
-        pybasin_speeds=[1.5], pybasin_samples=200, pybasin_repeats=1, pybasin_curve=False),
+        pybasin_speeds=[1.5], pybasin_samples=200, pybasin_repeats=1, pybasin_curve=False,
+        laws_shape=(8, 4), laws_repeats=1),
     "quick": dict(
         map_shape=(256, 256), map_tols=[1e-8, 1e-10], map_repeats=3, map_ladder_repeats=1,
         scaling_repeats=3, dask_schedulers=["threads", "processes", "localcluster"],
@@ -61,7 +62,8 @@ PROFILES = {
         peer_rk4_dt=[0.02, 0.01, 0.005], peer_numba_repeats=1, peer_map_points=4096,
         heyoka_map_shape=(64, 64), heyoka_tols=[1e-13, 1e-14], heyoka_repeats=1,
         heyoka_processes=2, heyoka_batch=8,
-        pybasin_speeds=[1.175, 1.5], pybasin_samples=5000, pybasin_repeats=3),
+        pybasin_speeds=[1.175, 1.5], pybasin_samples=5000, pybasin_repeats=3,
+        laws_shape=(64, 16), laws_repeats=5),
     "full": dict(
         map_shape=(256, 256), map_tols=[1e-6, 1e-8, 1e-10, 1e-12], map_repeats=5,
         map_ladder_repeats=2, scaling_repeats=3,
@@ -80,7 +82,8 @@ PROFILES = {
         peer_map_points=65536, regimes_before="cd6c8a2", regimes_rounds=3,
         heyoka_map_shape=(256, 256), heyoka_tols=[1e-12, 1e-13, 1e-14], heyoka_repeats=2,
         heyoka_processes=2, heyoka_batch=8,
-        pybasin_speeds=[1.175, 1.25, 1.5], pybasin_samples=5000, pybasin_repeats=3),
+        pybasin_speeds=[1.175, 1.25, 1.5], pybasin_samples=5000, pybasin_repeats=3,
+        laws_shape=(128, 32), laws_repeats=7),
 }
 
 
@@ -188,6 +191,10 @@ def _run(args):
         official = summary_targets(args.mode, outdir, args.outdir, args.readme)[1]
         results["pybasin"] = save("pybasin", pybasin_compare.run(profile, outdir, official),
                                   t0)
+    if "laws" in args.sections:
+        from benchmarks import laws
+        t0 = time.perf_counter()
+        results["laws"] = save("laws", laws.run(profile, outdir), t0)
     # the map's and the work-precision figures show the peers next to sweepcore
     hopf = results.get("hopf_map") or load("hopf_map")
     if hopf is not None:
@@ -206,6 +213,8 @@ def _run(args):
         common.log(f"summary written to {readme}")
     if top and report.update_block(common.ROOT / "README.md", report.readme_block(outdir)):
         common.log(f"speed block of {common.ROOT / 'README.md'} regenerated")
+    if top and report.compile_estimates(outdir):
+        common.log("compile estimates written to sweepcore/compile_estimates.json")
     return results
 
 

@@ -66,6 +66,9 @@ def _one(ck, table: dict, path):
             values[key] = ck.real(kp, table[key], name=key, positive=True)
     if "name" in table:
         values["name"] = ck.string(("law", "name"), table["name"])
+    for key, what in cls.STUDY_KEYS.items():       # a file that cannot be read: its key
+        if what.startswith("path") and key in values and not values[key].is_file():
+            ck.fail(("law", key), f"no file {str(values[key])!r}")
     try:
         return cls.from_study(values)
     except (OSError, ValueError, TypeError) as err:

@@ -307,3 +307,70 @@ def test_results_keep_the_law_in_the_file(tmp_path, stiction_table):
     assert ds.attrs["law_kind"] == "table" and ds.attrs["law"] == "stiction"
     np.testing.assert_array_equal(ds.law_force.values, stiction_table.force_values)
     assert ds.law_speed.attrs["units"] == "cm s-1"
+
+
+# ------------------------------------------------ study files and the command line
+CSV = "speed [m/s],force [N]\n" + "".join(
+    f"{s / 100:.17g},{1000 * (1.0 - 0.4 * s / (1.0 + s)):.17g}\n"
+    for s in [0.0, 0.1, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0])
+
+
+def _csv_law():
+    s = np.array([0.0, 0.1, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0])
+    return TableLaw(s, 1.0 - 0.4 * s / (1.0 + s), name="curve")
+
+
+def test_a_study_takes_its_law_from_a_csv_file(tmp_path):
+    from sweepcore.study import load_study
+    (tmp_path / "curve.csv").write_text(CSV)
+    (tmp_path / "s.toml").write_text(
+        '[axes]\nm = 1.0\nk = 1.0\nc = 0.1\nv = [0.3, 0.8]\n'
+        '[law]\ntable = "curve.csv"\nstatic = 1.1\n')
+    law = load_study(tmp_path / "s.toml").law
+    ref = _csv_law()                                   # the same curve in kN, cm/s
+    np.testing.assert_allclose(law.speed, ref.speed, rtol=1e-12)
+    np.testing.assert_allclose(law.force_values, ref.force_values, rtol=1e-12)
+    assert law.name == "curve" and max(law.static_limits()) == 1.1
+    (tmp_path / "two.toml").write_text(
+        '[axes]\nm = 1.0\nk = 1.0\nc = 0.1\nv = [0.3, 0.8]\n'
+        '[[law]]\ntable = "curve.csv"\n[[law]]\nkind = "leine"\nf_s = 1.0\ndelta = 3.0\n')
+    assert [x.kind for x in load_study(tmp_path / "two.toml").law] == ["table", "leine"]
+
+
+@pytest.mark.parametrize("text, message", [
+    ('[axes]\nm = 1.0\nk = 1.0\nr_y = 1.0\nv = 0.5\n[law]\ntable = "curve.csv"\n',
+     r"s.toml:4: axes.r_y: r_y is a parameter of the analytic law; the \[law\] table "
+     r"replaces it"),
+    ('[axes]\nm = 1.0\nk = 1.0\nv = 0.5\n[law]\ntable = "nothing.csv"\n',
+     r"s.toml:\d+: law.table: .*nothing.csv"),
+    ('[axes]\nm = 1.0\nk = 1.0\nv = 0.5\n[law]\nkind = "leine"\nf_s = 1.0\n',
+     r"law: the leine law needs delta"),
+])
+def test_a_bad_law_table_is_refused_by_key_and_line(tmp_path, text, message):
+    from sweepcore.study import StudyError, load_study
+    (tmp_path / "curve.csv").write_text(CSV)
+    (tmp_path / "s.toml").write_text(text)
+    with pytest.raises(StudyError, match=message):
+        load_study(tmp_path / "s.toml")
+
+
+def test_the_command_line_simulates_a_csv_law(tmp_path):
+    import subprocess
+    import sys
+    (tmp_path / "curve.csv").write_text(CSV)
+    (tmp_path / "bare.csv").write_text(CSV.split("\n", 1)[1])      # no header: no units
+    cmd = [sys.executable, "-m", "sweepcore", "simulate", "--m", "1", "--k", "1", "--c",
+           "0.1", "--v", "0.3", "--t-end", "20"]
+    ok = subprocess.run(cmd + ["--law-table", "curve.csv", "-o", "s.nc"],
+                        cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert ok.returncode == 0, ok.stderr
+    ds = sc.open_result(tmp_path / "s.nc")
+    assert ds.attrs["law"] == "curve" and ds.attrs["law_kind"] == "table"
+    ref = sc.simulate(sc.Params(m=1.0, k=1.0, c=0.1, v=0.3, law=_csv_law()), t_end=20.0)
+    np.testing.assert_allclose(ds.x.values, ref.x.values, rtol=0, atol=1e-9)
+    bad = subprocess.run(cmd + ["--law-table", "bare.csv", "-o", "b.nc"], cwd=tmp_path,
+                         capture_output=True, text=True, timeout=300)
+    assert bad.returncode != 0 and "units" in bad.stderr and not (tmp_path / "b.nc").exists()
+    mixed = subprocess.run(cmd + ["--law-table", "curve.csv", "--r-y", "1", "-o", "m.nc"],
+                           cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert mixed.returncode != 0 and "--r-y" in mixed.stderr

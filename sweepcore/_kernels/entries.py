@@ -12,13 +12,15 @@ Every entry releases the GIL: Python threads share a call's rows
 import functools
 
 from . import attractor, cycles, trajectory
-from .jit import kernel
+from .jit import kernel, unowned
+from .law import borrowed
 
 
 def _attractor_rows(meth):
     @kernel(entry=True, nogil=True)
     def attractor_rows(P, lw, o, out):
         """The attractor of every row of P (serial: for dask tasks and threads)."""
+        P, lw, o, out = unowned(P), borrowed(lw), unowned(o), unowned(out)
         for i in range(P.shape[0]):
             attractor.attractor_point(meth, P[i], lw, o, out[i])
     return attractor_rows
@@ -29,6 +31,7 @@ def _slip_cycles_rows(meth):
     def slip_cycles_rows(P, lw, o, out, found):
         """``cycles.slip_cycles`` of every row of P; ``out`` (n, MAX_CYCLES, NOBS),
         ``found`` (n,) the number of cycles of each row."""
+        lw = borrowed(lw)
         for i in range(P.shape[0]):
             found[i] = cycles.slip_cycles(meth, P[i], lw, o, out[i])
     return slip_cycles_rows
@@ -39,7 +42,7 @@ def _trajectory(meth):
     def run_trajectory(p, lw, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind,
                        ev_x, ev_zd, acc):
         """``trajectory.run_trajectory`` of one row."""
-        return trajectory.run_trajectory(meth, p, lw, o, t_samples, out_x, out_zd,
+        return trajectory.run_trajectory(meth, p, borrowed(lw), o, t_samples, out_x, out_zd,
                                          out_mode, ev_t, ev_kind, ev_x, ev_zd, acc)
     return run_trajectory
 
@@ -49,6 +52,7 @@ def _options(meth):
     def options(p, lw, o):
         """The option row of one point (``attractor.resolve_options``) and the
         method's a-priori status (``attractor.method_status``)."""
+        lw = borrowed(lw)
         oo = attractor.resolve_options(meth, p, lw, o)
         return oo, attractor.method_status(meth, p, lw, oo)
     return options

@@ -19,7 +19,10 @@ to the one implementation its arguments select, so a run compiles only the law k
 and the method it uses. ``OVERLOAD_OPTIONS`` are the options those implementations
 are compiled with.
 """
-from numba import njit
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
+from numba.np.arrayobj import make_array
 
 OVERLOAD_OPTIONS = {"cache": True, "error_model": "numpy", "no_cpython_wrapper": True}
 
@@ -38,3 +41,24 @@ def kernel(fn=None, entry=False, **options):
 def python_callable(fn):
     """A copy of the internal kernel ``fn`` that Python can call (for tests)."""
     return njit(cache=False, error_model="numpy")(fn.py_func)
+
+
+@intrinsic
+def unowned(typingctx, arr):
+    """A view of the array ``arr`` that carries no reference count.
+
+    numba counts references to an array through its meminfo with atomic operations:
+    every kernel that takes an array increments and decrements that count, and
+    where threads share an array they contend for one cache line. An entry kernel
+    takes views of this kind of the arrays its caller owns for the whole call (the
+    parameter rows, the options, the outputs, a table law's data): no count, no
+    contention. The view must not outlive the call (no kernel keeps one)."""
+    if not isinstance(arr, types.Array):
+        return None
+
+    def codegen(context, builder, sig, args):
+        view = make_array(arr)(context, builder, value=args[0])
+        view.meminfo = cgutils.get_null_value(view.meminfo.type)
+        view.parent = cgutils.get_null_value(view.parent.type)
+        return view._getvalue()
+    return arr(arr), codegen

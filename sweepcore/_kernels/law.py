@@ -100,6 +100,13 @@ def slope_bound(p, lw, lo, hi):
     """A lower bound of F' on [lo, hi] [kN s/cm]."""
 
 
+@interface(inline=True)
+def borrowed(lw):
+    """The law data as views that carry no reference count (``jit.unowned``), for
+    the duration of one entry kernel's call (kinds whose data holds arrays)."""
+    return lw
+
+
 @interface()
 def speed_range(p, lw):
     """``(u_lo, u_hi)`` [cm/s]: relative speeds between which the law's slope

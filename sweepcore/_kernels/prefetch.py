@@ -26,10 +26,10 @@ A2 = types.Array(types.float64, 2, "C")
 
 
 def law_type(kind: str):
-    """The numba type of a kind's law data (its data class holds arrays or nothing)."""
+    """The numba type of a kind's law data (its data class holds 1-D arrays or
+    nothing)."""
     cls = laws.DATA[kind]
-    dims = {"pos_c": 2, "neg_c": 2}    # a Table's coefficient arrays (the rest 1-D)
-    fields = [np.zeros((1,) * dims.get(name, 1)) for name in cls._fields]
+    fields = [np.zeros(1) for _name in cls._fields]
     return typeof(cls(*fields))
 
 

@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .._kernels.laws.table import Table
+from .._kernels.laws.table import Table, pack
 from .base import FrictionLaw
 
 DEGREE = 5                    # quintic: F''' continuous
@@ -295,11 +295,7 @@ class TableLaw(FrictionLaw):
 
     # ------------------------------------------------------------ kernels' view
     def data(self):
-        pos_x, pos_c, pos_dmin, pos_d2 = self._pos
-        neg_x, neg_c, neg_dmin, neg_d2 = self._neg
-        return Table(pos_x, pos_c, pos_dmin, pos_d2, neg_x, neg_c, neg_dmin, neg_d2,
-                     np.array([self._limits[0], self._limits[1],
-                               1.0 if self.odd else 0.0]))
+        return Table(pack(self._pos, self._neg, *self._limits, self.odd))
 
     # ------------------------------------------------------------ Python's view
     def force(self, zdot, phase=None):

@@ -18,9 +18,10 @@ Leine = namedtuple("Leine", ("f_s", "delta"))
 
 @kernel(inline="always")
 def force(lw, cf, zd, s):
-    if zd > 0.0 or (zd == 0.0 and s > 0.0):
-        return lw.f_s / (1.0 + lw.delta * zd)
-    return -lw.f_s / (1.0 - lw.delta * zd)
+    """The sign of the slide s (of zd where s = 0), as the analytic law: the field
+    of a slide stays continuous and bounded where its last stages overshoot zd = 0."""
+    sg = s if s != 0.0 else (1.0 if zd > 0.0 else -1.0)
+    return sg * lw.f_s / (1.0 + lw.delta * abs(zd))
 
 
 @kernel(inline="always")

@@ -8,159 +8,208 @@ defined) and hands the kernels its piecewise-polynomial form: on the piece
 outermost speed of a branch the law continues linearly with the end's value and
 slope (C1), as Modelica's friction tables extrapolate.
 
-Every table is data of the same numba type (``Table``): a new table compiles
-nothing. Fields (float64 arrays):
+Every table is data of the same numba type (``Table``, one float64 array ``d``):
+a new table compiles nothing. One array rather than one per field: the law data is
+an argument of nearly every kernel, and numba passes an array as seven words, nine
+arrays as sixty-three (measured: a table law of nine arrays cost 7x the analytic
+law per point, of one array ``benchmarks/laws.py`` gives). ``d`` holds
 
-* ``pos_x`` (n+1), ``pos_c`` (n, 6), ``pos_dmin`` (n), ``pos_d2`` (n): the branch
-  s >= 0 (from ``pos_x[0] = 0``), its coefficients, and on each piece the least F'
-  and the largest |F''|;
-* ``neg_x``, ``neg_c``, ``neg_dmin``, ``neg_d2``: the branch s <= 0 (to
-  ``neg_x[-1] = 0``); for
-  a law odd in s they are not used: ``F(s) = -F(-s)`` is evaluated on the positive
-  branch, so that the mirror image v -> -v is exact;
-* ``info`` (3): the static limits ``(r_pos, r_neg)`` [kN] and 1 for an odd law.
+* ``d[:HEAD]``: the number of pieces of the branch s >= 0 and of the branch s <= 0,
+  the static limits ``(r_pos, r_neg)`` [kN], and 1 for a law odd in s;
+* then each branch (``pack``): its n + 1 breakpoints (from 0 up for s >= 0, up to
+  0 for s <= 0), its (n, 6) coefficients row by row, and on each piece the least F'
+  and the largest |F''|. A law odd in s does not use its branch s <= 0:
+  ``F(s) = -F(-s)`` is evaluated on the positive branch, so that the mirror image
+  v -> -v is exact.
+
+A branch is addressed as ``(b, n)``: the offset of its block in ``d`` and its number
+of pieces.
 """
 from collections import namedtuple
 
 import numpy as np
 
-from ..jit import kernel
+from ..jit import kernel, unowned
 from ..layout import C, V
 
-Table = namedtuple("Table", ("pos_x", "pos_c", "pos_dmin", "pos_d2", "neg_x", "neg_c",
-                             "neg_dmin", "neg_d2", "info"))
+Table = namedtuple("Table", ("d",))
+HEAD = 5
+
+
+def pack(pos, neg, r_pos: float, r_neg: float, odd: bool) -> np.ndarray:
+    """The array ``d`` of a table from its branches ``(x, c, dmin, d2)`` (Python)."""
+    parts = [np.array([len(pos[0]) - 1, len(neg[0]) - 1, r_pos, r_neg,
+                       1.0 if odd else 0.0], np.float64)]
+    for x, c, dmin, d2 in (pos, neg):
+        parts += [x, np.ravel(c), dmin, d2]
+    return np.ascontiguousarray(np.concatenate(parts), np.float64)
 
 
 @kernel(inline="always")
-def _piece(x, s):
+def _branch(d, up):
+    """``(b, n)`` of the branch s >= 0 (``up``) or s <= 0."""
+    n_pos = int(d[0])
+    if up:
+        return HEAD, n_pos
+    return HEAD + 9 * n_pos + 1, int(d[1])
+
+
+@kernel(inline="always")
+def _piece(d, b, n, s):
     """Index i of the piece with ``x[i] <= s < x[i+1]``; -1 below x[0], n past x[n]."""
-    n = x.shape[0] - 1
-    if s < x[0]:
+    if s < d[b]:
         return -1
-    if s >= x[n]:
+    if s >= d[b + n]:
         return n
     lo = 0
     hi = n
     while hi - lo > 1:
         mid = (lo + hi) >> 1
-        if s < x[mid]:
+        if s < d[b + mid]:
             hi = mid
         else:
             lo = mid
     return lo
 
 
-@kernel
-def _value(x, c, s):
-    """``(F, F', F'', F''')`` of one branch at s (linear past its ends)."""
-    n = x.shape[0] - 1
-    i = _piece(x, s)
-    out = i < 0 or i >= n
-    if out:
-        j = 0 if i < 0 else n - 1
-        t = x[0] - x[j] if i < 0 else x[n] - x[j]
-    else:
-        j = i
-        t = s - x[i]
-    f = c[j, 0] + t * (c[j, 1] + t * (c[j, 2] + t * (c[j, 3] + t * (c[j, 4]
-                                                                  + t * c[j, 5]))))
-    d1 = c[j, 1] + t * (2.0 * c[j, 2] + t * (3.0 * c[j, 3] + t * (4.0 * c[j, 4]
-                                                                  + t * 5.0 * c[j, 5])))
-    if out:
-        return f + d1 * (s - (x[0] if i < 0 else x[n])), d1, 0.0, 0.0
-    d2 = 2.0 * c[j, 2] + t * (6.0 * c[j, 3] + t * (12.0 * c[j, 4] + t * 20.0 * c[j, 5]))
-    d3 = 6.0 * c[j, 3] + t * (24.0 * c[j, 4] + t * 60.0 * c[j, 5])
+@kernel(inline="always")
+def _poly(d, k, t):
+    """``(F, F', F'', F''')`` of the quintic with coefficients ``d[k:k+6]`` at t."""
+    f = d[k] + t * (d[k + 1] + t * (d[k + 2] + t * (d[k + 3] + t * (d[k + 4]
+                                                                  + t * d[k + 5]))))
+    d1 = d[k + 1] + t * (2.0 * d[k + 2] + t * (3.0 * d[k + 3] + t * (
+        4.0 * d[k + 4] + t * 5.0 * d[k + 5])))
+    d2 = 2.0 * d[k + 2] + t * (6.0 * d[k + 3] + t * (12.0 * d[k + 4]
+                                                     + t * 20.0 * d[k + 5]))
+    d3 = 6.0 * d[k + 3] + t * (24.0 * d[k + 4] + t * 60.0 * d[k + 5])
     return f, d1, d2, d3
 
 
 @kernel
-def _force_value(x, c, s):
-    """F of one branch at s, by Horner's rule (the sliding field's hot path)."""
-    n = x.shape[0] - 1
-    i = _piece(x, s)
+def _value(d, b, n, s, up):
+    """``(F, F', F'', F''')`` at s of the branch s >= 0 (``up``) or s <= 0.
+
+    Past the branch's far end (|s| beyond the table) F continues linearly (C1).
+    Past its end at zero speed, where only the last stages of a slide go (they may
+    overshoot zdot = 0), F continues as its cubic Taylor polynomial there (C3): the
+    field of a slide stays smooth and bounded (the quintic of a short first piece
+    is not)."""
+    i = _piece(d, b, n, s)
+    c = b + n + 1                                    # the coefficients' offset
+    if (i >= n) if up else (i < 0):
+        j = n - 1 if up else 0
+        end = d[b + n] if up else d[b]
+        f, d1, _d2, _d3 = _poly(d, c + 6 * j, end - d[b + j])
+        return f + d1 * (s - end), d1, 0.0, 0.0
+    if (i < 0) if up else (i >= n):
+        j = 0 if up else n - 1
+        zero = d[b] if up else d[b + n]
+        f, d1, d2, d3 = _poly(d, c + 6 * j, zero - d[b + j])
+        u = s - zero
+        return (f + u * (d1 + u * (0.5 * d2 + u * d3 / 6.0)),
+                d1 + u * (d2 + 0.5 * u * d3), d2 + u * d3, d3)
+    return _poly(d, c + 6 * i, s - d[b + i])
+
+
+@kernel
+def _force_value(d, b, n, s, up):
+    """F at s of one branch, by Horner's rule (the sliding field's hot path)."""
+    i = _piece(d, b, n, s)
     if i < 0 or i >= n:
-        return _value(x, c, s)[0]
-    t = s - x[i]
-    return c[i, 0] + t * (c[i, 1] + t * (c[i, 2] + t * (c[i, 3] + t * (c[i, 4]
-                                                                      + t * c[i, 5]))))
+        return _value(d, b, n, s, up)[0]
+    t = s - d[b + i]
+    k = b + n + 1 + 6 * i
+    return d[k] + t * (d[k + 1] + t * (d[k + 2] + t * (d[k + 3] + t * (d[k + 4]
+                                                                      + t * d[k + 5]))))
+
+
+@kernel(inline="always")
+def borrowed(lw):
+    return Table(unowned(lw.d))
 
 
 @kernel(inline="always")
 def force(lw, cf, zd, s):
-    if zd > 0.0 or (zd == 0.0 and s > 0.0):
-        return _force_value(lw.pos_x, lw.pos_c, zd)
-    if lw.info[2] > 0.0:                         # odd: F(s) = -F(-s)
-        return -_force_value(lw.pos_x, lw.pos_c, -zd)
-    return _force_value(lw.neg_x, lw.neg_c, zd)
+    """The branch of the slide's sign s (of zd where s = 0), as the analytic law:
+    the field of one slide stays smooth where its last stages overshoot zd = 0."""
+    d = lw.d
+    if s > 0.0 or (s == 0.0 and zd > 0.0):
+        return _force_value(d, HEAD, int(d[0]), zd, True)
+    if d[4] > 0.0:                               # odd: F(s) = -F(-s)
+        return -_force_value(d, HEAD, int(d[0]), -zd, True)
+    b, n = _branch(d, False)
+    return _force_value(d, b, n, zd, False)
 
 
 @kernel(inline="always")
 def derivatives(p, lw, zd):
+    d = lw.d
     if zd > 0.0:
-        _f, d1, d2, d3 = _value(lw.pos_x, lw.pos_c, zd)
+        _f, d1, d2, d3 = _value(d, HEAD, int(d[0]), zd, True)
         return d1, d2, d3
-    if lw.info[2] > 0.0:
-        _f, d1, d2, d3 = _value(lw.pos_x, lw.pos_c, -zd)
+    if d[4] > 0.0:
+        _f, d1, d2, d3 = _value(d, HEAD, int(d[0]), -zd, True)
         return d1, -d2, d3
-    _f, d1, d2, d3 = _value(lw.neg_x, lw.neg_c, zd)
+    b, n = _branch(d, False)
+    _f, d1, d2, d3 = _value(d, b, n, zd, False)
     return d1, d2, d3
 
 
 @kernel(inline="always")
 def static_limits(p, lw):
-    return lw.info[0], lw.info[1]
+    return lw.d[2], lw.d[3]
 
 
 @kernel
-def _branch_bound(x, c, dmin, d2, lo, hi):
+def _branch_bound(d, b, n, lo, hi, up):
     """Least F' of one branch over [lo, hi]: on each piece that meets it, the larger
     of the piece's least F' and the value at the middle of the overlap less the
     largest |F''| times half its width (mean value theorem: tight for a narrow
     interval, such as a small motion about the equilibrium); past the ends the end
     slope."""
-    n = x.shape[0] - 1
+    dmin = b + 7 * n + 1                 # offsets of the least F' and largest |F''|
+    d2 = dmin + n
     least = np.inf
-    if lo < x[0]:
-        least = min(least, _value(x, c, x[0])[1])
-    if hi > x[n]:
-        least = min(least, _value(x, c, x[n])[1])
-    i0 = max(_piece(x, lo), 0)
-    i1 = min(_piece(x, hi), n - 1)
+    if lo < d[b]:
+        least = min(least, _value(d, b, n, d[b], up)[1])
+    if hi > d[b + n]:
+        least = min(least, _value(d, b, n, d[b + n], up)[1])
+    i0 = max(_piece(d, b, n, lo), 0)
+    i1 = min(_piece(d, b, n, hi), n - 1)
     for i in range(i0, i1 + 1):
-        a = max(lo, x[i])
-        b = min(hi, x[i + 1])
-        local = _value(x, c, 0.5 * (a + b))[1] - 0.5 * (b - a) * d2[i]
-        least = min(least, max(dmin[i], local))
+        a = max(lo, d[b + i])
+        e = min(hi, d[b + i + 1])
+        local = _value(d, b, n, 0.5 * (a + e), up)[1] - 0.5 * (e - a) * d[d2 + i]
+        least = min(least, max(d[dmin + i], local))
     return least
 
 
 @kernel
 def slope_bound(p, lw, lo, hi):
+    d = lw.d
     least = np.inf
     if hi > 0.0:
-        least = _branch_bound(lw.pos_x, lw.pos_c, lw.pos_dmin, lw.pos_d2, max(lo, 0.0),
-                              hi)
+        least = _branch_bound(d, HEAD, int(d[0]), max(lo, 0.0), hi, True)
     if lo < 0.0:
-        if lw.info[2] > 0.0:                     # odd: F'(s) = F'(-s)
-            b = _branch_bound(lw.pos_x, lw.pos_c, lw.pos_dmin, lw.pos_d2, max(-hi, 0.0),
-                              -lo)
+        if d[4] > 0.0:                           # odd: F'(s) = F'(-s)
+            other = _branch_bound(d, HEAD, int(d[0]), max(-hi, 0.0), -lo,
+                                  True)
         else:
-            b = _branch_bound(lw.neg_x, lw.neg_c, lw.neg_dmin, lw.neg_d2, lo,
-                              min(hi, 0.0))
-        least = min(least, b)
+            b, n = _branch(d, False)
+            other = _branch_bound(d, b, n, lo, min(hi, 0.0), False)
+        least = min(least, other)
     return least
 
 
 @kernel(inline="always")
-def _sample(x, k, up):
-    """The k-th of 16 samples a piece of the branch x, in increasing |s|: from
+def _sample(d, b, n, k, up):
+    """The k-th of 16 samples a piece of the branch, in increasing |s|: from
     x[0] = 0 up (``up``), or from x[n] = 0 down."""
-    n = x.shape[0] - 1
     if up:
         i = min(k // 16, n - 1)
-        return x[i] + (x[i + 1] - x[i]) * ((k - 16 * i) / 16.0)
+        return d[b + i] + (d[b + i + 1] - d[b + i]) * ((k - 16 * i) / 16.0)
     i = max(n - 1 - k // 16, 0)
-    return x[i + 1] - (x[i + 1] - x[i]) * ((k - 16 * (n - 1 - i)) / 16.0)
+    return d[b + i + 1] - (d[b + i + 1] - d[b + i]) * ((k - 16 * (n - 1 - i)) / 16.0)
 
 
 @kernel
@@ -168,20 +217,19 @@ def hopf_speeds(p, lw):
     """Roots u of ``c + F'(-u)`` (u with the sign of v) over the branch steady
     sliding uses: 16 samples of each piece (F' is a quartic there), refined by
     bisection; past the table F' is the end slope (constant: no further root)."""
-    up = p[V] < 0.0 or lw.info[2] > 0.0   # the s >= 0 branch (odd: F'(-u) = F'(u))
-    x = lw.pos_x if up else lw.neg_x
-    c = lw.pos_c if up else lw.neg_c
-    n = x.shape[0] - 1
+    d = lw.d
+    up = p[V] < 0.0 or d[4] > 0.0        # the s >= 0 branch (odd: F'(-u) = F'(u))
+    b, n = _branch(d, up)
     found = 0
     r1 = np.nan
     r2 = np.nan
     u_prev = 0.0
     g_prev = 0.0
     for k in range(16 * n + 1):
-        s_ = _sample(x, k, up)
-        g = p[C] + _value(x, c, s_)[1]
+        s_ = _sample(d, b, n, k, up)
+        g = p[C] + _value(d, b, n, s_, up)[1]
         if k > 0 and (g < 0.0) != (g_prev < 0.0):
-            r = _bisect(x, c, p[C], u_prev, abs(s_), g_prev < 0.0, up)
+            r = _bisect(d, b, n, p[C], u_prev, abs(s_), g_prev < 0.0, up)
             if found == 0:
                 r1 = r
             elif found == 1:
@@ -195,14 +243,14 @@ def hopf_speeds(p, lw):
 
 
 @kernel
-def _bisect(x, c, damping, lo, hi, rising, up):
+def _bisect(d, b, n, damping, lo, hi, rising, up):
     """Speed u in [lo, hi] where ``c + F'`` at ``s = u`` (up) or ``-u`` changes sign
     (rising: - to +)."""
     for _ in range(200):
         mid = 0.5 * (lo + hi)
         if mid <= lo or mid >= hi:
             break
-        if (damping + _value(x, c, mid if up else -mid)[1] < 0.0) == rising:
+        if (damping + _value(d, b, n, mid if up else -mid, up)[1] < 0.0) == rising:
             lo = mid
         else:
             hi = mid
@@ -211,5 +259,5 @@ def _bisect(x, c, damping, lo, hi, rising, up):
 
 @kernel(inline="always")
 def speed_range(p, lw):
-    x = lw.pos_x
-    return 1e-9 * x[x.shape[0] - 1], x[x.shape[0] - 1]
+    end = lw.d[HEAD + int(lw.d[0])]
+    return 1e-9 * end, end
