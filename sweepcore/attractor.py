@@ -5,8 +5,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from . import execute
 from ._kernels import codes, layout
-from ._kernels.attractor import attractor_point
 from .options import check_method, checked_keywords, make_options
 from .params import Params
 from .simulate import start_row
@@ -76,12 +76,19 @@ def attractor(params: Params, x0: float = 0.0, xdot0: float | None = None,
     proves decay to x_eq (equilibrium). Observables are accurate to about
     ``tol * L`` (L = r_y/k + |v|/omega). A cycle next to v* that float64 integration
     cannot resolve to ``tol`` and the normal form cannot either has status
-    ``"unresolved"`` (its numbers are estimates).
+    ``"unresolved"`` (its numbers are estimates). A point whose magnitudes no search
+    resolves has status ``"unresolvable_scale"``, as in :func:`sweepcore.sweep`: both
+    run the kernel through :func:`sweepcore.execute.attractors`, which applies the
+    rule of :func:`sweepcore.law.flag_unresolvable`.
     """
     row = start_row(params, x0, xdot0)
     check_method(method, params)
-    out = np.empty(layout.NOBS)
-    attractor_point(row, make_options(method, tol=tol, **options), out)
+    out = np.empty((1, layout.NOBS))
+    # the one call of the kernel that sweep, the boundaries and the diagrams share:
+    # the kernel, then the scale rule (sweepcore.law.flag_unresolvable)
+    execute.attractors(row[None, :], make_options(method, tol=tol, **options), out,
+                       parallel=False)
+    out = out[0]
     status = int(out[layout.OB_STATUS])
     vals = {name: float(out[col]) for name, (col, *_rest) in OBSERVABLES.items()}
     vals["n_steps"] = int(vals["n_steps"])

@@ -101,3 +101,24 @@ def test_the_boundary_searches_batches_are_flagged_too():
     out = np.empty((1, layout.NOBS))
     execute.attractors(P, make_options("auto", tol=1e-8), out, parallel=False)
     assert out[0, layout.OB_STATUS] == codes.SCALE
+
+
+@pytest.mark.parametrize("p", [
+    {**PAPER, "m": 1e300, "v": 7.0},                       # too weak a law per period
+    units(1e100),                                          # 1/omega beyond the range
+    {**PAPER, "m": 3e250, "v": 2.0, "alpha2": 0.03},       # the same two, elsewhere
+    units(1e90, 1e20),
+    {**PAPER, "v": 7.0},                                   # resolved: both ok
+])
+def test_attractor_and_sweep_apply_one_scale_rule(p):
+    """``attractor()`` and ``sweep()`` run the same call (kernel, then the scale
+    rule): the same row, bit for bit, flagged or not."""
+    params = sc.Params(**p)
+    a = sc.attractor(params)
+    ds = sc.sweep(sc.Grid(**p), progress=False)
+    flagged = bool(law.unresolvable(sc.Grid(**p).rows(0, 1), make_options())[0])
+    assert (a.status == "unresolvable_scale") == flagged
+    assert a.status == codes.STATUS_NAMES[int(ds.status)]
+    assert a.regime == codes.REGIME_NAMES[int(ds.regime)]
+    for name in ("amplitude", "period", "mean", "floquet", "n_steps"):
+        np.testing.assert_array_equal(getattr(a, name), ds[name].item())

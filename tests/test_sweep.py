@@ -338,12 +338,12 @@ def test_computation_memory_follows_the_chunk_not_the_grid(warm_sweep, monkeypat
     grid = Grid(m=np.linspace(1.0, 2.0, 24), k=np.linspace(20.0, 40.0, 20), r_y=5.0,
                 v=np.linspace(0.1, 5.0, 100))                         # 48 000 points
     seen = []
-    real = sweep_mod.attractor_rows_parallel
+    real = sweep_mod.execute.attractors
 
-    def spy(P, o, out):
+    def spy(P, o, out, parallel):
         seen.append(len(P))
-        real(P, o, out)
-    monkeypatch.setattr(sweep_mod, "attractor_rows_parallel", spy)
+        real(P, o, out, parallel)
+    monkeypatch.setattr(sweep_mod.execute, "attractors", spy)
 
     def peak(chunks):
         tracemalloc.start()
