@@ -406,7 +406,11 @@ def certified_rest(x, zd, p):
     least at ``w = sgn(v) W`` for alpha2 >= 0 (its minimum in w lies at 1.5 v,
     outside ``|w| <= W``; Params and Grid refuse alpha2 < 0); the Stribeck term's
     slope is monotone, least at one end of ``|s + |v|| <= W``. A margin of 1e-12 of
-    the terms' size keeps rounding from deciding.
+    the size of the terms summed keeps rounding from deciding: the Stribeck term
+    enters with its slope at that end, ``smin``, whose exponent ``s_end/v_s`` is
+    rounded by ``eps |v|/v_s`` relative (hence ``1 + |v|/v_s``); its slope at the belt,
+    ``|r_y - r_k|/v_s``, is no term of the sum (for v_s = 1e-12 it is 5e11 times
+    what the set sees, and a margin of it kept every set uncertified).
     """
     v = p[V]
     if v == 0.0:
@@ -427,7 +431,7 @@ def certified_rest(x, zd, p):
     if d != 0.0:
         s_end = -va + vel if d > 0.0 else -va - vel  # where the Stribeck slope is least
         smin = -d / p[VS] * math.exp(s_end / p[VS])
-        size += abs(d) / p[VS]
+        size += abs(smin) * (1.0 + va / p[VS])
     return p[C] - p[A1] + poly + smin > 1e-12 * size
 
 
