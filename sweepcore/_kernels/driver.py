@@ -370,10 +370,12 @@ def _slide(st, p, o, acc, t_stop, d):
         if kind != 0:
             h_ev, xe = _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb,
                                     tc, gtol, cf, d)
-        elif 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol and armed:
+        if h_ev < 0.0 and 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol and armed:
             # the step ends on a touch (exact arcs end on turning points): zdot came
-            # down to within gtol of 0 and stopped falling (not a creep away from 0)
-            h_ev = h
+            # down to within gtol of 0 and stopped falling (not a creep away from 0).
+            # Also where the cubic dipped below 0 by rounding just before such an end
+            # and the integrator did not confirm the crossing (kind 1, h_ev < 0).
+            h_ev, xe = h, x1
         # --- extremum of x (Poincare section) inside the step
         if v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0):
             ev = _section(st, p, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf, d)
