@@ -160,10 +160,10 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
                 "return map); NaN where there is none"))
     ds = xr.Dataset(data, coords)
     ds["v_star"] = labels.analytic("v_star", ds).variable
-    ds["hopf_criticality"] = xr.Variable((), law.criticality_code(
-        float(labels.analytic("first_lyapunov", ds))), labels.flags(
-        law.CRITICALITY, "kind of the Hopf point v_star (sign of the first Lyapunov "
-                         "coefficient)"))
+    kind = labels.criticality(ds)
+    ds["hopf_criticality"] = xr.Variable(kind.dims, kind.values, labels.flags(
+        law.CRITICALITY, "kind of the Hopf point v_star (sign of F''' there: of the "
+                         "first Lyapunov coefficient)"))
     if boundaries:
         found = locate_boundaries(Grid(**{**kw, along: values}), along=along,
                                   tol=min(tol, 1e-10), method=method, **options)

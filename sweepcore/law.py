@@ -44,6 +44,8 @@ DERIVED = {
     "v_star_2": (_law.D_VSTAR2, _HOPF),
     "first_lyapunov": (_law.D_LYAP, ("m", "k") + _HOPF),
     "x_s": (_law.D_XS, ("k", "v", "r_y", "c")),
+    # a code of CRITICALITY: the sign of the third derivative of F at v_star
+    "criticality": (_law.D_CRIT, _HOPF),
 }
 CRITICALITY = {0: "none", 1: "supercritical", 2: "subcritical", 3: "degenerate"}
 
@@ -119,11 +121,14 @@ def _r_y_or_zero(source):
         return 0.0
 
 
-def criticality_code(l1):
-    """Flag codes of ``CRITICALITY`` from first Lyapunov coefficients ``l1``."""
-    l1 = np.asarray(l1, np.float64)
-    return np.where(np.isnan(l1), 0, np.where(l1 < 0, 1, np.where(l1 > 0, 2, 3))
-                    ).astype(np.int8)
+def criticality_code(source):
+    """Flag codes of ``CRITICALITY`` (int8) of ``source``: none without a Hopf speed,
+    else the kind of the lowest one by the sign of F'''(-v*) (the sign of the first
+    Lyapunov coefficient, which its value can lose to underflow)."""
+    got = derived("criticality", source)
+    if hasattr(got, "astype"):
+        return got.astype(np.int8)
+    return np.int8(got)
 
 
 def friction(zdot, source, phase=None):

@@ -53,3 +53,38 @@ def test_constant_coulomb_law_from_the_stuck_start_is_its_grazing_circle(m, k, r
     L = r_y / k + np.abs(v) / w
     np.testing.assert_array_less(np.abs(ds.amplitude.values - np.abs(v) / w), 1e-8 * L)
     np.testing.assert_allclose(ds.period.values, 2 * math.pi / w, rtol=1e-8)
+
+
+@pytest.mark.parametrize("c", [5e-324, 1e-320, 1e-300, 1e-30, 0.1])
+def test_a_hopf_speed_of_the_stribeck_law_at_any_damping(c):
+    """``c + F'(-u) = c - (d/v_s) exp(-u/v_s)`` (bSTAB law, d = r_y - r_k): one root
+    ``u = v_s ln(d/(v_s c))``, computed here from the logarithms (d/(v_s c)
+    overflows float64 below c = 5.6e-309), subcritical (F''' = -c/v_s^2 < 0 there)
+    however small the first Lyapunov coefficient (it underflows at c = 5e-324)."""
+    p = sc.Params(m=1, k=1, r_y=1, r_k=0.5, v_s=0.5, c=c, v=1)
+    want = 0.5 * (math.log(0.5) - math.log(0.5) - math.log(c))
+    assert p.hopf_speeds == pytest.approx((want,), rel=1e-14)
+    assert p.criticality == "subcritical"
+
+
+def test_criticality_is_none_exactly_when_there_is_no_hopf_speed():
+    """Random laws (and extreme dampings): ``criticality`` is 'none' if and only if
+    ``hopf_speeds`` is empty, and otherwise the sign of F''' at the lowest speed
+    (a five-point difference of F, as the reference computes it)."""
+    from reference import friction
+    rng = np.random.default_rng(29)
+    for _ in range(60):
+        kw = dict(m=1.0, k=1.0, r_y=1.0, r_k=float(rng.uniform(0.0, 1.5)),
+                  v_s=float(10 ** rng.uniform(-3, 1)), c=float(10 ** rng.uniform(-320, 0)),
+                  alpha1=float(rng.choice([0.0, 10 ** rng.uniform(-3, 0)])),
+                  alpha2=float(rng.choice([0.0, 10 ** rng.uniform(-4, 0)])), v=1.0)
+        p = sc.Params(**kw)
+        assert (p.criticality == "none") == (p.hopf_speeds == ()), kw
+        if p.hopf_speeds:
+            u = p.hopf_speeds[0]
+            h = 1e-3 * min(kw["v_s"], u) if u > 0 else 1e-3 * kw["v_s"]
+            f = [friction(-u + j * h, kw["r_y"], kw["r_k"], kw["v_s"], kw["alpha1"],
+                          kw["alpha2"]) for j in (-2, -1, 1, 2)]
+            f3 = (f[3] - 2 * f[2] + 2 * f[1] - f[0]) / (2 * h ** 3)
+            if abs(f3) > 1e-6 * (kw["r_y"] / kw["v_s"] ** 3 + 6 * kw["alpha2"]):
+                assert p.criticality == ("supercritical" if f3 > 0 else "subcritical"), kw

@@ -265,6 +265,23 @@ def first_lyapunov(p, va):
 
 
 @kernel
+def criticality(p, n, u1):
+    """Kind of the lowest Hopf point ``u1`` of ``hopf_speeds`` (``n`` roots): 0 none
+    (n = 0), 1 supercritical (``F'''(-u1) > 0``, l1 < 0), 2 subcritical (< 0), 3
+    degenerate (= 0). Read from the sign of F''', not of ``first_lyapunov``
+    (``-omega^2 F'''/(16 m)``), which underflows to 0 where F''' does not (c = 5e-324
+    with the bSTAB law: F''' = -2e-323, l1 = 1.2e-324 rounds to 0)."""
+    if n == 0:
+        return 0
+    f3 = third_derivative(p, u1)
+    if f3 > 0.0:
+        return 1
+    if f3 < 0.0:
+        return 2
+    return 3
+
+
+@kernel
 def _bisect_root(p, lo, hi, rising):
     """Root of ``damping_at`` in [lo, hi] where it changes sign (rising: - to +)."""
     for _ in range(2200):
@@ -339,7 +356,11 @@ def hopf_speeds(p):
             return 1, 0.0, np.nan
         if (g0 < 0.0) == (lin < 0.0) or lin == 0.0:
             return 0, (np.inf if g0 < 0.0 else np.nan), np.nan
-        return 1, p[VS] * math.log(d / (p[VS] * lin)), np.nan
+        # the logarithm of each factor (d and lin have one sign here): d / (v_s lin)
+        # overflows for c - alpha1 = 5e-324, whose root is a moderate 372.2 cm/s
+        # for the bSTAB law
+        return 1, p[VS] * (math.log(abs(d)) - math.log(p[VS]) - math.log(abs(lin))), \
+            np.nan
     hi = _upper_bracket(p)
     if d > 0.0:
         if g0 >= 0.0:
@@ -455,8 +476,8 @@ def arc_constants(s, p):
 
 # ---------------------------------------------------------- Python's view
 # columns of the derived-quantity rows (derived_rows)
-D_OMEGA, D_Q, D_XEQ, D_VSTAR, D_VSTAR2, D_NHOPF, D_LYAP, D_XS = range(8)
-ND = 8
+D_OMEGA, D_Q, D_XEQ, D_VSTAR, D_VSTAR2, D_NHOPF, D_LYAP, D_XS, D_CRIT = range(9)
+ND = 9
 
 
 @kernel
@@ -477,6 +498,8 @@ def derived_value(p, which):
         return u2
     if which == D_NHOPF:
         return float(n)
+    if which == D_CRIT:
+        return float(criticality(p, n, u1))
     return first_lyapunov(p, u1) if n > 0 else np.nan
 
 
