@@ -88,3 +88,37 @@ def test_criticality_is_none_exactly_when_there_is_no_hopf_speed():
             f3 = (f[3] - 2 * f[2] + 2 * f[1] - f[0]) / (2 * h ** 3)
             if abs(f3) > 1e-6 * (kw["r_y"] / kw["v_s"] ** 3 + 6 * kw["alpha2"]):
                 assert p.criticality == ("supercritical" if f3 > 0 else "subcritical"), kw
+
+
+UNBOUNDED = [  # (law, start): alpha2 = 0, alpha1 > c
+    (dict(m=1, k=1, r_y=1, v=1.0, alpha1=0.5, c=0.1, r_k=0.5, v_s=0.5), None),
+    (dict(m=1, k=1, r_y=1, v=0.1, alpha1=2.0, c=0.1, r_k=0.5, v_s=0.5), None),
+    (dict(m=2, k=3, r_y=1.5, v=0.0, alpha1=0.3, c=0.05, r_k=0.9, v_s=0.4), (4.0, 3.0)),
+    (dict(m=1, k=1, r_y=1, v=0.1, alpha1=2.0, c=0.1), None),           # exact arcs
+    (dict(m=0.5, k=8, r_y=2, v=-0.7, alpha1=1.0, c=0.2, r_k=1.0, v_s=0.05), None),
+]
+
+
+@pytest.mark.parametrize("law, start", UNBOUNDED)
+def test_growth_without_bound_is_unbounded_whatever_the_law_term(law, start):
+    """The reference follows the motion until it has grown by e^20 at the sliding
+    rate (alpha1 - c)/(2 m): the range of x over each natural period grows
+    monotonically, by more than 1e3 in all (the law's damping at high speed,
+    c - alpha1, is negative). The engine calls that ``unbounded`` (status
+    diverged), with or without a Stribeck term, where a Stribeck term made it
+    ``failed``."""
+    from reference import reference_run
+    x0, xd0 = (0.0, law["v"]) if start is None else start
+    w = math.sqrt(law["k"] / law["m"])
+    t_end = 20.0 * 2.0 * law["m"] / (law["alpha1"] - law["c"])
+    n = int(t_end * w / (2 * math.pi))
+    t = np.linspace(0.0, n * 2 * math.pi / w, 200 * n + 1)
+    args = [law[k] for k in ("m", "k", "r_y", "v")] + [law["alpha1"], 0.0]
+    kw = dict(c=law["c"], r_k=law.get("r_k"), v_s=law.get("v_s", 1.0))
+    if law["v"] == 0.0:     # the reference needs a moving belt: a slow one, never reached
+        args[3] = 1e-9
+    x, _xd, _ev = reference_run(*args, x0, xd0, t, **kw)
+    span = np.ptp(x[:-1].reshape(n, 200), axis=1)
+    assert np.all(np.diff(span[2:]) > 0) and span[-1] > 1e3 * span[1]
+    a = sc.attractor(sc.Params(**law), *(() if start is None else start))
+    assert (a.regime, a.status) == ("unbounded", "diverged")

@@ -30,7 +30,8 @@ from .jit import kernel
 from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
-from .law import breakaway, certified_rest, normal_form_valid, piecewise_linear, x_eq
+from .law import (anti_damped, breakaway, certified_rest, normal_form_valid,
+                  piecewise_linear, x_eq)
 from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, A1,
                      A2, ACC_CYC, ACC_LAST, ACC_SEC, ACC_STEP, C, K, M, MAXED, MINNED, NA,
                      NACC, NO, NOBS, NP, NS, NW, O_DT, O_GPS_A, O_LV, O_LX, O_MAX_STEPS,
@@ -49,7 +50,7 @@ from .sections import (ACCEPT, ACCEPT_FLOOR, ACCEPT_NF, NEUTRAL, NF_JUMP,
                        newton_decision, note_event, own_map_step, push_section,
                        static_belt_decision, undo_jump)
 from .return_map import return_slope
-from .stepper import CLOSED_FORM, auto_method
+from .stepper import ADAPTIVE, CLOSED_FORM, auto_method
 
 EPS = np.finfo(np.float64).eps
 
@@ -120,8 +121,8 @@ def answer_rest(out, x, t, regime, stuck, n_steps):
 @kernel
 def answer_failure(out, w, acc, status, n_steps, unbounded):
     """Budget spent (the last return's estimates where there is one) or a numerical
-    failure (NaN); ``unbounded``: a divergence of the closed-form method is the
-    motion's own growth."""
+    failure (NaN); ``unbounded``: a divergence is the motion's own growth
+    (``grows_without_bound``)."""
     out[OB_NSTEPS] = n_steps
     if status == codes.UNCONVERGED or status == codes.STEP_BUDGET:
         if w[W_N_SEC] >= 3.0:
@@ -393,7 +394,17 @@ def attractor_point(p, o_in, out):
             break
     if status == codes.OK:
         status = codes.STEP_BUDGET        # the loop itself ran out
-    answer_failure(out, w, acc, status, st[S_N], int(o[O_METHOD]) == codes.EXACT)
+    answer_failure(out, w, acc, status, st[S_N], grows_without_bound(p, o))
+
+
+@kernel(inline="always")
+def grows_without_bound(p, o):
+    """Whether a divergence (status ``diverged``) is the motion's own growth, regime
+    ``unbounded``: a law anti-damped at high speed (``law.anti_damped``) integrated
+    with a controlled error (the closed form or an adaptive pair). A fixed step
+    (gps, rk4) can diverge by itself: that stays a failure."""
+    meth = int(o[O_METHOD])
+    return (meth == codes.EXACT or ADAPTIVE[meth]) and anti_damped(p)
 
 
 @kernel(nogil=True)

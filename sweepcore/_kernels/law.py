@@ -456,6 +456,15 @@ def certified_rest(x, zd, p):
     return p[C] - p[A1] + poly + smin > 1e-12 * size
 
 
+@kernel(inline="always")
+def anti_damped(p):
+    """True where the law's damping at high sliding speed, ``c + F'(s)`` for large
+    ``|s|``, is negative: no cubic term and ``alpha1 > c`` (the Stribeck term has
+    decayed there). A motion that reaches such speeds grows without bound, so an
+    error-controlled integration that leaves the finite range follows the motion."""
+    return p[A2] == 0.0 and p[C] - p[A1] < 0.0
+
+
 # ------------------------------------------------- closed forms (linear laws)
 @kernel(inline="always")
 def piecewise_linear(p):
