@@ -122,3 +122,119 @@ def test_growth_without_bound_is_unbounded_whatever_the_law_term(law, start):
     assert np.all(np.diff(span[2:]) > 0) and span[-1] > 1e3 * span[1]
     a = sc.attractor(sc.Params(**law), *(() if start is None else start))
     assert (a.regime, a.status) == ("unbounded", "diverged")
+
+
+# ---------------------------------------------------------------- the fold
+FOLD_LAWS = {   # subcritical Hopf point, a fold where stick-slip ends
+    "bstab": dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.5, c=0.1, alpha1=0.0, alpha2=0.0),
+    "mixed": dict(m=2.0, k=3.0, r_y=1.5, r_k=0.9, v_s=0.4, c=0.05, alpha1=0.02,
+                  alpha2=0.003),
+    "cubic, c = 0": dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.5, c=0.0, alpha1=0.0,
+                         alpha2=0.01),
+    "light": dict(m=0.7, k=2.5, r_y=0.8, r_k=0.3, v_s=0.2, c=0.08, alpha1=0.0,
+                  alpha2=0.0),
+}
+_FOLDS = {}
+
+
+def fold_of(name):
+    """The reference fold of ``FOLD_LAWS[name]`` (scan of the breakaway arc from
+    the Hopf speed up, bisection to 1e-13)."""
+    if name not in _FOLDS:
+        from reference_edges import reference_fold_of
+        law = FOLD_LAWS[name]
+        vh = sc.Params(**law, v=1.0).hopf_speeds[0]
+        _FOLDS[name] = reference_fold_of(law["m"], law["k"], law["r_y"], law["alpha1"],
+                                         law["alpha2"], law["c"], law["r_k"],
+                                         law["v_s"], 1.02 * vh)
+    return _FOLDS[name]
+
+
+def check_against_reference(law, vs, tol=1e-8):
+    """Each speed of ``vs`` (increasing) from the stuck start: the engine's label is
+    the reference's, or the point is flagged (status unresolved); a cycle's
+    amplitude and period are within tol L and tol T; ``sweep`` gives the same rows
+    as ``attractor``. Returns the labels and the worst errors.
+
+    The stick fraction is checked against its conditioning: the stick begins where
+    zdot crosses 0 with slope zdd_c = (r_y - k x_c - c v)/m (the reference's stick
+    position x_c), so a zdot error dz moves its start by dz/zdd_c; with dz the touch
+    tolerance 20 tol |v| that is 20 tol |v|/(zdd_c T) of the period (next to a fold
+    zdd_c -> 0: the stick's start is ill-conditioned there, its end and the period
+    are not)."""
+    from reference_edges import reference_attractor
+    ds = sc.sweep(sc.Grid(**law, v=vs), tol=tol, progress=False)
+    labels = []
+    worst = {"amplitude": 0.0, "period": 0.0, "stick_fraction": 0.0}   # (of its bound)
+    for i, v in enumerate(vs):
+        a = sc.attractor(sc.Params(**law, v=v), tol=tol)
+        assert (a.regime, a.status) == (R[int(ds.regime[i])], S[int(ds.status[i])])
+        assert a.amplitude == ds.amplitude.values[i] or math.isnan(a.amplitude)
+        ref = reference_attractor(law["m"], law["k"], law["r_y"], v, law["alpha1"],
+                                  law["alpha2"], 0.0, None, c=law["c"], r_k=law["r_k"],
+                                  v_s=law["v_s"])
+        labels.append(a.regime)
+        if a.status != "ok":
+            assert a.status == "unresolved", (v, a)
+            continue
+        assert a.regime == ref["regime"], (v, a, ref["regime"])
+        if ref["cycle"] is not None:
+            c = ref["cycle"]
+            L = law["r_y"] / law["k"] + v / math.sqrt(law["k"] / law["m"])
+            err = {"amplitude": abs(a.amplitude - c["amplitude"]) / L,
+                   "period": abs(a.period - c["period"]) / c["period"],
+                   "stick_fraction": abs(a.stick_fraction - c["stick_time"] / c["period"])}
+            assert err["amplitude"] <= tol and err["period"] <= tol, (v, err)
+            x_c = [x for _t, kind, x in c["events"] if kind == "stick"][:1]
+            zdd_c = [(law["r_y"] - law["k"] * x - law["c"] * v) / law["m"] for x in x_c]
+            bound = 20.0 * tol * v / (zdd_c[0] * c["period"]) + tol if x_c else math.inf
+            assert err["stick_fraction"] <= bound, (v, err, bound)
+            err["stick_fraction"] /= bound
+            worst = {k: max(worst[k], err[k]) for k in worst}
+    return labels, worst
+
+
+FOLD_STEPS = np.array([1e-9, 1e-8, 1e-7, 3e-7, 1e-6])
+
+
+@pytest.mark.parametrize("name", ["bstab", "mixed"])
+def test_across_the_fold_the_label_is_the_references(name):
+    """v = v_fold (1 + d), d from -1e-6 to 1e-6 in relative steps down to 1e-9,
+    from the stuck start: stick-slip below the fold, steady sliding above it (the
+    slip arc from the breakaway point passes below the belt speed and the motion
+    spirals into x_eq). It was a grazing 'slip_cycle', ok, up to d = 3e-7 above the
+    fold at tol 1e-8: the touch tolerance 20 tol |v| had hidden the miss."""
+    vf = fold_of(name)
+    d = np.r_[-FOLD_STEPS[::-1], FOLD_STEPS]
+    labels, _worst = check_against_reference(FOLD_LAWS[name], vf * (1.0 + d))
+    assert labels[:5] == ["stick_slip"] * 5 and labels[5:] == ["equilibrium"] * 5
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(FOLD_LAWS))
+def test_across_the_fold_scan(name):
+    """The same, 2 x 20 speeds from 1e-9 to 1e-5 of the fold, four laws: one label
+    change, at the fold."""
+    vf = fold_of(name)
+    steps = np.geomspace(1e-9, 1e-5, 20)
+    d = np.r_[-steps[::-1], steps]
+    labels, _worst = check_against_reference(FOLD_LAWS[name], vf * (1.0 + d))
+    assert changes(labels) == 1 and labels[0] == "stick_slip"
+
+
+def test_locate_boundaries_on_the_published_case_has_no_spurious_change():
+    """bSTAB case over v in [1, 2]: the Hopf point is subcritical (no slip cycle |
+    equilibrium change: v_hopf absent), the only change in the scan is stick-slip |
+    equilibrium at the fold, located where the reference has it."""
+    law = FOLD_LAWS["bstab"]
+    ds = sc.locate_boundaries(sc.Grid(**law, v=np.linspace(1.0, 2.0, 64)), tol=1e-8)
+    names = codes.SEARCH_NAMES
+    assert names[int(ds.hopf_status)] == "absent"
+    kept = [(R[int(b)], R[int(a)], names[int(s)], float(v)) for b, a, s, v in zip(
+        ds.regime_below.values, ds.regime_above.values, ds.transition_status.values,
+        ds.transition_value.values) if int(b) in R]
+    assert [k[:3] for k in kept] == [("stick_slip", "equilibrium", "located")]
+    assert kept[0][3] == pytest.approx(fold_of("bstab"), abs=2e-9)
+    assert names[int(ds.fold_status)] == "located"
+    assert float(ds.v_fold) == pytest.approx(fold_of("bstab"),
+                                             abs=float(ds.v_fold_width) + 1e-9)

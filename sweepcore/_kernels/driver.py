@@ -36,7 +36,8 @@ from . import codes
 from .law import accel, breakaway, coefficients, jerk, stick_band
 from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
-                     O_METHOD, O_RTOL, RK, RY, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
+                     O_METHOD, O_RTOL, RK, RY, S_ARMED, S_H, S_MODE, S_N, S_T, S_TOUCH, S_X,
+                     S_ZD, V)
 from .events import F_XD, F_ZD, F_ZDD, cubic, polish, zd_event
 from .stepper import ADAPTIVE, EXPONENT, TOUCH_FACTOR, proposal, step
 
@@ -198,8 +199,10 @@ def _book(acc, qx, qv, qw, ql, h):
 
 
 @kernel
-def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
-    """Book the partial step to a zdot = 0 event at h and apply the stop rules."""
+def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe, touched):
+    """Book the partial step to a zdot = 0 event at h and apply the stop rules;
+    ``touched``: the event is a tangential touch (``st[S_TOUCH]``), whose stop or
+    stick the integrator decided within its touch tolerance only."""
     _x, _z, qx, qv, qw, ql, _e, _ok = step(x0, zd0, h, s, p, o, True)
     st[S_N] += 1.0
     _book(acc, qx, qv, qw, ql, h)
@@ -209,6 +212,7 @@ def _finish_zero(st, p, o, acc, x0, zd0, s, h, xe):
     st[S_ZD] = 0.0
     st[S_MODE] = new
     st[S_ARMED] = 0.0
+    st[S_TOUCH] = 1.0 if touched else 0.0
     if new == codes.STICK:
         acc[A_NSTICK] += 1.0
     _note_x(acc, xn, p[V])
@@ -245,8 +249,8 @@ def _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol, 
     """Where zdot = 0 inside the step from (x, zd), once the scan of the step's
     Hermite cubic (``events.zd_event``) found a crossing (kind 1, bracketed in
     [ta, tb]) or a turning point tc that may touch 0 (kind 2). Touches are placed at
-    the turning point, where they are well conditioned. Returns ``(h_ev, x_ev)``,
-    h_ev < 0 when the integrator does not confirm it."""
+    the turning point, where they are well conditioned. Returns ``(h_ev, x_ev,
+    touched)``, h_ev < 0 when the integrator does not confirm it."""
     v = p[V]
     h_ev = -1.0
     xe = x
@@ -257,7 +261,7 @@ def _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol, 
                             0.5 * (tc + tb) * h, -s, tc * h, st)
         gc = s * zc
         if abs(gc) <= gtol:         # a touch
-            return hc, xc
+            return hc, xc, True
         if gc < 0.0:                # a real double crossing: the first root
             h_ev, xe, _ze = polish(F_ZD, x, zd, s, p, o, ta * h, hc, s,
                                    0.5 * (ta + tc) * h, st)
@@ -276,7 +280,8 @@ def _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol, 
             tau = -gp / gpp
             h_ev, xe, _zc = polish(F_ZDD, x, zd, s, p, o, h_ev, h_ev + 2.0 * tau,
                                    -s, h_ev + tau, st)
-    return h_ev, xe
+            return h_ev, xe, True
+    return h_ev, xe, False
 
 
 @kernel
@@ -366,23 +371,23 @@ def _slide(st, p, o, acc, t_stop, d):
         kind, ta, tb, tc, armed = zd_event(g0, g1, s * a0 * h, s * a1 * h,
                                            st[S_ARMED] > 0.0, near)
         st[S_ARMED] = 1.0 if armed else 0.0
-        h_ev, xe = -1.0, x1
+        h_ev, xe, touched = -1.0, x1, False
         if kind != 0:
-            h_ev, xe = _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb,
-                                    tc, gtol, cf, d)
+            h_ev, xe, touched = _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind,
+                                             ta, tb, tc, gtol, cf, d)
         if h_ev < 0.0 and 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol and armed:
             # the step ends on a touch (exact arcs end on turning points): zdot came
             # down to within gtol of 0 and stopped falling (not a creep away from 0).
             # Also where the cubic dipped below 0 by rounding just before such an end
             # and the integrator did not confirm the crossing (kind 1, h_ev < 0).
-            h_ev, xe = h, x1
+            h_ev, xe, touched = h, x1, True
         # --- extremum of x (Poincare section) inside the step
         if v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0):
             ev = _section(st, p, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf, d)
             if ev != codes.EV_NONE:
                 return ev, codes.OK
         if h_ev >= 0.0:
-            return _finish_zero(st, p, o, acc, x, zd, s, h_ev, xe), codes.OK
+            return _finish_zero(st, p, o, acc, x, zd, s, h_ev, xe, touched), codes.OK
         _book(acc, qx, qv, qw, ql, h)
         if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
             _velocity_extremum(st, p, o, acc, x, zd, s, h, a0, a1)
