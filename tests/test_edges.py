@@ -197,7 +197,7 @@ def check_against_reference(law, vs, tol=1e-8):
 FOLD_STEPS = np.array([1e-9, 1e-8, 1e-7, 3e-7, 1e-6])
 
 
-@pytest.mark.parametrize("name", ["bstab", "mixed"])
+@pytest.mark.parametrize("name", ["bstab", "mixed", "light"])
 def test_across_the_fold_the_label_is_the_references(name):
     """v = v_fold (1 + d), d from -1e-6 to 1e-6 in relative steps down to 1e-9,
     from the stuck start: stick-slip below the fold, steady sliding above it (the

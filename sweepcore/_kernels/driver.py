@@ -250,26 +250,33 @@ def _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol, 
     Hermite cubic (``events.zd_event``) found a crossing (kind 1, bracketed in
     [ta, tb]) or a turning point tc that may touch 0 (kind 2). Touches are placed at
     the turning point, where they are well conditioned. Returns ``(h_ev, x_ev,
-    touched)``, h_ev < 0 when the integrator does not confirm it."""
+    touched)``, h_ev < 0 when the integrator does not confirm it.
+
+    A crossing of the cubic that the integrator does not confirm, in a step where
+    zdd turns towards 0 and back (g has an interior minimum), is checked at that
+    turning point as for kind 2: the cubic's error there can exceed a small
+    excursion past 0, and the step would otherwise pass a real stick or touch."""
     v = p[V]
     h_ev = -1.0
     xe = x
     crossing = False
+    lo, hi = 0.5 * (ta + tc), 0.5 * (tc + tb)      # the turning point's bracket
+    if kind == 1:
+        h_ev, xe = _crossing_root(st, p, o, x, zd, s, h, g0, g1, s * a0 * h, s * a1 * h,
+                                  ta, tb)
+        crossing = h_ev >= 0.0
+        if not crossing and s * a0 < 0.0 < s * a1:
+            kind, ta, tc, lo, hi = 2, 0.0, a0 / (a0 - a1), 0.0, 1.0
     if kind == 2:                   # check the turning point on the integrator
         # zdd has the sign -s where g falls towards the touch, +s after it
-        hc, xc, zc = polish(F_ZDD, x, zd, s, p, o, 0.5 * (ta + tc) * h,
-                            0.5 * (tc + tb) * h, -s, tc * h, st)
+        hc, xc, zc = polish(F_ZDD, x, zd, s, p, o, lo * h, hi * h, -s, tc * h, st)
         gc = s * zc
         if abs(gc) <= gtol:         # a touch
             return hc, xc, True
         if gc < 0.0:                # a real double crossing: the first root
             h_ev, xe, _ze = polish(F_ZD, x, zd, s, p, o, ta * h, hc, s,
-                                   0.5 * (ta + tc) * h, st)
+                                   0.5 * (ta * h + hc), st)
             crossing = True
-    else:
-        h_ev, xe = _crossing_root(st, p, o, x, zd, s, h, g0, g1, s * a0 * h, s * a1 * h,
-                                  ta, tb)
-        crossing = h_ev >= 0.0
     if crossing:
         # A crossing whose excursion past 0 stays within the graze tolerance is a
         # touch: its root is ill-conditioned (error ~ sqrt(eps)), its turning
