@@ -238,3 +238,38 @@ def test_locate_boundaries_on_the_published_case_has_no_spurious_change():
     assert names[int(ds.fold_status)] == "located"
     assert float(ds.v_fold) == pytest.approx(fold_of("bstab"),
                                              abs=float(ds.v_fold_width) + 1e-9)
+
+
+# ------------------------------------------------- the unstable cycle at the fold
+@pytest.mark.parametrize("name", ["bstab", "mixed"])
+def test_slip_cycles_finds_the_unstable_cycle_up_to_the_fold(name):
+    """Below the fold the unstable slip cycle passes within 0.6 d v of the belt
+    speed (bSTAB): at tol 1e-8 the scan took every return next to it for a touch
+    of the belt and reported no cycle from d = 3e-7 on. Now it is found down to
+    d = 1e-9 (scipy shooting, bracketed: x_max within 2 tol L, the multiplier within
+    1e-5), none 1e-7 and more above the fold (within ~1e-8 above it the boundary of
+    the starts that reach the belt is a fixed point to the tolerance, for the
+    reference's shooting as well)."""
+    from reference import reference_find_slip_cycles
+    law = FOLD_LAWS[name]
+    vf = fold_of(name)
+    for d in (-1e-6, -1e-8, -1e-9, 1e-7, 1e-6):
+        v = vf * (1.0 + d)
+        ds = sc.slip_cycles(sc.Grid(**law, v=v))
+        ref = reference_find_slip_cycles(law["m"], law["k"], law["r_y"], v,
+                                         law["alpha1"], law["alpha2"], c=law["c"],
+                                         r_k=law["r_k"], v_s=law["v_s"])
+        unstable = [c for c in ref if c["floquet"] > 1.0]
+        n = int(ds.n_cycles)
+        assert n == len(ref), (d, n, len(ref))
+        if d > 0:
+            assert n == 0
+            continue
+        assert len(unstable) == 1
+        c = unstable[0]
+        i = int(np.argmax(ds.cycle_floquet.values))
+        assert S[int(ds.cycle_status.values[i])] == "ok"
+        L = law["r_y"] / law["k"] + v / math.sqrt(law["k"] / law["m"])
+        assert abs(float(ds.cycle_x_max.values[i]) - c["x_max"]) <= 2e-8 * L
+        assert float(ds.cycle_floquet.values[i]) == pytest.approx(c["floquet"], rel=1e-5)
+        assert float(ds.cycle_xdot_max.values[i]) < v
