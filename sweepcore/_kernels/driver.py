@@ -33,7 +33,7 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .law import accel, breakaway, coefficients, jerk, stick_band
+from .law import accel, breakaway, coefficients, jerk, layer_step, stick_band
 from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
                      O_METHOD, O_RTOL, RK, RY, S_ARMED, S_H, S_MODE, S_N, S_T, S_TOUCH, S_X,
@@ -345,8 +345,12 @@ def _slide(st, p, o, acc, t_stop, d):
         x = st[S_X]
         zd = st[S_ZD]
         h = proposal(x, zd, s, p, o, st[S_H])
+        a0 = 0.0
         if adaptive:
             h = min(h, 0.5 / omega)
+            if d is not None:       # the Stribeck layer, resolved (law.layer_step)
+                a0 = accel(x, zd, s, cf, d, m)
+                h = min(h, layer_step(x, zd, s, cf, d, m, v, o[O_RTOL] * o[O_LV], a0))
         last = t + h >= t_stop
         if last:
             h = t_stop - t
@@ -370,7 +374,8 @@ def _slide(st, p, o, acc, t_stop, d):
                 continue
         if not (abs(x1) < 1e12 * o[O_LX] and abs(z1) < 1e12 * omega * o[O_LX]):
             return codes.EV_STOP_TIME, codes.DIVERGED
-        a0 = accel(x, zd, s, cf, d, m)
+        if d is None or not adaptive:
+            a0 = accel(x, zd, s, cf, d, m)
         a1 = accel(x1, z1, s, cf, d, m)
         # --- zdot = 0: crossings, double crossings and touches inside the step
         g0 = s * zd
