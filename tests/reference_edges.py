@@ -57,7 +57,11 @@ def certified_rest(mod, x, xd):
     if not W < 0.999 * v:
         return False
     least, margin = _dforce_min(mod, -v - W, -v + W)
-    return least > margin + 1e-9 * (abs(mod.c) + abs(mod.a1) + mod.dr / mod.v_s)
+    # rounding: of the terms evaluated over the set, not of the Stribeck slope at
+    # the belt (d/v_s, which a narrow layer far from the set never reaches)
+    size = abs(mod.c) + abs(mod.a1) + 3.0 * mod.a2 * (v + W) ** 2 + \
+        mod.dr / mod.v_s * math.exp(min((W - v) / mod.v_s, 0.0))
+    return least > margin + 1e-9 * size
 
 
 def reference_attractor(m, k, r_y, v, alpha1, alpha2, x0, xd0=None, c=0.0, r_k=None,
