@@ -379,3 +379,49 @@ def test_the_stribeck_speed_down_to_1e_300_has_one_label_change(start):
         labels.append(a.regime)
     assert changes(labels) == (1 if start == "stuck" else 0)
     assert labels[-1] == "equilibrium"
+
+
+# ------------------------------------------------------------ slow points, budgets
+@pytest.mark.parametrize("law, values, slow", [
+    (dict(m=2.0, k=3.0, r_y=1.2, r_k=0.6, v_s=0.3, c=0.05), np.linspace(1.0, 3.0, 21),
+     1.1),
+    (FOLD_LAWS["bstab"], np.linspace(1.0, 2.0, 21), 1.15),
+])
+def test_a_diagram_point_next_to_the_hopf_point_gets_the_budget_it_needs(law, values,
+                                                                          slow):
+    """The down scan reaches the point just below the subcritical Hopf point from
+    steady sliding at the point above: the focus is weakly unstable there (growth
+    q/2 of eq. 46), and the default budget of 2,000 periods ended it unconverged
+    (m = 2, k = 3: q = 5.6e-4 /s at v = 1.1; bSTAB: 2.6e-4 /s at 1.15). The diagram
+    now retries it with the budget the linear growth needs: the stick-slip cycle of
+    the reference, no point unconverged, no warning."""
+    from reference import reference_stick_slip_cycle
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ds = sc.bifurcation_diagram(sc.Grid(**law, v=values), boundaries=False,
+                                    unstable=False)
+    assert set(int(s) for s in ds.status.values.ravel()) == {codes.OK}
+    down = ds.sel(branch="down").sel(v=slow, method="nearest")
+    assert R[int(down.regime)] == "stick_slip"
+    ref = reference_stick_slip_cycle(law["m"], law["k"], law["r_y"], float(down.v), 0.0,
+                                     0.0, c=law["c"], r_k=law["r_k"], v_s=law["v_s"])
+    L = law["r_y"] / law["k"] + float(down.v) / math.sqrt(law["k"] / law["m"])
+    assert abs(float(down.amplitude) - ref["amplitude"]) <= 1e-8 * L
+    assert float(down.period) == pytest.approx(ref["period"], rel=1e-8)
+
+
+def test_a_diagram_point_beyond_the_raised_budget_says_what_to_raise():
+    """A budget of 20 periods, raised at most 100 times: the point 1e-3 below the
+    Hopf point stays unconverged (its status says so) and the warning names the
+    max_periods it needs."""
+    law = FOLD_LAWS["bstab"]
+    vh = sc.Params(**law, v=1.0).hopf_speeds[0]
+    x_eq = sc.Params(**law, v=1.3).x_eq              # the down scan starts at rest there
+    with pytest.warns(RuntimeWarning, match=r"max_periods=(\d|\.)+e\+0[4-9]"):
+        ds = sc.bifurcation_diagram(sc.Grid(**law, v=[vh * (1 - 1e-3), 1.3], x0=x_eq,
+                                            xdot0=0.0),
+                                    boundaries=False, unstable=False, sweep="down",
+                                    max_periods=20)
+    assert R[int(ds.regime.values[0, 1])] == "equilibrium"
+    assert S[int(ds.status.values[0, 0])] == "unconverged"
