@@ -34,7 +34,7 @@ from .law import (anti_damped, breakaway, certified_rest, normal_form_valid,
                   piecewise_linear, x_eq)
 from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, A1,
                      A2, ACC_CYC, ACC_LAST, ACC_SEC, ACC_STEP, C, K, M, MAXED, MINNED, NA,
-                     NACC, NO, NOBS, NP, NS, NW, O_DT, O_GPS_A, O_LV, O_LX, O_MAX_STEPS,
+                     NACC, NO, NOBS, NP, NS, NW, O_DT, O_GPS_A, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
                      O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
                      OB_FLOQUET, OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS,
                      OB_STICK_FRACTION, OB_STICKS_PER_PERIOD, OB_T_SETTLE, OB_VAMPLITUDE,
@@ -280,13 +280,16 @@ def on_reset(st, p, o, w, acc, out, touched):
 @kernel
 def retouch(p, o, w):
     """Lower the tolerance in force a hundredfold (to RTOL_FLOOR at most) to measure
-    a period that ended on a touch again; False where that cannot sharpen the touch:
-    a conservative law (exact touches), a method without error control (exact arcs,
-    gps, rk4: their touch tolerance is ``graze``) or the floor reached."""
+    a period that ended on a touch again, and the touch tolerance's floor ``graze``
+    with it (``driver.touch_tol``: max(graze, 20 rtol) |v|); False where that cannot
+    sharpen the touch: a conservative law (exact touches), a method without error
+    control (exact arcs, gps, rk4: their touch tolerance is ``graze``) or the floor
+    reached."""
     if w[W_CONSERVATIVE] > 0.0 or not ADAPTIVE[int(o[O_METHOD])] or \
             o[O_RTOL] <= RTOL_FLOOR:
         return False
     o[O_RTOL] = max(0.01 * o[O_RTOL], RTOL_FLOOR)
+    o[O_GRAZE] = 0.01 * o[O_GRAZE]
     w[W_RTOL] = o[O_RTOL]
     return True
 

@@ -28,7 +28,8 @@ from . import codes
 from .attractor import answer_cycle, clear, method_status, resolve_options
 from .driver import advance, init_state
 from .law import x_eq
-from .layout import (K, M, NA, NO, NOBS, NP, NS, O_LX, O_MAX_STEPS, O_METHOD, O_RTOL,
+from .layout import (K, M, NA, NO, NOBS, NP, NS, O_GRAZE, O_LX, O_MAX_STEPS, O_METHOD,
+                     O_RTOL,
                      OB_NSTEPS, OB_REGIME, OB_STATUS, OB_X_MAX, OB_X_MIN, S_N, S_TOUCH,
                      S_X, V)
 from .return_map import return_slope
@@ -105,6 +106,7 @@ def _refine(p, o, lo, g_lo, dp_lo, hi, st, acc):
             touched = touched and 0.0 < r <= 1.0
             if touched and o[O_RTOL] > RTOL_FLOOR:
                 o[O_RTOL] = max(0.01 * o[O_RTOL], RTOL_FLOOR)   # the same start again
+                o[O_GRAZE] = 0.01 * o[O_GRAZE]     # (the touch tolerance's floor too)
                 continue
             touched_floor = touched_floor or touched
             if fine:
@@ -170,6 +172,7 @@ def slip_cycles(p, o_in, out):
     for k in range(N_RUNGS):
         a = xe + sg * LOWEST * lx * ratio ** k
         o[O_RTOL] = o_in[O_RTOL]
+        o[O_GRAZE] = o_in[O_GRAZE]
         a1, dP, ok, _touched = one_return(p, o, a, st, acc)
         # a return that leaves the slip region (it reaches the belt) is growing: a
         # change of sign after contracting returns (a false bracket refines to
