@@ -55,6 +55,28 @@ def test_constant_coulomb_law_from_the_stuck_start_is_its_grazing_circle(m, k, r
     np.testing.assert_allclose(ds.period.values, 2 * math.pi / w, rtol=1e-8)
 
 
+@pytest.mark.parametrize("method", ["auto", "dop853"])
+@pytest.mark.parametrize("c", [0.3, 2.0])
+def test_a_conservative_field_with_damping_is_the_constant_laws_family(method, c):
+    """c = alpha1 (no cubic, no Stribeck term): m x'' + k x = -(r_y s + c v), circles
+    about the breakaway point x_s = (r_y - c v)/k, as for the constant law: from the
+    stuck start the grazing circle of radius v/omega (slip_cycle), from a start
+    inside it a circle of the family (neutral, its radius set by the start). They
+    were a touch flagged unresolved and an unconverged Newton on a map of slope 1."""
+    m, k, r_y, v = 2.0, 3.0, 1.5, 0.4
+    p = sc.Params(m=m, k=k, r_y=r_y, v=v, alpha1=c, c=c)
+    w = math.sqrt(k / m)
+    x_s = (r_y - c * v) / k
+    L = r_y / k + v / w
+    a = sc.attractor(p, method=method)
+    assert (a.regime, a.status) == ("slip_cycle", "ok")
+    assert a.amplitude == pytest.approx(v / w, abs=1e-8 * L)
+    b = sc.attractor(p, x_s + 0.1, 0.0, method=method)
+    assert (b.regime, b.status) == ("neutral", "ok")
+    assert b.amplitude == pytest.approx(0.1, abs=1e-8 * L)
+    assert b.period == pytest.approx(2 * math.pi / w, rel=1e-8)
+
+
 @pytest.mark.parametrize("c", [5e-324, 1e-320, 1e-300, 1e-30, 0.1])
 def test_a_hopf_speed_of_the_stribeck_law_at_any_damping(c):
     """``c + F'(-u) = c - (d/v_s) exp(-u/v_s)`` (bSTAB law, d = r_y - r_k): one root

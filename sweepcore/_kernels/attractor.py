@@ -30,19 +30,20 @@ from .jit import kernel
 from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
-from .law import (anti_damped, breakaway, certified_rest, normal_form_valid,
-                  piecewise_linear, x_eq)
-from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, A1,
-                     A2, ACC_CYC, ACC_LAST, ACC_SEC, ACC_STEP, C, K, M, MAXED, MINNED, NA,
-                     NACC, NO, NOBS, NP, NS, NW, O_DT, O_GPS_A, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
-                     O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
-                     OB_FLOQUET, OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS,
-                     OB_STICK_FRACTION, OB_STICKS_PER_PERIOD, OB_T_SETTLE, OB_VAMPLITUDE,
-                     OB_X_MAX, OB_X_MIN, OB_XDOT_MAX, RK, RY, S_MODE, S_N, S_T, S_TOUCH,
-                     S_X, S_ZD,
-                     SUMMED, V, W_A, W_CONSERVATIVE, W_E, W_E_REST, W_FD_SLOPE, W_ERR_JUMP, W_LX, W_MODE0, W_N_EV, W_N_SEC,
-                     W_NEWTON_REST, W_NF_FLOOR, W_NF_OK, W_ODE, W_OMEGA, W_ON_NF, W_RESET_SEEN, W_RTOL,
-                     W_RTOLH, W_SALT, W_SALTH, W_T_BUDGET, W_T_CYC, W_T_LAST, W_T_NAT, W_T_OFF,
+from .law import (anti_damped, breakaway, certified_rest, conservative,
+                  normal_form_valid, piecewise_linear, x_eq)
+from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
+                     A_XMIN, ACC_CYC, ACC_LAST, ACC_SEC, ACC_STEP, K, M, MAXED, MINNED,
+                     NA, NACC, NO, NOBS, NP, NS, NW, O_DT, O_GPS_A, O_GRAZE, O_LV,
+                     O_LX, O_MAX_STEPS, O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE,
+                     OB_CYCLE_SIZE, OB_FLOQUET, OB_MEAN, OB_NSTEPS, OB_PERIOD,
+                     OB_REGIME, OB_STATUS, OB_STICK_FRACTION, OB_STICKS_PER_PERIOD,
+                     OB_T_SETTLE, OB_VAMPLITUDE, OB_X_MAX, OB_X_MIN, OB_XDOT_MAX,
+                     S_MODE, S_N, S_T, S_TOUCH, S_X, S_ZD, SUMMED, V, W_A,
+                     W_CONSERVATIVE, W_E, W_E_REST, W_FD_SLOPE, W_ERR_JUMP, W_LX,
+                     W_MODE0, W_N_EV, W_N_SEC, W_NEWTON_REST, W_NF_FLOOR, W_NF_OK,
+                     W_ODE, W_OMEGA, W_ON_NF, W_RESET_SEEN, W_RTOL, W_RTOLH, W_SALT,
+                     W_SALTH, W_T_BUDGET, W_T_CYC, W_T_LAST, W_T_NAT, W_T_OFF,
                      W_T_SLIDE, W_TOL, W_TOUCHED, W_XS, X0, XD0)
 from .normal_form import nf_jump, nf_multiplier, nf_step
 from .resolution import check_cycle
@@ -189,8 +190,7 @@ def setup(p, o, st, w, acc):
     w[W_FD_SLOPE] = np.nan
     w[W_ODE] = 0.0 if meth == codes.GPS else 1.0
     w[W_NF_OK] = 1.0 if normal_form_valid(p) and meth != codes.GPS else 0.0
-    w[W_CONSERVATIVE] = 1.0 if p[A1] == 0.0 and p[A2] == 0.0 and p[C] == 0.0 \
-        and p[RY] == p[RK] else 0.0
+    w[W_CONSERVATIVE] = 1.0 if conservative(p) else 0.0
     w[W_RTOL] = o[O_RTOL]
     for i in range(NACC):
         clear(acc[i])

@@ -509,6 +509,16 @@ def certified_rest(x, zd, p):
 
 
 @kernel(inline="always")
+def conservative(p):
+    """True where the sliding field is conservative: no cubic term, no Stribeck term
+    and ``c = alpha1`` (the viscous and the linear friction slopes cancel: ``m x'' +
+    k x = -(r_y s + c v)``); the constant Coulomb law (c = alpha1 = 0) is the usual
+    case. Its slide orbits are circles, a neutral family, and its touch of the belt
+    at the breakaway point is exact."""
+    return p[A2] == 0.0 and p[RY] - p[RK] == 0.0 and p[C] == p[A1]
+
+
+@kernel(inline="always")
 def anti_damped(p):
     """True where the law's damping at high sliding speed, ``c + F'(s)`` for large
     ``|s|``, is negative: no cubic term and ``alpha1 > c`` (the Stribeck term has
