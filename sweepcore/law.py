@@ -198,8 +198,9 @@ def unresolvable(P: np.ndarray, o: np.ndarray) -> np.ndarray:
     with ``zeta = max(|c|, |alpha1|, 3 alpha2 v^2, |r_y - r_k|/v_s) / (m omega)``,
     an upper bound of the law's slope per ``m omega`` (``|q|/omega`` is one value
     of it). ``zeta = 0`` (constant friction, no damping: neutral circles) is
-    resolved exactly, and a static belt (``v = 0``) has no cycle through the
-    breakaway point to mistake. (2) ``1/omega > TIME_SCALE_MAX``.
+    resolved exactly, and so is a conservative field with ``c = alpha1`` (taken as
+    zeta = 0); a static belt (``v = 0``) has no cycle through the breakaway point to
+    mistake. (2) ``1/omega > TIME_SCALE_MAX``.
     """
     from ._kernels.stepper import ADAPTIVE, TOUCH_FACTOR
     from ._kernels import codes
@@ -214,6 +215,10 @@ def unresolvable(P: np.ndarray, o: np.ndarray) -> np.ndarray:
             3.0 * np.abs(P[:, layout.A2]) * v * v,
             np.where(d != 0.0, np.abs(d) / P[:, layout.VS], 0.0)])
         zeta = slope / (root_m * root_k)                   # m omega = sqrt(k m)
+        # a conservative field (kernel law.conservative: c = alpha1, no cubic and no
+        # Stribeck term) changes no motion at all: its circles are exact, as zeta = 0
+        zeta = np.where((P[:, layout.A2] == 0.0) & (d == 0.0) &
+                        (P[:, layout.C] == P[:, layout.A1]), 0.0, zeta)
         method = int(o[layout.O_METHOD])
         linear = (P[:, layout.A2] == 0.0) & (d == 0.0)     # kernel's piecewise_linear
         if method < 0:          # auto: the closed form, else one of the adaptive pairs

@@ -89,6 +89,17 @@ def test_constant_friction_keeps_its_closed_form_at_any_mass():
     assert got["amplitude"] == pytest.approx(5.0 / np.sqrt(50.0 / 1e20), rel=1e-9)
 
 
+def test_a_conservative_field_keeps_its_closed_form_at_any_mass():
+    """c = alpha1 (no cubic term): m x'' + k x = -(r_y s + c v), the constant law's
+    circles about the breakaway point; zeta > 0 from c and alpha1 alone, but no
+    motion changes: the grazing circle of radius v/omega, not unresolvable_scale."""
+    got = one(**{**PAPER, "m": 1e20, "alpha2": 0.0, "c": 1.0})
+    assert (got["status"], got["regime"]) == (codes.OK, codes.R_SLIP_CYCLE)
+    assert got["amplitude"] == pytest.approx(5.0 / np.sqrt(50.0 / 1e20), rel=1e-9)
+    weak = one(**{**PAPER, "m": 1e20, "alpha2": 0.0, "c": 1.5})    # c != alpha1
+    assert (weak["status"], weak["regime"]) == (codes.SCALE, codes.R_FAILED)
+
+
 def test_a_static_belt_is_not_flagged_however_weak_the_law():
     """v = 0, started stuck inside the stick band: stuck for ever (|k x0| < r_y)."""
     got = one(**{**PAPER, "m": 1e20, "v": 0.0, "x0": 0.1})
