@@ -33,7 +33,8 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .law import accel, breakaway, coefficients, jerk, layer_step, stick_band
+from .law import accel, breakaway, coefficients, jerk, stick_band
+from .layer import layer_step
 from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
                      O_METHOD, O_RTOL, RK, RY, S_ARMED, S_H, S_MODE, S_N, S_T, S_TOUCH, S_X,
@@ -344,13 +345,8 @@ def _slide(st, p, o, acc, t_stop, d):
             return codes.EV_STOP_TIME, codes.STEP_BUDGET
         x = st[S_X]
         zd = st[S_ZD]
-        h = proposal(x, zd, s, p, o, st[S_H])
-        a0 = 0.0
-        if adaptive:
-            h = min(h, 0.5 / omega)
-            if d is not None:       # the Stribeck layer, resolved (law.layer_step)
-                a0 = accel(x, zd, s, cf, d, m)
-                h = min(h, layer_step(x, zd, s, cf, d, m, v, o[O_RTOL] * o[O_LV], a0))
+        h, a0 = _capped(proposal(x, zd, s, p, o, st[S_H]), x, zd, s, cf, d, m, v, o,
+                        omega, adaptive)
         last = t + h >= t_stop
         if last:
             h = t_stop - t
@@ -388,10 +384,8 @@ def _slide(st, p, o, acc, t_stop, d):
             h_ev, xe, touched = _locate_zero(st, p, o, x, zd, s, h, a0, a1, g0, g1, kind,
                                              ta, tb, tc, gtol, cf, d)
         if h_ev < 0.0 and 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol and armed:
-            # the step ends on a touch (exact arcs end on turning points): zdot came
-            # down to within gtol of 0 and stopped falling (not a creep away from 0).
-            # Also where the cubic dipped below 0 by rounding just before such an end
-            # and the integrator did not confirm the crossing (kind 1, h_ev < 0).
+            # the step ends on a touch (exact arcs end on turning points; also where the
+            # cubic dipped below 0 by rounding just before it): zdot stopped falling
             h_ev, xe, touched = h, x1, True
         # --- extremum of x (Poincare section) inside the step
         if v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0):
@@ -409,6 +403,20 @@ def _slide(st, p, o, acc, t_stop, d):
         _note_x(acc, x1, z1 + v)
         if last:
             return codes.EV_STOP_TIME, codes.OK
+
+
+@kernel(inline="always")
+def _capped(h, x, zd, s, cf, d, m, v, o, omega, adaptive):
+    """An adaptive step at most half a natural time and, for a Stribeck law, what
+    the layer allows (``layer.layer_step``): ``(h, zdd at the step's start)``, the
+    latter 0 where not needed here."""
+    a0 = 0.0
+    if adaptive:
+        h = min(h, 0.5 / omega)
+        if d is not None:
+            a0 = accel(x, zd, s, cf, d, m)
+            h = min(h, layer_step(x, zd, s, cf, d, m, v, o[O_RTOL] * o[O_LV], a0))
+    return h, a0
 
 
 @kernel(inline="always")

@@ -140,58 +140,6 @@ def slope(zd, p):
     return f1
 
 
-# ------------------------------------------------------------ the Stribeck layer
-LAYER_WIDTHS = 40.0   # beyond 40 v_s from the belt the Stribeck term is below e^-40 of
-                      # the drop r_y - r_k: no step needs to see it
-LAYER_STEP = 4.0      # inside, a step moves zdot by at most 4 v_s (or half its distance
-                      # to the belt): the 12 stages of dop853 sample e^(-|zdot|/v_s)
-                      # at least every third of an e-fold
-
-
-@kernel(inline="always")
-def layer_step(x, zd, s, cf, d, m, v, dz, a):
-    """Largest step [s] that keeps the Stribeck layer ``|zdot| < 40 v_s`` resolved
-    (the law's own bound, for the driver's step control; ``d`` not None).
-
-    ``exp(-|zdot|/v_s)`` varies on the width v_s, which can be far below the
-    motion's scale, and inside the layer the law's slope ``-(d/v_s) exp(-|zdot|/v_s)``
-    makes the sliding field unstable at the rate ``lam = (|d|/(m v_s))
-    exp(-|zdot|/v_s)``. A step that crosses the layer between two stages, or spans
-    many e-folds of that instability (the release from the breakaway point, where
-    zdd = 0 and zdot leaves 0 like t^2 until the layer takes over), is accepted by
-    an error estimate that never saw it: v_s = 1e-3 |v| put the stick-slip
-    amplitude 4e-6 L off at tol 1e-8; and a layer narrower than anything the step
-    can resolve is one stage's jump of the force by d at the release, which
-    dop853's estimate weighs 7 times too lightly (1.5e-7 L at v_s = 1e-8 |v|).
-
-    Inside the layer a step is at most ``1/lam``, or where that is shorter, the time
-    in which the force's jump ``|d|`` moves zdot by ``dz`` (the velocity tolerance
-    rtol |v|: a layer that narrow is crossed at once, and one such step keeps its
-    jump within the tolerance). A layer wider than ``dz`` is also approached
-    resolved: a step moves zdot by at most ``max(4 v_s, |zdot|/2, |zdot| - 40 v_s)``,
-    reckoned from zdd (``a``, at the step's start) and its time derivative (outside
-    the layer a bound of it, without the exponential) (a narrower layer changes the
-    motion by less than the tolerance on the way in: at second order in v_s)."""
-    vs = cf[6]
-    u = abs(zd)
-    h = np.inf
-    wide = vs > dz
-    aa = abs(a)
-    j = 0.0
-    if u < LAYER_WIDTHS * vs:
-        h = m / abs(d) * max(vs * math.exp(u / vs), dz)
-        if wide:
-            j = abs(jerk(x, zd, s, cf, d, m, v))
-    elif wide:          # |jerk| <= (k |zdot + v| + |g| |zdd|)/m, e^(-|zdot|/v_s) < e^-40
-        k, f0, f1, a1, a2, ry, vs_, c = cf
-        j = (k * abs(zd + v) + (abs(f1) + 3.0 * a2 * zd * zd + abs(d) / vs * 4.3e-18)
-             * aa) / m
-    if wide:
-        room = max(LAYER_STEP * vs, 0.5 * u, u - LAYER_WIDTHS * vs)
-        h = min(h, 2.0 * room / (aa + math.sqrt(aa * aa + 2.0 * j * room)))
-    return h
-
-
 # ------------------------------------------------------------ the sliding field
 @kernel(inline="always")
 def zdd(x, zd, s, p):
@@ -318,11 +266,8 @@ def first_lyapunov(p, va):
 
 @kernel
 def criticality(p, n, u1):
-    """Kind of the lowest Hopf point ``u1`` of ``hopf_speeds`` (``n`` roots): 0 none
-    (n = 0), 1 supercritical (``F'''(-u1) > 0``, l1 < 0), 2 subcritical (< 0), 3
-    degenerate (= 0). Read from the sign of F''', not of ``first_lyapunov``
-    (``-omega^2 F'''/(16 m)``), which underflows to 0 where F''' does not (c = 5e-324
-    with the bSTAB law: F''' = -2e-323, l1 = 1.2e-324 rounds to 0)."""
+    """Kind of the lowest Hopf point u1 (n roots): 0 none, 1 supercritical, 2
+    subcritical, 3 degenerate, by the sign of F'''(-u1): l1 can underflow to 0."""
     if n == 0:
         return 0
     f3 = third_derivative(p, u1)
@@ -408,9 +353,7 @@ def hopf_speeds(p):
             return 1, 0.0, np.nan
         if (g0 < 0.0) == (lin < 0.0) or lin == 0.0:
             return 0, (np.inf if g0 < 0.0 else np.nan), np.nan
-        # the logarithm of each factor (d and lin have one sign here): d / (v_s lin)
-        # overflows for c - alpha1 = 5e-324, whose root is a moderate 372.2 cm/s
-        # for the bSTAB law
+        # logarithms: d / (v_s lin) overflows for c - alpha1 = 5e-324 (root 372.2)
         return 1, p[VS] * (math.log(abs(d)) - math.log(p[VS]) - math.log(abs(lin))), \
             np.nan
     hi = _upper_bracket(p)
@@ -479,11 +422,8 @@ def certified_rest(x, zd, p):
     least at ``w = sgn(v) W`` for alpha2 >= 0 (its minimum in w lies at 1.5 v,
     outside ``|w| <= W``; Params and Grid refuse alpha2 < 0); the Stribeck term's
     slope is monotone, least at one end of ``|s + |v|| <= W``. A margin of 1e-12 of
-    the size of the terms summed keeps rounding from deciding: the Stribeck term
-    enters with its slope at that end, ``smin``, whose exponent ``s_end/v_s`` is
-    rounded by ``eps |v|/v_s`` relative (hence ``1 + |v|/v_s``); its slope at the belt,
-    ``|r_y - r_k|/v_s``, is no term of the sum (for v_s = 1e-12 it is 5e11 times
-    what the set sees, and a margin of it kept every set uncertified).
+    the terms summed keeps rounding from deciding (the Stribeck slope at the set's
+    end, ``smin``, with its exponent's rounding ``eps |v|/v_s``; not ``d/v_s``).
     """
     v = p[V]
     if v == 0.0:
@@ -510,20 +450,15 @@ def certified_rest(x, zd, p):
 
 @kernel(inline="always")
 def conservative(p):
-    """True where the sliding field is conservative: no cubic term, no Stribeck term
-    and ``c = alpha1`` (the viscous and the linear friction slopes cancel: ``m x'' +
-    k x = -(r_y s + c v)``); the constant Coulomb law (c = alpha1 = 0) is the usual
-    case. Its slide orbits are circles, a neutral family, and its touch of the belt
-    at the breakaway point is exact."""
+    """A conservative sliding field, ``m x'' + k x = -(r_y s + c v)``: no cubic or
+    Stribeck term, c = alpha1 (the constant law: 0). Circles; exact touches."""
     return p[A2] == 0.0 and p[RY] - p[RK] == 0.0 and p[C] == p[A1]
 
 
 @kernel(inline="always")
 def anti_damped(p):
-    """True where the law's damping at high sliding speed, ``c + F'(s)`` for large
-    ``|s|``, is negative: no cubic term and ``alpha1 > c`` (the Stribeck term has
-    decayed there). A motion that reaches such speeds grows without bound, so an
-    error-controlled integration that leaves the finite range follows the motion."""
+    """Damping ``c + F'(s)`` negative at high sliding speed (no cubic term, alpha1 >
+    c): an error-controlled integration that diverges follows the motion."""
     return p[A2] == 0.0 and p[C] - p[A1] < 0.0
 
 
