@@ -9,7 +9,18 @@ status.
 * constant Coulomb law (alpha1 = alpha2 = c = 0, r_k = r_y) from the stuck start:
   the circle of radius |v|/omega through the breakaway point (eq. 39), label
   ``slip_cycle`` at every speed of a scan (it was ``neutral`` where the closed-form
-  arc ended exactly on the touch and the touch was dropped);
+  arc ended exactly on the touch and the touch was dropped); the same family for
+  c = alpha1 (a conservative field);
+* the Hopf speed and criticality of the Stribeck law at any damping (c = 5e-324);
+* growth without bound is ``unbounded`` with or without a Stribeck term;
+* the fold of the subcritical branch: v across it in relative steps down to 1e-9,
+  against the reference's attractor (stick-slip below, steady sliding above), through
+  attractor, sweep and locate_boundaries; the unstable slip cycle up to the fold
+  (slip_cycles);
+* the steep Stribeck layer, v_s from 1e-2 down to 1e-300 and random steep laws;
+* tiny Stribeck speeds from the stuck start and next to x_eq (one label change);
+* the supercritical stick onset, and random points of the whole 9-D space;
+* a diagram's point next to a Hopf point gets the budget it needs, or says so.
 """
 import math
 
