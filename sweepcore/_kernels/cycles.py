@@ -13,7 +13,9 @@ attractor search, ``|P(a) - a| / |1 - P'| <= tol L / 2`` from a return computed 
 ``1 / |1 - P'|`` in the fixed point, on either side of 1).
 
 Only stop-free slip cycles are searched: a return that reaches belt speed (or
-reverses) counts as growing (outside such a cycle the motion sticks). The ladder's
+reverses) counts as growing (outside such a cycle the motion sticks); one that only
+touches it within the touch tolerance next to a bracketed cycle is computed again at
+finer tolerances first (``_refine``: next to a fold the unstable cycle lies there). The ladder's
 spacing decides which cycles are seen: two cycles closer together than one rung, or
 a cycle smaller than the lowest rung (next to a Hopf point), can be missed.
 """
