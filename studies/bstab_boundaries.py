@@ -8,9 +8,10 @@ c = 0.1, r_y = 1, r_k = 0.5, v_s = 0.5, alpha1 = alpha2 = 0. Measured here:
   subcritical Hopf point (from the unstable slip cycles) and the fold at grazing
   (where the unstable slip cycle reaches belt speed), with their error estimates;
 * ``sweepcore.bifurcation_diagram`` over 201 belt speeds in [1, 2], up and down
-  (as studies/bstab_hysteresis.toml, max_periods = 20000: next to the Hopf point
-  the motion leaves the weakly unstable focus slowly): the speeds between which
-  each scan jumps, and where the unstable slip cycles were found.
+  (as studies/bstab_hysteresis.toml; next to the Hopf point the motion leaves the
+  weakly unstable focus slowly, and the diagram raises the budget of such a point
+  by itself): the speeds between which each scan jumps, and where the unstable slip
+  cycles were found.
 
 Run:  python studies/bstab_boundaries.py [--write]   (a few seconds; --write saves
 studies/results/bstab_boundaries.json, quoted in docs/physics.md)
@@ -52,8 +53,7 @@ def jumps(num: int = 201) -> dict:
     """Per scan: the last speed on the starting regime and the first beyond it."""
     t0 = time.perf_counter()
     v = np.linspace(1.0, 2.0, num)
-    ds = sc.bifurcation_diagram(sc.Grid(**BSTAB, v=v), boundaries=False,
-                                max_periods=20000)     # as the study
+    ds = sc.bifurcation_diagram(sc.Grid(**BSTAB, v=v), boundaries=False)  # as the study
     out = {}
     for branch in ("up", "down"):
         reg = ds.regime.sel(branch=branch).values

@@ -76,11 +76,16 @@ def attractor(params: Params, x0: float = 0.0, xdot0: float | None = None,
     proves decay to x_eq (equilibrium). Observables are accurate to about
     ``tol * L`` (L = r_y/k + |v|/omega). A cycle next to v* that float64 integration
     cannot resolve to ``tol`` and the normal form cannot either has status
-    ``"unresolved"`` (its numbers are estimates).
+    ``"unresolved"`` (its numbers are estimates). A point whose magnitudes no search
+    resolves has status ``"unresolvable_scale"``, as in :func:`sweepcore.sweep`: both
+    run the kernel through :func:`sweepcore.execute.attractors`, which applies the
+    rule of :func:`sweepcore.law.flag_unresolvable`.
     """
     row = start_row(params, x0, xdot0)
     check_method(method, params)
     out = np.empty((1, layout.NOBS))
+    # the one call of the kernel that sweep, the boundaries and the diagrams share:
+    # the kernel, then the scale rule (sweepcore.law.flag_unresolvable)
     execute.attractors(row[None, :], (params.friction_law,),
                        make_options(method, tol=tol, **options), out, parallel=False)
     out = out[0]

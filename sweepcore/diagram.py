@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import warnings
 
 import numpy as np
 import xarray as xr
@@ -26,7 +27,7 @@ from . import execute, labels, law, variables
 from ._kernels import codes, layout
 from .boundaries import locate_boundaries
 from .grid import AXES, COLUMNS, Grid, checked_grid
-from .options import checked_keywords, did_you_mean, make_options
+from .options import MAX_STEPS_CAP, checked_keywords, did_you_mean, make_options
 from .io import check_flag
 from .params import LONG_NAMES, UNITS
 from .sizing import diagram_need, refuse_unaffordable
@@ -39,11 +40,54 @@ UNSTABLE_VARIABLES = ("x_max", "x_min", "mean", "amplitude", "floquet", "xdot_ma
                       "period")
 
 
-def _follow(base: np.ndarray, col: int, values, start, o, laws) -> np.ndarray:
+# A point whose budget runs out is retried with the budget its linear dynamics need
+# (slow_periods), at most this many times the one asked for.
+RETRY_CAP = 100.0
+SPENT = (codes.UNCONVERGED, codes.STEP_BUDGET)
+
+
+def slow_periods(row: np.ndarray, tol: float, laws) -> float:
+    """Natural periods 2 pi/omega the motion linearised about steady sliding needs
+    from the start of the kernel row ``row``: ``(2/|q|) n / T``, q of eq. (46) (the
+    amplitude grows or decays as exp(q t/2)), n the e-folds from the start's
+    distance ``delta`` from (x_eq, 0) in the (x, xdot/omega) plane to the length
+    scale L (q > 0: growing away from an unstable focus, the down scan next to a
+    Hopf point) or down to tol L (q < 0), at least 1. A start exactly on x_eq counts
+    as 1e-16 L away (rounding is all that moves it). inf where q = 0."""
+    src = law.from_row(row, law.row_law(row, laws))
+    q, w, x_eq = (float(law.derived(n, src)) for n in ("q", "omega", "x_eq"))
+    L = float(law.length_scale(row, laws)[0])
+    delta = max(math.hypot(row[layout.X0] - x_eq, row[layout.XD0] / w), 1e-16 * L)
+    n = math.log(L / delta) if q > 0.0 else math.log(delta / (tol * L))
+    return 2.0 / abs(q) * max(n, 1.0) * w / (2.0 * math.pi) if q != 0.0 else math.inf
+
+
+def _attractor(row: np.ndarray, laws, o: np.ndarray, out: np.ndarray) -> float:
+    """One point into ``out`` (1, NOBS); where its budget runs out, once more with the
+    budget :func:`slow_periods` says it needs (twice that, at most RETRY_CAP times
+    the one asked for; max_steps raised in proportion). Returns the periods the
+    point would need where it still ends unconverged, else 0."""
+    execute.attractors(row, laws, o, out, parallel=False)
+    if int(out[0, layout.OB_STATUS]) not in SPENT:
+        return 0.0
+    need = 2.0 * slow_periods(row[0], float(o[layout.O_RTOL]), laws)
+    if need > o[layout.O_MAX_TIME]:
+        o2 = o.copy()
+        o2[layout.O_MAX_TIME] = min(need, RETRY_CAP * o[layout.O_MAX_TIME])
+        o2[layout.O_MAX_STEPS] = min(o[layout.O_MAX_STEPS] * o2[layout.O_MAX_TIME]
+                                     / o[layout.O_MAX_TIME], MAX_STEPS_CAP)
+        execute.attractors(row, laws, o2, out, parallel=False)
+    return 0.0 if int(out[0, layout.OB_STATUS]) not in SPENT else max(
+        need, o[layout.O_MAX_TIME] * RETRY_CAP)
+
+
+def _follow(base: np.ndarray, col: int, values, start, o, laws,
+            short: list) -> np.ndarray:
     """Observables (len(values), NOBS) along ``values``, each point started from the
     previous attractor (x_max, at rest; stick-slip: stuck on the belt at x_min);
     ``start`` (x0, xdot0 or NaN) for the first and after a point without an
-    attractor."""
+    attractor. ``short`` collects (value, periods needed) of points still
+    unconverged after their retry (:func:`_attractor`)."""
     out = np.empty((len(values), layout.NOBS))
     x0, xd0 = start
     row = base.copy()[None, :]
@@ -51,9 +95,28 @@ def _follow(base: np.ndarray, col: int, values, start, o, laws) -> np.ndarray:
         row[0, col] = u
         row[0, layout.X0] = x0
         row[0, layout.XD0] = row[0, layout.V] if np.isnan(xd0) else xd0
-        execute.attractors(row, laws, o, out[i:i + 1], parallel=False)
+        need = _attractor(row, laws, o, out[i:i + 1])
+        if need:
+            short.append((float(u), need))
         x0, xd0 = _next_start(out[i], start)
     return out
+
+
+def _warn_short(short, along: str, o) -> None:
+    """One warning naming the budget the still-unconverged points need."""
+    if not short:
+        return
+    where = [u for u, _n in short]
+    need = max(n for _u, n in short)
+    hint = (f"pass max_periods={need:.3g} (and max_steps in proportion)"
+            if math.isfinite(need) else "the Hopf point itself (q = 0) converges "
+            "algebraically: no budget is enough there")
+    warnings.warn(
+        f"bifurcation_diagram: {len(short)} point(s) still unconverged at {along} in "
+        f"[{min(where):.6g}, {max(where):.6g}] after a retry with up to "
+        f"{RETRY_CAP * float(o[layout.O_MAX_TIME]):.3g} periods: the motion "
+        f"linearised about steady sliding needs that long (growth or decay at q/2 of "
+        f"eq. (46), slow next to the Hopf point); {hint}", RuntimeWarning, stacklevel=3)
 
 
 def _next_start(obs: np.ndarray, start):
@@ -98,7 +161,12 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
         Also store the unstable slip cycles (the ``unstable_*`` variables; not with
         ``method="gps"``, whose discrete map has its own cycles).
     tol, method, **options
-        As :func:`sweepcore.attractor`.
+        As :func:`sweepcore.attractor`. A point whose budget (``max_periods``,
+        ``max_steps``) runs out is retried once with the budget that the motion
+        linearised about steady sliding needs from its start (:func:`slow_periods`:
+        next to a Hopf point the down scan starts beside a weakly unstable focus),
+        up to 100 times ``max_periods``; a point still unconverged then is kept as
+        such and a warning names the ``max_periods`` it would need.
 
     Returns
     -------
@@ -136,12 +204,13 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
     x0, xd0 = grid.axis("x0"), grid.axis("xdot0")
     start = (x0, math.nan if xd0 is None else xd0)
     col = COLUMNS[along]
-    scans = []
+    scans, short = [], []
     if sweep != "down":
-        scans.append(_follow(base, col, values, start, o, grid.laws))
+        scans.append(_follow(base, col, values, start, o, grid.laws, short))
     if sweep != "up":
         first = _next_start(scans[0][-1], start) if scans else start
-        scans.append(_follow(base, col, values[::-1], first, o, grid.laws)[::-1])
+        scans.append(_follow(base, col, values[::-1], first, o, grid.laws, short)[::-1])
+    _warn_short(short, along, o)
     cols = np.stack(scans)                      # (branch, along, NOBS)
 
     dims = ("branch", along)
@@ -170,10 +239,10 @@ def bifurcation_diagram(grid: Grid, along: str = "v", boundaries: bool = True,
                 "return map); NaN where there is none"))
     ds = xr.Dataset(data, coords)
     ds["v_star"] = labels.analytic("v_star", ds, laws=grid.laws).variable
-    ds["hopf_criticality"] = xr.Variable((), law.criticality_code(
-        float(labels.analytic("first_lyapunov", ds, laws=grid.laws))), labels.flags(
-        law.CRITICALITY, "kind of the Hopf point v_star (sign of the first Lyapunov "
-                         "coefficient)"))
+    kind = labels.criticality(ds, grid.laws)
+    ds["hopf_criticality"] = xr.Variable(kind.dims, kind.values, labels.flags(
+        law.CRITICALITY, "kind of the Hopf point v_star (sign of F''' there: of the "
+                         "first Lyapunov coefficient)"))
     if boundaries:
         found = locate_boundaries(dataclasses.replace(grid, **{along: values}), along=along,
                                   tol=min(tol, 1e-10), method=method, **options)

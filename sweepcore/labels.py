@@ -163,6 +163,12 @@ def analytic(name: str, coords, dims=None, laws=(ANALYTIC,)) -> xr.DataArray:
     return da
 
 
+def criticality(coords, laws=(ANALYTIC,)) -> xr.DataArray:
+    """Codes of ``law.CRITICALITY`` (int8) over ``coords``, on the dimensions of
+    ``v_star`` (:func:`sweepcore.law.criticality_code`)."""
+    return _over(coords, "criticality", law.criticality_code, laws).astype(np.int8)
+
+
 def stick_onset_estimate(coords, laws=(ANALYTIC,)) -> xr.DataArray:
     """The averaging estimate of the stick onset (:func:`sweepcore.law.
     stick_onset_estimate`) over ``coords``, on the dimensions of ``v_star``."""

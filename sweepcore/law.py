@@ -46,6 +46,8 @@ DERIVED = {
     "v_star_2": (_law.D_VSTAR2, _HOPF),
     "first_lyapunov": (_law.D_LYAP, ("m", "k") + _HOPF),
     "x_s": (_law.D_XS, ("k", "v", "r_y", "c")),
+    # a code of CRITICALITY: the sign of the third derivative of F at v_star
+    "criticality": (_law.D_CRIT, _HOPF),
 }
 CRITICALITY = {0: "none", 1: "supercritical", 2: "subcritical", 3: "degenerate"}
 
@@ -184,11 +186,14 @@ def _r_y_or_zero(source):
         return 0.0
 
 
-def criticality_code(l1):
-    """Flag codes of ``CRITICALITY`` from first Lyapunov coefficients ``l1``."""
-    l1 = np.asarray(l1, np.float64)
-    return np.where(np.isnan(l1), 0, np.where(l1 < 0, 1, np.where(l1 > 0, 2, 3))
-                    ).astype(np.int8)
+def criticality_code(source):
+    """Flag codes of ``CRITICALITY`` (int8) of ``source``: none without a Hopf speed,
+    else the kind of the lowest one by the sign of F'''(-v*) (the sign of the first
+    Lyapunov coefficient, which its value can lose to underflow)."""
+    got = derived("criticality", source)
+    if hasattr(got, "astype"):
+        return got.astype(np.int8)
+    return np.int8(got)
 
 
 def friction(zdot, source, phase=None):
@@ -253,7 +258,9 @@ def unresolvable(P: np.ndarray, o: np.ndarray, laws=(ANALYTIC,)) -> np.ndarray:
     bound of ``|F'|`` at the row's speeds (``slope_scale``; for the analytic family
     ``max(|alpha1|, 3 alpha2 v^2, |r_y - r_k|/v_s)``), an upper bound of the law's
     slope per ``m omega`` (``|q|/omega`` is one value of it). ``zeta = 0`` (constant
-    friction, no damping: neutral circles) is resolved exactly, and a static belt
+    friction, no damping: neutral circles) is resolved exactly, and so is a
+    conservative field (the law's ``conservative``: for the analytic family c =
+    alpha1 without a cubic or Stribeck term, taken as zeta = 0); a static belt
     (``v = 0``) has no cycle through the breakaway point to mistake. (2)
     ``1/omega > TIME_SCALE_MAX``.
     """
@@ -265,14 +272,19 @@ def unresolvable(P: np.ndarray, o: np.ndarray, laws=(ANALYTIC,)) -> np.ndarray:
     which = P[:, layout.LAW].astype(np.intp)
     slope = np.zeros(P.shape[0])
     linear = np.zeros(P.shape[0], bool)
+    conservative = np.zeros(P.shape[0], bool)
     for i, law in enumerate(laws):
         rows = which == i
         if rows.any():
             slope[rows] = law.slope_scale(P[rows])
             linear[rows] = law.closed_form(P[rows])
+            conservative[rows] = law.conservative(P[rows])
     with np.errstate(all="ignore"):
         root_m, root_k = np.sqrt(m), np.sqrt(k)
         zeta = np.maximum(np.abs(P[:, layout.C]), slope) / (root_m * root_k)
+        # a conservative field (kernel law.conservative) changes no motion at all:
+        # its circles are exact, as for zeta = 0
+        zeta = np.where(conservative, 0.0, zeta)
         method = int(o[layout.O_METHOD])
         if method < 0:          # auto: the closed form, else one of the adaptive pairs
             pairs = max(f for f, a in zip(TOUCH_FACTOR, ADAPTIVE) if a)

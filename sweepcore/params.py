@@ -298,7 +298,7 @@ class Params:
     @property
     def criticality(self) -> str:
         """"supercritical", "subcritical", "degenerate", or "none" (no Hopf speed)."""
-        return law.CRITICALITY[int(law.criticality_code(self.first_lyapunov))]
+        return law.CRITICALITY[int(law.criticality_code(self))]
 
     @property
     def x_eq(self) -> float:

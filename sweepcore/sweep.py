@@ -10,10 +10,16 @@ count.
 
 * no ``client``, no ``scheduler`` (the fast path): chunks run one after the other in
   this process, each by ``attractor_rows_parallel`` (numba threads over the points;
-  set ``NUMBA_NUM_THREADS`` before importing numba to change their number).
+  set ``NUMBA_NUM_THREADS`` before importing numba to change their number; a chunk
+  smaller than the threads' lanes is shared out by Python threads instead).
 * ``scheduler="threads" | "processes" | "synchronous"``: one dask task per chunk,
   each calling the serial ``attractor_rows`` (it releases the GIL), so dask alone
   provides the parallelism (never nested numba threads).
+
+Either way the chunk goes through :func:`sweepcore.execute.attractors`, the one call
+of the attractor kernel that :func:`sweepcore.attractor`, the boundary searches, the
+diagrams and the basins make too: the kernel, then the scale rule
+(:func:`sweepcore.law.flag_unresolvable`).
 * ``client=distributed.Client`` or a scheduler address such as
   ``"tcp://10.0.0.1:8786"`` (also accepted as ``scheduler=``): one task per chunk
   submitted to the cluster, results gathered with ``as_completed``.
@@ -93,7 +99,11 @@ def run_chunk_parallel(grid: Grid, start: int, stop: int, o: np.ndarray) -> np.n
     return _observables(grid, start, stop, o, True)
 
 
-def _observables(grid, start, stop, o, parallel) -> np.ndarray:
+def _observables(grid: Grid, start: int, stop: int, o: np.ndarray,
+                 parallel: bool) -> np.ndarray:
+    """The kernel and the scale rule on the chunk's rows: the one call that
+    :func:`sweepcore.attractor` and the boundary searches make too
+    (:func:`sweepcore.execute.attractors`)."""
     out = np.empty((stop - start, layout.NOBS))
     execute.attractors(grid.rows(start, stop), grid.laws, o, out, parallel)
     return out

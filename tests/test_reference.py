@@ -283,3 +283,64 @@ def test_stick_slip_cycle_against_a_long_run():
     assert all(e[2] == pytest.approx(0.85, abs=1e-14) for e in slips)
     np.testing.assert_allclose(np.diff([e[0] for e in slips])[1:], cyc["period"],
                                rtol=1e-10)
+
+
+# --------------------------------------------- tests/reference_edges.py, validated
+def test_layered_reference_agrees_with_the_plain_one_on_a_wide_layer():
+    """v_s = 0.1 |v|-ish: the plain DOP853 run resolves the layer by its own error
+    control; the layered run (step capped in the layer) gives the same cycle."""
+    from reference_edges import layered_stick_slip_cycle
+    kw = dict(m=1.0, k=1.0, r_y=1.0, c=0.05, r_k=0.5, v_s=0.1)
+    a = layered_stick_slip_cycle(**kw, v=0.3)
+    b = reference_stick_slip_cycle(1.0, 1.0, 1.0, 0.3, 0.0, 0.0, c=0.05, r_k=0.5,
+                                   v_s=0.1)
+    for name in ("amplitude", "x_max", "x_min", "period", "stick_time", "mean"):
+        assert a[name] == pytest.approx(b[name], abs=1e-10), name
+
+
+@pytest.mark.parametrize("v_s", [1e-3, 1e-6])
+def test_layered_reference_converges_in_its_cap_and_tolerance(v_s):
+    from reference_edges import layered_stick_slip_cycle
+    kw = dict(m=1.0, k=1.0, r_y=1.0, c=0.05, r_k=0.5, v_s=v_s, v=0.3)
+    a = layered_stick_slip_cycle(**kw)
+    b = layered_stick_slip_cycle(**kw, cap_fraction=0.01, rtol=1e-13)
+    for name in ("amplitude", "period", "stick_time"):
+        assert a[name] == pytest.approx(b[name], abs=2e-12), name
+
+
+def test_layered_reference_tends_to_the_jump_law_linearly_in_v_s():
+    """c = 0: the jump law's closed form (above) is the limit v_s -> 0+; the
+    layered reference approaches it in proportion to v_s (the release through the
+    layer, where the friction is still above r_k, lasts ~v_s (m/d) ln(...))."""
+    from reference_edges import layered_stick_slip_cycle
+    m, k, r_y, r_k, v = 2.0, 3.0, 1.2, 0.8, 0.7
+    ex = _jump_law_cycle(m, k, r_y, r_k, v)
+    errs = []
+    for vs in (1e-5, 1e-7, 1e-9):
+        r = layered_stick_slip_cycle(m, k, r_y, v, r_k=r_k, v_s=vs)
+        errs.append(abs(r["period"] - ex["stick_time"] - ex["slip_time"]))
+        assert r["amplitude"] == pytest.approx(ex["amplitude"], abs=100 * vs)
+    assert errs[0] > 30 * errs[1] > 900 * errs[2]
+
+
+def test_reference_attractor_on_closed_forms():
+    """The jump law (v_s -> 0) from the stuck start: its closed-form stick-slip
+    cycle; constant friction with damping from next to x_eq: the equilibrium (the
+    damped linear oscillator, certified); a cubic law below v*: the slip cycle of
+    the shooting solve, with the averaging amplitude to 1 % (docs/physics.md: 0.1 %)."""
+    from reference_edges import reference_attractor
+    m, k, r_y, r_k, v = 2.0, 3.0, 1.2, 0.8, 0.7
+    ex = _jump_law_cycle(m, k, r_y, r_k, v)
+    got = reference_attractor(m, k, r_y, v, 0.0, 0.0, 0.0, None, r_k=r_k, v_s=0.0)
+    assert got["regime"] == "stick_slip"
+    assert got["cycle"]["amplitude"] == pytest.approx(ex["amplitude"], abs=1e-10)
+    eq = reference_attractor(1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 1.0 - 0.1 + 0.05, 0.0, c=0.1)
+    assert eq["regime"] == "equilibrium" and eq["cycle"] is None
+    # the paper's law at 0.95 v*: a stable slip cycle, A omega = 2 sqrt(v*^2 - v^2)
+    vs = math.sqrt(1.0 / (3 * 0.01))
+    cyc = reference_attractor(5.0, 50.0, 10.0, 0.95 * vs, 1.0, 0.01, 0.2 + 0.5, 0.0,
+                              max_periods=4000)
+    assert cyc["regime"] == "slip_cycle"
+    w = math.sqrt(10.0)
+    assert cyc["cycle"]["amplitude"] * w == pytest.approx(
+        2 * math.sqrt(vs ** 2 - (0.95 * vs) ** 2), rel=1e-2)

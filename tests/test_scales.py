@@ -89,6 +89,17 @@ def test_constant_friction_keeps_its_closed_form_at_any_mass():
     assert got["amplitude"] == pytest.approx(5.0 / np.sqrt(50.0 / 1e20), rel=1e-9)
 
 
+def test_a_conservative_field_keeps_its_closed_form_at_any_mass():
+    """c = alpha1 (no cubic term): m x'' + k x = -(r_y s + c v), the constant law's
+    circles about the breakaway point; zeta > 0 from c and alpha1 alone, but no
+    motion changes: the grazing circle of radius v/omega, not unresolvable_scale."""
+    got = one(**{**PAPER, "m": 1e20, "alpha2": 0.0, "c": 1.0})
+    assert (got["status"], got["regime"]) == (codes.OK, codes.R_SLIP_CYCLE)
+    assert got["amplitude"] == pytest.approx(5.0 / np.sqrt(50.0 / 1e20), rel=1e-9)
+    weak = one(**{**PAPER, "m": 1e20, "alpha2": 0.0, "c": 1.5})    # c != alpha1
+    assert (weak["status"], weak["regime"]) == (codes.SCALE, codes.R_FAILED)
+
+
 def test_a_static_belt_is_not_flagged_however_weak_the_law():
     """v = 0, started stuck inside the stick band: stuck for ever (|k x0| < r_y)."""
     got = one(**{**PAPER, "m": 1e20, "v": 0.0, "x0": 0.1})
@@ -101,3 +112,24 @@ def test_the_boundary_searches_batches_are_flagged_too():
     out = np.empty((1, layout.NOBS))
     execute.attractors(P, g.laws, make_options("auto", tol=1e-8), out, parallel=False)
     assert out[0, layout.OB_STATUS] == codes.SCALE
+
+
+@pytest.mark.parametrize("p", [
+    {**PAPER, "m": 1e300, "v": 7.0},                       # too weak a law per period
+    units(1e100),                                          # 1/omega beyond the range
+    {**PAPER, "m": 3e250, "v": 2.0, "alpha2": 0.03},       # the same two, elsewhere
+    units(1e90, 1e20),
+    {**PAPER, "v": 7.0},                                   # resolved: both ok
+])
+def test_attractor_and_sweep_apply_one_scale_rule(p):
+    """``attractor()`` and ``sweep()`` run the same call (kernel, then the scale
+    rule): the same row, bit for bit, flagged or not."""
+    params = sc.Params(**p)
+    a = sc.attractor(params)
+    ds = sc.sweep(sc.Grid(**p), progress=False)
+    flagged = bool(law.unresolvable(sc.Grid(**p).rows(0, 1), make_options())[0])
+    assert (a.status == "unresolvable_scale") == flagged
+    assert a.status == codes.STATUS_NAMES[int(ds.status)]
+    assert a.regime == codes.REGIME_NAMES[int(ds.regime)]
+    for name in ("amplitude", "period", "mean", "floquet", "n_steps"):
+        np.testing.assert_array_equal(getattr(a, name), ds[name].item())

@@ -28,19 +28,21 @@ from .jit import kernel
 from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
-from .law import (breakaway, certified_rest, conservative, normal_form_valid,
-                  piecewise_linear, x_eq)
-from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN,
-                     ACC_CYC, ACC_LAST, ACC_SEC, ACC_STEP, K, M, MAXED, MINNED, NA,
-                     NACC, NO, NOBS, NP, NS, NW, O_DT, O_GPS_A, O_LV, O_LX, O_MAX_STEPS,
-                     O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE,
-                     OB_FLOQUET, OB_MEAN, OB_NSTEPS, OB_PERIOD, OB_REGIME, OB_STATUS,
-                     OB_STICK_FRACTION, OB_STICKS_PER_PERIOD, OB_T_SETTLE, OB_VAMPLITUDE,
-                     OB_X_MAX, OB_X_MIN, OB_XDOT_MAX, S_MODE, S_N, S_T, S_X, S_ZD,
-                     SUMMED, V, W_A, W_CONSERVATIVE, W_E, W_E_REST, W_FD_SLOPE, W_ERR_JUMP, W_LX, W_MODE0, W_N_EV, W_N_SEC,
-                     W_NEWTON_REST, W_NF_FLOOR, W_NF_OK, W_ODE, W_OMEGA, W_ON_NF, W_RESET_SEEN, W_RTOL,
-                     W_RTOLH, W_SALT, W_SALTH, W_T_BUDGET, W_T_CYC, W_T_LAST, W_T_NAT, W_T_OFF,
-                     W_T_SLIDE, W_TOL, W_XS, X0, XD0)
+from .law import (anti_damped, breakaway, certified_rest, conservative,
+                  normal_form_valid, piecewise_linear, x_eq)
+from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
+                     A_XMIN, ACC_CYC, ACC_LAST, ACC_SEC, ACC_STEP, K, M, MAXED, MINNED,
+                     NA, NACC, NO, NOBS, NP, NS, NW, O_DT, O_GPS_A, O_GRAZE, O_LV,
+                     O_LX, O_MAX_STEPS, O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE,
+                     OB_CYCLE_SIZE, OB_FLOQUET, OB_MEAN, OB_NSTEPS, OB_PERIOD,
+                     OB_REGIME, OB_STATUS, OB_STICK_FRACTION, OB_STICKS_PER_PERIOD,
+                     OB_T_SETTLE, OB_VAMPLITUDE, OB_X_MAX, OB_X_MIN, OB_XDOT_MAX,
+                     S_MODE, S_N, S_T, S_TOUCH, S_X, S_ZD, SUMMED, V, W_A,
+                     W_CONSERVATIVE, W_E, W_E_REST, W_FD_SLOPE, W_ERR_JUMP, W_LX,
+                     W_MODE0, W_N_EV, W_N_SEC, W_NEWTON_REST, W_NF_FLOOR, W_NF_OK,
+                     W_ODE, W_OMEGA, W_ON_NF, W_RESET_SEEN, W_RTOL, W_RTOLH, W_SALT,
+                     W_SALTH, W_T_BUDGET, W_T_CYC, W_T_LAST, W_T_NAT, W_T_OFF,
+                     W_T_SLIDE, W_TOL, W_TOUCHED, W_XS, X0, XD0)
 from .normal_form import nf_jump, nf_multiplier, nf_step
 from .resolution import check_cycle
 from .sections import (ACCEPT, ACCEPT_FLOOR, ACCEPT_NF, NEUTRAL, NF_JUMP,
@@ -48,7 +50,7 @@ from .sections import (ACCEPT, ACCEPT_FLOOR, ACCEPT_NF, NEUTRAL, NF_JUMP,
                        newton_decision, note_event, own_map_step, push_section,
                        static_belt_decision, undo_jump)
 from .return_map import return_slope
-from .stepper import CLOSED_FORM
+from .stepper import ADAPTIVE, CLOSED_FORM
 
 EPS = np.finfo(np.float64).eps
 
@@ -118,8 +120,8 @@ def answer_rest(out, x, t, regime, stuck, n_steps):
 @kernel
 def answer_failure(out, w, acc, status, n_steps, unbounded):
     """Budget spent (the last return's estimates where there is one) or a numerical
-    failure (NaN); ``unbounded``: a divergence of the closed-form method is the
-    motion's own growth."""
+    failure (NaN); ``unbounded``: a divergence is the motion's own growth
+    (``grows_without_bound``)."""
     out[OB_NSTEPS] = n_steps
     if status == codes.UNCONVERGED or status == codes.STEP_BUDGET:
         if w[W_N_SEC] >= 3.0:
@@ -236,15 +238,30 @@ def _rested(st, p, lw, w, out):
 
 
 @kernel
-def on_reset(st, p, w, acc, out):
+def on_reset(meth, st, p, o, w, acc, out, touched):
     """At the breakaway point: the second reset ends a whole period (the answer,
     Floquet multiplier 0: every period restarts from the same point); the first
-    starts measuring one. Returns True when answered."""
+    starts measuring one. Returns True when answered.
+
+    ``touched``: the reset is a tangential touch snapped to the breakaway point
+    (``driver.classify_zero``), which hides whether the motion stuck for an instant,
+    grazed, or passed below the belt speed by less than the touch tolerance (next to
+    a fold, the last ends in steady sliding); or a stick of the period began at a
+    touch (``W_TOUCHED``: placed at the turning point of zdot, its start and so the
+    stick fraction are known to ~sqrt(touch tolerance) only). Unless the law is
+    conservative (its touch is exact), such a period is measured again at a
+    hundredth of the tolerance (``retouch``), whose touch tolerance is a hundredth
+    too; a touch that remains at the floor RTOL_FLOOR is answered with status
+    unresolved."""
+    touched = touched or w[W_TOUCHED] > 0.0
+    w[W_TOUCHED] = 0.0
     if w[W_RESET_SEEN] > 0.0:
-        cyc = acc[ACC_CYC]
-        regime = codes.R_STICK_SLIP if cyc[A_NSTICK] > 0 else codes.R_SLIP_CYCLE
-        answer_cycle(out, cyc, w[W_T_CYC], w[W_OMEGA], regime, 0.0, False, p, st[S_N])
-        return True
+        if not (touched and retouch(meth, p, o, w)):
+            cyc = acc[ACC_CYC]
+            regime = codes.R_STICK_SLIP if cyc[A_NSTICK] > 0 else codes.R_SLIP_CYCLE
+            answer_cycle(out, cyc, w[W_T_CYC], w[W_OMEGA], regime, 0.0,
+                         touched and w[W_CONSERVATIVE] == 0.0, p, st[S_N])
+            return True
     w[W_RESET_SEEN] = 1.0
     w[W_T_CYC] = w[W_T_OFF] + st[S_T]
     clear(acc[ACC_CYC])
@@ -253,6 +270,22 @@ def on_reset(st, p, w, acc, out):
     w[W_SALT] = 0.0
     w[W_N_EV] = 0.0
     return False
+
+
+@kernel
+def retouch(meth, p, o, w):
+    """Lower the tolerance in force a hundredfold (to RTOL_FLOOR at most) to measure
+    a period that ended on a touch again, and the touch tolerance's floor ``graze``
+    with it (``driver.touch_tol``: max(graze, 20 rtol) |v|); False where that cannot
+    sharpen the touch: a conservative law (exact touches), a method without error
+    control (exact arcs, gps, rk4: their touch tolerance is ``graze``) or the floor
+    reached."""
+    if w[W_CONSERVATIVE] > 0.0 or not ADAPTIVE[meth] or o[O_RTOL] <= RTOL_FLOOR:
+        return False
+    o[O_RTOL] = max(0.01 * o[O_RTOL], RTOL_FLOOR)
+    o[O_GRAZE] = 0.01 * o[O_GRAZE]
+    w[W_RTOL] = o[O_RTOL]
+    return True
 
 
 @kernel
@@ -265,9 +298,11 @@ def on_event(meth, ev, st, p, lw, o, w, acc, out):
     if v == 0.0 and ev == codes.EV_STICK:
         answer_rest(out, st[S_X], w[W_T_OFF] + t, codes.R_STUCK, True, st[S_N])
         return True
+    if ev == codes.EV_STICK and st[S_TOUCH] > 0.0:
+        w[W_TOUCHED] = 1.0
     if v != 0.0 and (ev == codes.EV_SLIP or (
             ev == codes.EV_ABNORMAL_STOP and st[S_X] == w[W_XS])):
-        return on_reset(st, p, w, acc, out)
+        return on_reset(meth, st, p, o, w, acc, out, ev == codes.EV_ABNORMAL_STOP)
     # sections: maxima of x (minima for v < 0, so that v -> -v is an exact mirror)
     if not ((ev == codes.EV_XMAX and v > 0.0) or (ev == codes.EV_XMIN and v < 0.0)
             or (v == 0.0 and ev == codes.EV_NORMAL_STOP and st[S_X] > 0.0)):
@@ -388,4 +423,13 @@ def attractor_point(meth, p, lw, o_in, out):
             break
     if status == codes.OK:
         status = codes.STEP_BUDGET        # the loop itself ran out
-    answer_failure(out, w, acc, status, st[S_N], meth == codes.EXACT)
+    answer_failure(out, w, acc, status, st[S_N], grows_without_bound(meth, p, lw))
+
+
+@kernel(inline="always")
+def grows_without_bound(meth, p, lw):
+    """Whether a divergence (status ``diverged``) is the motion's own growth, regime
+    ``unbounded``: a law anti-damped at high speed (``law.anti_damped``) integrated
+    with a controlled error (the closed form or an adaptive pair). A fixed step
+    (gps, rk4) can diverge by itself: that stays a failure."""
+    return (meth == codes.EXACT or ADAPTIVE[meth]) and anti_damped(p, lw)

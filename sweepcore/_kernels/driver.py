@@ -33,10 +33,11 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .law import accel, breakaway, constants, jerk, stick_band
+from .law import accel, breakaway, constants, jerk, step_bound, stick_band
 from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
-                     O_METHOD, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
+                     O_METHOD, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_TOUCH, S_X, S_ZD,
+                     V)
 from .events import F_XD, F_ZD, F_ZDD, cubic, polish, zd_event
 from .stepper import ADAPTIVE, EXPONENT, TOUCH_FACTOR, proposal, step
 
@@ -198,8 +199,10 @@ def _book(acc, qx, qv, qw, ql, h):
 
 
 @kernel
-def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe):
-    """Book the partial step to a zdot = 0 event at h and apply the stop rules."""
+def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched):
+    """Book the partial step to a zdot = 0 event at h and apply the stop rules;
+    ``touched``: the event is a tangential touch (``st[S_TOUCH]``), whose stop or
+    stick the integrator decided within its touch tolerance only."""
     _x, _z, qx, qv, qw, ql, _e, _ok = step(meth, x0, zd0, h, s, p, lw, o, True)
     st[S_N] += 1.0
     _book(acc, qx, qv, qw, ql, h)
@@ -209,6 +212,7 @@ def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe):
     st[S_ZD] = 0.0
     st[S_MODE] = new
     st[S_ARMED] = 0.0
+    st[S_TOUCH] = 1.0 if touched else 0.0
     if new == codes.STICK:
         acc[A_NSTICK] += 1.0
     _note_x(acc, xn, p[V])
@@ -246,27 +250,35 @@ def _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, 
     """Where zdot = 0 inside the step from (x, zd), once the scan of the step's
     Hermite cubic (``events.zd_event``) found a crossing (kind 1, bracketed in
     [ta, tb]) or a turning point tc that may touch 0 (kind 2). Touches are placed at
-    the turning point, where they are well conditioned. Returns ``(h_ev, x_ev)``,
-    h_ev < 0 when the integrator does not confirm it."""
+    the turning point, where they are well conditioned. Returns ``(h_ev, x_ev,
+    touched)``, h_ev < 0 when the integrator does not confirm it.
+
+    A crossing of the cubic that the integrator does not confirm, in a step where
+    zdd turns towards 0 and back (g has an interior minimum), is checked at that
+    turning point as for kind 2: the cubic's error there can exceed a small
+    excursion past 0, and the step would otherwise pass a real stick or touch."""
     v = p[V]
     h_ev = -1.0
     xe = x
     crossing = False
-    if kind == 2:                   # check the turning point on the integrator
-        # zdd has the sign -s where g falls towards the touch, +s after it
-        hc, xc, zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, 0.5 * (ta + tc) * h,
-                            0.5 * (tc + tb) * h, -s, tc * h, st)
-        gc = s * zc
-        if abs(gc) <= gtol:         # a touch
-            return hc, xc
-        if gc < 0.0:                # a real double crossing: the first root
-            h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, hc, s,
-                                   0.5 * (ta + tc) * h, st)
-            crossing = True
-    else:
+    lo, hi = 0.5 * (ta + tc), 0.5 * (tc + tb)      # the turning point's bracket
+    if kind == 1:
         h_ev, xe = _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, s * a0 * h,
                                   s * a1 * h, ta, tb)
         crossing = h_ev >= 0.0
+        if not crossing and s * a0 < 0.0 < s * a1:
+            kind, ta, tc, lo, hi = 2, 0.0, a0 / (a0 - a1), 0.0, 1.0
+    if kind == 2:                   # check the turning point on the integrator
+        # zdd has the sign -s where g falls towards the touch, +s after it
+        hc, xc, zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, lo * h, hi * h, -s, tc * h,
+                            st)
+        gc = s * zc
+        if abs(gc) <= gtol:         # a touch
+            return hc, xc, True
+        if gc < 0.0:                # a real double crossing: the first root
+            h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, hc, s,
+                                   0.5 * (ta * h + hc), st)
+            crossing = True
     if crossing:
         # A crossing whose excursion past 0 stays within the graze tolerance is a
         # touch: its root is ill-conditioned (error ~ sqrt(eps)), its turning
@@ -277,7 +289,8 @@ def _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, 
             tau = -gp / gpp
             h_ev, xe, _zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, h_ev, h_ev + 2.0 * tau,
                                    -s, h_ev + tau, st)
-    return h_ev, xe
+            return h_ev, xe, True
+    return h_ev, xe, False
 
 
 @kernel
@@ -328,9 +341,8 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
             return codes.EV_STOP_TIME, codes.STEP_BUDGET
         x = st[S_X]
         zd = st[S_ZD]
-        h = proposal(meth, x, zd, s, p, lw, o, st[S_H])
-        if adaptive:
-            h = min(h, 0.5 / omega)
+        h, a0 = _capped(proposal(meth, x, zd, s, p, lw, o, st[S_H]), x, zd, s, cf, lw, k,
+                        m, v, o, omega, adaptive)
         last = t + h >= t_stop
         if last:
             h = t_stop - t
@@ -354,7 +366,8 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
                 continue
         if not (abs(x1) < 1e12 * o[O_LX] and abs(z1) < 1e12 * omega * o[O_LX]):
             return codes.EV_STOP_TIME, codes.DIVERGED
-        a0 = accel(x, zd, s, cf, lw, k, m)
+        if a0 != a0:                # not taken by the step bound
+            a0 = accel(x, zd, s, cf, lw, k, m)
         a1 = accel(x1, z1, s, cf, lw, k, m)
         # --- zdot = 0: crossings, double crossings and touches inside the step
         g0 = s * zd
@@ -362,21 +375,22 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
         kind, ta, tb, tc, armed = zd_event(g0, g1, s * a0 * h, s * a1 * h,
                                            st[S_ARMED] > 0.0, near)
         st[S_ARMED] = 1.0 if armed else 0.0
-        h_ev, xe = -1.0, x1
+        h_ev, xe, touched = -1.0, x1, False
         if kind != 0:
-            h_ev, xe = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind,
-                                    ta, tb, tc, gtol, cf)
-        elif 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol and armed:
-            # the step ends on a touch (exact arcs end on turning points): zdot came
-            # down to within gtol of 0 and stopped falling (not a creep away from 0)
-            h_ev = h
+            h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0,
+                                             g1, kind, ta, tb, tc, gtol, cf)
+        if h_ev < 0.0 and 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol and armed:
+            # the step ends on a touch (exact arcs end on turning points; also where the
+            # cubic dipped below 0 by rounding just before it): zdot stopped falling
+            h_ev, xe, touched = h, x1, True
         # --- extremum of x (Poincare section) inside the step
         if v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0):
             ev = _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf)
             if ev != codes.EV_NONE:
                 return ev, codes.OK
         if h_ev >= 0.0:
-            return _finish_zero(meth, st, p, lw, o, acc, x, zd, s, h_ev, xe), codes.OK
+            return _finish_zero(meth, st, p, lw, o, acc, x, zd, s, h_ev, xe,
+                                touched), codes.OK
         _book(acc, qx, qv, qw, ql, h)
         if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
             _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1)
@@ -386,6 +400,19 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
         _note_x(acc, x1, z1 + v)
         if last:
             return codes.EV_STOP_TIME, codes.OK
+
+
+@kernel(inline="always")
+def _capped(h, x, zd, s, cf, lw, k, m, v, o, omega, adaptive):
+    """An adaptive step at most half a natural time and what the law's own layer
+    allows (``law.step_bound``): ``(h, zdd at the step's start)``, zdd NaN where
+    the bound did not need it."""
+    a0 = np.nan
+    if adaptive:
+        h = min(h, 0.5 / omega)
+        hb, a0 = step_bound(x, zd, s, cf, lw, k, m, v, o[O_RTOL] * o[O_LV])
+        h = min(h, hb)
+    return h, a0
 
 
 @kernel(inline="always")

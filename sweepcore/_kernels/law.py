@@ -319,9 +319,30 @@ def arc_constants(s, p, lw):
 
 @interface()
 def conservative(p, lw):
-    """True where the law neither damps nor drives a slip motion (constant Coulomb
-    friction without damping: a neutral family of circles)."""
+    """True where the sliding field is conservative, ``m x'' + k x`` equal to a
+    constant on each slide (the constant Coulomb law, or damping c that the law's
+    slope cancels): a neutral family of circles, exact touches."""
     return False
+
+
+@interface()
+def anti_damped(p, lw):
+    """True where the damping ``c + F'`` is negative at high sliding speed on both
+    sides (an error-controlled integration that diverges follows the motion: growth
+    without bound). Generic form: F' at the far end of ``speed_range``."""
+    _u_lo, u_hi = speed_range(p, lw)
+    return (p[C] + derivatives(p, lw, u_hi)[0] < 0.0
+            and p[C] + derivatives(p, lw, -u_hi)[0] < 0.0)
+
+
+@interface(inline=True)
+def step_bound(x, zd, s, cf, lw, k, m, v, dz):
+    """``(h, a)``: the largest sliding step [s] the law itself needs resolved at the
+    state (x, zd) of a slide with sign s (a narrow layer of its slope, such as a
+    steep Stribeck term: ``laws/analytic.py``), with ``dz`` the velocity tolerance
+    [cm/s], and the acceleration a [cm/s^2] it computed on the way (NaN: none).
+    Generic form: no bound."""
+    return np.inf, np.nan
 
 
 # ------------------------------------------- the law in the field (generic)
@@ -417,10 +438,24 @@ def first_lyapunov(p, lw, va):
     return -p[K] / p[M] * third_derivative(p, lw, va) / (16.0 * p[M])
 
 
+@kernel
+def criticality(p, lw, n, u1):
+    """Kind of the lowest Hopf point u1 (n roots): 0 none, 1 supercritical, 2
+    subcritical, 3 degenerate, by the sign of F'''(-u1) (l1 can underflow to 0)."""
+    if n == 0:
+        return 0
+    f3 = third_derivative(p, lw, u1)
+    if f3 > 0.0:
+        return 1
+    if f3 < 0.0:
+        return 2
+    return 3
+
+
 # ---------------------------------------------------------- Python's view
 # columns of the derived-quantity rows (derived_rows)
-D_OMEGA, D_Q, D_XEQ, D_VSTAR, D_VSTAR2, D_NHOPF, D_LYAP, D_XS = range(8)
-ND = 8
+D_OMEGA, D_Q, D_XEQ, D_VSTAR, D_VSTAR2, D_NHOPF, D_LYAP, D_XS, D_CRIT = range(9)
+ND = 9
 
 
 @kernel
@@ -441,6 +476,8 @@ def derived_value(p, lw, which):
         return u2
     if which == D_NHOPF:
         return float(n)
+    if which == D_CRIT:
+        return float(criticality(p, lw, n, u1))
     return first_lyapunov(p, lw, u1) if n > 0 else np.nan
 
 

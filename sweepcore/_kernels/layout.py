@@ -36,7 +36,8 @@ NO = 9
 
 # simulation state st
 S_T, S_X, S_ZD, S_MODE, S_ARMED, S_H, S_N = range(7)   # S_N: stepper calls so far
-NS = 7
+S_TOUCH = 7     # 1 where the last zdot = 0 event was a tangential touch (driver)
+NS = 8
 
 # accumulators acc (reset by the caller at the start of a measured interval)
 A_IX = 0        # int x dt                        [cm s]
@@ -75,7 +76,7 @@ W_T_BUDGET = 4     # sliding-time budget [s]
 W_XS = 5           # breakaway point [cm]
 W_NF_OK = 6        # the normal form may be used (law.normal_form_valid, not gps)
 W_ODE = 7          # the method follows the ODE (not gps): certificate, Liouville slope
-W_CONSERVATIVE = 8  # constant friction without damping: a neutral family
+W_CONSERVATIVE = 8  # a conservative sliding field (law.conservative): a neutral family
 W_T_OFF = 9        # absolute time of the local clock's origin [s] (reset after sticks)
 W_T_SLIDE = 10     # sliding time so far [s] (only sliding counts against the budget)
 W_MODE0 = 11       # phase before the last advance
@@ -105,7 +106,8 @@ W_FD_A0 = 44       # ... of the base return a0 -> a1 [cm]
 W_FD_A1 = 45
 W_FD_DELTA = 46    # ... started at a0 + delta [cm]
 W_FD_SLOPE = 47    # the slope it measured (NaN: none yet)
-NW = 48
+W_TOUCHED = 48     # a stick since the last reset began at a touch (S_TOUCH)
+NW = 49
 
 # observables row written by the attractor kernel
 OB_AMPLITUDE = 0

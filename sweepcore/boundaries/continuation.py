@@ -45,8 +45,8 @@ def _continued_point(pt, values, xtol, offset, start, hist, over_value):
         kinds.append("hopf")
     if len(hist["graze"]) >= 2:
         guess = _predict(hx[-2:], hist["graze"][-2:], over_value)
-        # slip cycles beyond the band where the labels already say stick (the
-        # graze tolerance, ~1e-6 relative) and beyond the prediction's error
+        # slip cycles beyond the band where they touch the belt within the touch
+        # tolerance (~1e-6 relative) and beyond the prediction's error
         delta = max(4.0 * hist["graze_err"], SEED_SPACING * guess)
         scale = guess / hist["graze"][-1]
         seeds = hist["graze_reach"][-1]

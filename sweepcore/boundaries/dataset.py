@@ -108,10 +108,10 @@ def _dataset(other: Grid, along: str, results, o, method, call,
     if along == "v":        # the analytic values to compare with
         ds["v_star"] = labels.analytic("v_star", ds, laws=other.laws).variable
         ds["hopf_criticality"] = xr.Variable(
-            ds["v_star"].dims, law.criticality_code(
-                labels.analytic("first_lyapunov", ds, laws=other.laws).values),
+            ds["v_star"].dims, labels.criticality(ds, other.laws).values,
             labels.flags(law.CRITICALITY, "kind of the Hopf point v_star (sign of "
-                                          "the first Lyapunov coefficient)"))
+                                          "F''' there: of the first Lyapunov "
+                                          "coefficient)"))
         ds["v_stick_onset_estimate"] = labels.stick_onset_estimate(
             ds, other.laws).variable
     ds.attrs.update({

@@ -9,9 +9,10 @@ labels (:func:`_graze`): each round asks for two slip cycles just beyond the
 predicted root (at ``h`` and ``3 h``, ``h`` twice the last correction, at least
 ``BAND`` relative), bisects when no prediction lies inside the bracket, and ends
 when two successive estimates (or the polynomials of two degrees) agree to
-``xtol``. Within ``BAND`` of the grazing the labels already say stick (a cycle
-passing within the driver's graze tolerance of the belt is snapped onto the grazing
-orbit), which is why the indicator, not the label, decides. A continued step starts
+``xtol``. Within ``BAND`` of the grazing a cycle passes within the driver's touch
+tolerance of the belt, where the attractor search must measure it again at finer
+tolerances to tell a stick from a graze (flagged unresolved within ~1e-12 of it):
+the indicator, extrapolated from cycles beyond the band, decides. A continued step starts
 from a predicted grazing (:func:`_seeded_graze`).
 """
 from __future__ import annotations
@@ -24,8 +25,8 @@ from .._kernels import codes, layout
 from .point import (ABSENT, CYCLES, FAILED, INCONSISTENT, LOCATED, STUCK, _ok, _Point,
                     _regime)
 
-BAND = 1e-6             # relative width next to a grazing where cycles get snapped
-                        # onto the grazing orbit (measured ~3e-7 at tol 1e-10)
+BAND = 1e-6             # relative width next to a grazing where cycles touch the belt
+                        # within the touch tolerance (~3e-7 at tol 1e-10)
 N_GRAZE = 3             # slip cycles of a seeded grazing step, at most
 SEED_SPACING = 2 * BAND  # their relative spacing (beyond the band, close enough that
                          # the quadratic and linear roots agree to ~1e-11 relative)
@@ -81,8 +82,7 @@ def _graze(pt: _Point, stick: float, slip: float, xtol: float, slip_rows=(),
     ``slip_rows``: (value, observables) of slip cycles already known (e.g. from a
     scan). Every attractor is started inside its cycle, at x_eq + the amplitude
     (x_max - x_eq) of the known slip cycle nearest the stick side (``amp`` before
-    any is known): a start outside would touch the belt on the way in and, within
-    the graze tolerance, be snapped onto the grazing orbit itself. A cycle that
+    any is known): a start outside would touch the belt on the way in. A cycle that
     still touches (``xdot_max = v``) counts on the stick side. Returns
     ``dict(value, width, status, amp)``: the root of the slip-side secant of
     ``g = v - xdot_max`` inside the final bracket, and that bracket's width.
@@ -135,7 +135,7 @@ def _graze(pt: _Point, stick: float, slip: float, xtol: float, slip_rows=(),
         else:
             h = 2.0 * min(abs(p - prev), change)
         # not closer than BAND to the prediction: there the slip cycles touch the
-        # belt within the graze tolerance and are snapped onto the grazing orbit
+        # belt within the touch tolerance (measured again finer, or flagged)
         h = max(h, xtol, BAND * abs(p) if p is not None else 0.0, step or 0.0)
         lo, hi = min(a, b), max(a, b)
         asks = [u for u in ((p + direction * h, p + direction * 3.0 * h)

@@ -88,6 +88,11 @@ class AnalyticLaw(FrictionLaw):
                 np.abs(P[:, layout.A1]), 3.0 * np.abs(P[:, layout.A2]) * v * v,
                 np.where(d != 0.0, np.abs(d) / P[:, layout.VS], 0.0)])
 
+    def conservative(self, P):
+        """No cubic or Stribeck term and c = alpha1 (kernel ``conservative``)."""
+        return ((P[:, layout.A2] == 0.0) & (P[:, layout.RY] == P[:, layout.RK])
+                & (P[:, layout.C] == P[:, layout.A1]))
+
     def attrs(self):
         return {}
 

@@ -80,6 +80,11 @@ class FrictionLaw:
         magnitude rule of :func:`sweepcore.law.unresolvable`)."""
         raise NotImplementedError
 
+    def conservative(self, P: np.ndarray) -> np.ndarray:
+        """Rows whose sliding field is conservative (the kernels' ``conservative``:
+        neutral circles, exact touches); none for a law that damps or drives."""
+        return np.zeros(np.atleast_2d(P).shape[0], bool)
+
     def attrs(self) -> dict:
         """Attributes that describe the law in a result file."""
         return {"law": self.name, "law_kind": self.kind}

@@ -193,7 +193,15 @@ def log_jacobian(p, lw, T, izd2, ilaw):
 
 @kernel(inline="always")
 def conservative(p, lw):
-    return p[A1] == 0.0 and p[A2] == 0.0 and p[C] == 0.0 and p[RY] == p[RK]
+    """No cubic or Stribeck term and c = alpha1 (the constant law: 0): ``m x'' + k x
+    = -(r_y s + c v)``."""
+    return p[A2] == 0.0 and p[RY] - p[RK] == 0.0 and p[C] == p[A1]
+
+
+@kernel(inline="always")
+def anti_damped(p, lw):
+    """No cubic term and alpha1 > c: at high speed ``c + F' -> c - alpha1 < 0``."""
+    return p[A2] == 0.0 and p[C] - p[A1] < 0.0
 
 
 # ---------------------------------------------------------- the equilibrium
@@ -304,7 +312,9 @@ def hopf_speeds(p, lw):
             return 1, 0.0, np.nan
         if (g0 < 0.0) == (lin < 0.0) or lin == 0.0:
             return 0, (np.inf if g0 < 0.0 else np.nan), np.nan
-        return 1, p[VS] * math.log(d / (p[VS] * lin)), np.nan
+        # logarithms: d / (v_s lin) overflows for c - alpha1 = 5e-324 (root 372.2)
+        return 1, p[VS] * (math.log(abs(d)) - math.log(p[VS]) - math.log(abs(lin))), \
+            np.nan
     hi = _upper_bracket(p)
     if d > 0.0:
         if g0 >= 0.0:
@@ -348,6 +358,66 @@ def normal_form_valid(p, lw):
     return p[RY] - p[RK] == 0.0 and p[A2] > 0.0 and p[V] != 0.0
 
 
+# ------------------------------------------------------- the Stribeck layer
+LAYER_WIDTHS = 40.0   # beyond 40 v_s from the belt the Stribeck term is below e^-40 of
+                      # the drop r_y - r_k: no step needs to see it
+LAYER_STEP = 4.0      # inside, a step moves zdot by at most 4 v_s (or half its distance
+                      # to the belt): the 12 stages of dop853 sample e^(-|zdot|/v_s)
+                      # at least every third of an e-fold
+
+
+@kernel(inline="always")
+def step_bound(x, zd, s, cf, lw, k, m, v, dz):
+    return _layer_step(x, zd, s, cf, cf[8], k, m, v, dz)
+
+
+@kernel
+def _layer_step(x, zd, s, cf, d, k, m, v, dz):
+    """Largest step [s] that keeps the Stribeck layer ``|zdot| < 40 v_s`` resolved,
+    and zdd at the state (for the driver's step control; none without the layer).
+
+    ``exp(-|zdot|/v_s)`` varies on the width v_s, which can be far below the
+    motion's scale, and inside the layer the law's slope ``-(d/v_s)
+    exp(-|zdot|/v_s)`` makes the sliding field unstable at the rate ``lam =
+    (|d|/(m v_s)) exp(-|zdot|/v_s)``. A step that crosses the layer between two
+    stages, or spans many e-folds of that instability (the release from the
+    breakaway point, where zdd = 0 and zdot leaves 0 like t^2 until the layer takes
+    over), is accepted by an error estimate that never saw it: v_s = 1e-3 |v| put
+    the stick-slip amplitude 4e-6 L off at tol 1e-8; and a layer narrower than any
+    step is one stage's jump of the force by d at the release, which dop853's
+    estimate weighs 7 times too lightly (1.5e-7 L at v_s = 1e-8 |v|).
+
+    Inside the layer a step is at most ``1/lam``, or where that is shorter, the time
+    in which the force's jump ``|d|`` moves zdot by ``dz`` (the velocity tolerance
+    rtol |v|: a layer that narrow is crossed at once, and one such step keeps its
+    jump within the tolerance). A layer wider than ``dz`` is also approached
+    resolved: a step moves zdot by at most ``max(4 v_s, |zdot|/2, |zdot| - 40 v_s)``,
+    reckoned from zdd and its time derivative (outside the layer a bound of it,
+    without the exponential); a narrower layer changes the motion by less than the
+    tolerance on the way in (at second order in v_s)."""
+    if d is None:
+        return np.inf, np.nan
+    a = (-k * x - _force(zd, s, cf, d)) / m
+    vs = cf[6]
+    u = abs(zd)
+    h = np.inf
+    wide = vs > dz
+    aa = abs(a)
+    j = 0.0
+    if u < LAYER_WIDTHS * vs:
+        h = m / abs(d) * max(vs * math.exp(u / vs), dz)
+        if wide:
+            j = abs((-k * (zd + v) + _slope_term(zd, cf, d) * a) / m)
+    elif wide:          # |jerk| <= (k |zdot + v| + |g| |zdd|)/m, e^(-|zdot|/v_s) < e^-40
+        f1, a2 = cf[2], cf[4]
+        j = (k * abs(zd + v) + (abs(f1) + 3.0 * a2 * zd * zd + abs(d) / vs * 4.3e-18)
+             * aa) / m
+    if wide:
+        room = max(LAYER_STEP * vs, 0.5 * u, u - LAYER_WIDTHS * vs)
+        h = min(h, 2.0 * room / (aa + math.sqrt(aa * aa + 2.0 * j * room)))
+    return h, a
+
+
 # ------------------------------------------------------ equilibrium certificate
 @kernel
 def certified_rest(x, zd, p, lw):
@@ -355,7 +425,8 @@ def certified_rest(x, zd, p, lw):
     3 v w + w^2)``, least at ``w = sgn(v) W`` for alpha2 >= 0 (its minimum in w lies
     at 1.5 v, outside ``|w| <= W``; Params and Grid refuse alpha2 < 0); the Stribeck
     term's slope is monotone, least at one end of ``|s + |v|| <= W``. A margin of
-    1e-12 of the terms' size keeps rounding from deciding."""
+    1e-12 of the terms summed keeps rounding from deciding (the Stribeck slope at the
+    set's end, ``smin``, with its exponent's rounding ``eps |v|/v_s``; not ``d/v_s``)."""
     v = p[V]
     if v == 0.0:
         return False
@@ -375,7 +446,7 @@ def certified_rest(x, zd, p, lw):
     if d != 0.0:
         s_end = -va + vel if d > 0.0 else -va - vel  # where the Stribeck slope is least
         smin = -d / p[VS] * math.exp(s_end / p[VS])
-        size += abs(d) / p[VS]
+        size += abs(smin) * (1.0 + va / p[VS])
     return p[C] - p[A1] + poly + smin > 1e-12 * size
 
 
