@@ -23,6 +23,9 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
+# the kernels before the friction law became an interface (compiled per method and
+# law kind): the map must be the same and no slower (``benchmarks/run.py`` full mode)
+BEFORE = "23b2570"
 
 # regime codes of the kernels' table (sweepcore/_kernels/codes.py): equilibrium 0,
 # slip cycle 1, stick-slip 2. Bands as nu = v / v*.
@@ -52,17 +55,26 @@ def table(v, alpha1, alpha2, regime, steps) -> dict:
 
 
 # ------------------------------------------------------------------ the probe
-def _probe(repeats: int) -> dict:
-    """Run the map in whatever sweepcore is importable: its own Grid builds the rows
+def _maps():
+    """The maps a probe times: the paper's 256 x 256 Hopf map (``studies/
+    hopf_map.toml``) and the 128 x 64 Stribeck map (``studies/stribeck_map.toml``),
+    as (name, Grid keywords)."""
+    return (("cubic", dict(m=5.0, k=50.0, r_y=10.0, alpha1=1.0,
+                           v=np.linspace(0.5, 10.0, 256), alpha2=np.geomspace(1e-3, 0.1, 256))),
+            ("stribeck", dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.5,
+                              v=np.linspace(0.2, 3.0, 128),
+                              c=np.geomspace(0.02, 0.6, 64))))
+
+
+def _probe(repeats: int, save: str | None = None) -> dict:
+    """Run the maps in whatever sweepcore is importable: its own Grid builds the rows
     and its kernels run them (``sweepcore.compiled``, or the entry kernel
     ``attractor_rows_parallel`` of the versions before it; this script runs with an
-    older checkout's package, so it imports nothing else of this one)."""
+    older checkout's package, so it imports nothing else of this one). ``save``: an
+    .npz file for the observables of every map (compared between the sides)."""
     from sweepcore._kernels import layout as L
     from sweepcore.grid import Grid
     from sweepcore.options import make_options
-    v, a2 = np.linspace(0.5, 10.0, 256), np.geomspace(1e-3, 0.1, 256)
-    P = Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, v=v, alpha2=a2).rows(0, v.size * a2.size)
-    V, A = P[:, L.V], np.repeat(a2[None, :], v.size, axis=0).ravel()
     try:
         from sweepcore import compiled
         from sweepcore.laws import ANALYTIC
@@ -72,24 +84,52 @@ def _probe(repeats: int) -> dict:
     except ImportError:
         from sweepcore._kernels.attractor import attractor_rows_parallel as run
     o = make_options("auto", tol=1e-8)
-    out = np.empty((V.size, L.NOBS))
-    run(P[:4], o, out[:4])
-    times = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        run(P, o, out)
-        times.append(time.perf_counter() - t0)
+    res, arrays = {}, {}
+    for name, kw in _maps():
+        grid = Grid(**kw)
+        P = grid.rows(0, grid.size)
+        out = np.empty((grid.size, L.NOBS))
+        run(P[:4], o, out[:4])
+        times = []
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            run(P, o, out)
+            times.append(time.perf_counter() - t0)
+        res[name] = {"times_s": times}
+        arrays[name] = out.copy()
+        if name == "cubic":
+            V = P[:, L.V]
+            A = np.repeat(kw["alpha2"][None, :], kw["v"].size, axis=0).ravel()
+            res["table"] = table(V, 1.0, A, out[:, L.OB_REGIME], out[:, L.OB_NSTEPS])
+    if save:
+        np.savez(save, **arrays)
     commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
                             cwd=Path(sys.modules["sweepcore"].__file__).parent).stdout.strip()
-    return {"commit": commit, "times_s": times,
-            "table": table(V, 1.0, A, out[:, L.OB_REGIME], out[:, L.OB_NSTEPS])}
+    return {"commit": commit, "times_s": res["cubic"]["times_s"],
+            "stribeck_times_s": res["stribeck"]["times_s"], "table": res["table"]}
 
 
-def _run_probe(src: Path, repeats: int, cache: str) -> dict:
-    env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=cache)
+def compare_outputs(before: str, after: str) -> dict:
+    """Rows of each map whose observables differ between two probes' .npz files
+    (NaN equal to NaN), and the largest relative difference of those observables."""
+    a, b = np.load(before), np.load(after)
+    out = {}
+    for name in a.files:
+        x, y = a[name], b[name]
+        same = (x == y) | (np.isnan(x) & np.isnan(y))
+        rel = np.abs(x - y) / np.maximum(np.abs(x), np.abs(y))
+        rel = rel[~same & np.isfinite(rel)]
+        out[name] = {"rows": int(x.shape[0]), "rows_differing": int((~same).any(axis=1).sum()),
+                     "max_rel_difference": float(rel.max()) if rel.size else 0.0}
+    return out
+
+
+def _run_probe(src: Path, repeats: int, cache: str, save: str) -> dict:
+    env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=cache,
+               SWEEPCORE_CACHE_DIR=cache)
     cp = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--probe",
-                         str(repeats)], env=env, cwd=src, capture_output=True, text=True,
-                        timeout=1800)
+                         str(repeats), "--save", save], env=env, cwd=src,
+                        capture_output=True, text=True, timeout=1800)
     if cp.returncode != 0:
         raise RuntimeError(cp.stderr[-2000:])
     return json.loads(cp.stdout.strip().splitlines()[-1])
@@ -112,12 +152,22 @@ def before_after(ref: str, rounds: int = 3, repeats: int = 3) -> dict:
             runs = {"before": [], "after": []}
             for _ in range(rounds):
                 for side, src in (("before", wt), ("after", ROOT)):
-                    runs[side].append(_run_probe(src, repeats, str(Path(tmp) / side)))
+                    runs[side].append(_run_probe(src, repeats, str(Path(tmp) / side),
+                                                 str(Path(tmp) / f"{side}.npz")))
+            outputs = compare_outputs(str(Path(tmp) / "before.npz"),
+                                      str(Path(tmp) / "after.npz"))
         finally:
             subprocess.run(["git", "worktree", "remove", "--force", str(wt)], cwd=ROOT,
                            capture_output=True)
     med = {s: [float(np.median(r["times_s"])) for r in runs[s]] for s in runs}
+    strib = {s: [float(np.median(r["stribeck_times_s"])) for r in runs[s]] for s in runs}
     return {"ref": ref, "commit_before": sha, "commit_after": runs["after"][0]["commit"],
+            "outputs": outputs,
+            "stribeck": {"median_s_before": float(np.median(strib["before"])),
+                         "median_s_after": float(np.median(strib["after"])),
+                         "speedup": float(np.median([b / a for b, a in
+                                                     zip(strib["before"], strib["after"])])),
+                         "round_medians_s": strib},
             "before": runs["before"][0]["table"], "after": runs["after"][0]["table"],
             "steps_identical_across_rounds": all(
                 r["table"] == runs[s][0]["table"] for s in runs for r in runs[s]),
@@ -131,12 +181,13 @@ if __name__ == "__main__":
     import argparse
     ap = argparse.ArgumentParser(description=__doc__,
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("commit", nargs="?", default="cd6c8a2",
-                    help="the earlier commit to compare with (default cd6c8a2)")
+    ap.add_argument("commit", nargs="?", default=BEFORE,
+                    help=f"the earlier commit to compare with (default {BEFORE})")
     ap.add_argument("--probe", type=int, metavar="N",
-                    help="time N runs of this checkout's map, print JSON (the probe)")
+                    help="time N runs of this checkout's maps, print JSON (the probe)")
+    ap.add_argument("--save", default=None, help="with --probe: .npz of the observables")
     args = ap.parse_args()
     if args.probe is not None:
-        print(json.dumps(_probe(args.probe)))
+        print(json.dumps(_probe(args.probe, args.save)))
     else:
         print(json.dumps(before_after(args.commit), indent=1))

@@ -300,7 +300,15 @@ def _regimes(R):
                         after=ba["commit_after"][:7], rounds=len(ba["round_medians_s"]["before"]),
                         t_before=s(ba["median_s_before"]), t_after=s(ba["median_s_after"]),
                         speedup=g(ba["speedup"]), steps_before=g(ba["before"]["steps_total"]),
-                        steps_after=g(ba["after"]["steps_total"])))
+                        steps_after=g(ba["after"]["steps_total"]),
+                        s_before=s(ba.get("stribeck", {}).get("median_s_before")),
+                        s_after=s(ba.get("stribeck", {}).get("median_s_after")),
+                        s_speedup=g(ba.get("stribeck", {}).get("speedup")),
+                        outputs="; ".join(
+                            f"{name} map {o['rows_differing']} of {o['rows']} points "
+                            f"differ (largest relative difference "
+                            f"{g(o['max_rel_difference'])})"
+                            for name, o in ba.get("outputs", {}).items()) or "-"))
     return out
 
 
@@ -666,11 +674,22 @@ def _laws_rows(La):
 
 
 def _main_job_rows(H):
-    """The README's row of the main job from an empty cache and warm."""
+    """The README's rows of the main job from an empty cache and warm, and of the
+    maps against the kernels before (``benchmarks/regimes.py``)."""
+    rows = []
+    ba = H.get("regimes", {}).get("before_after", {})
+    if "speedup" in ba and "stribeck" in ba:
+        diff = ", ".join(f"{o['rows_differing']} of {o['rows']:,} points of the {name} map"
+                         for name, o in ba.get("outputs", {}).items())
+        rows.append([f"the Hopf map and the Stribeck map against the kernels before the "
+                     f"law interface (commit {ba['commit_before'][:7]}), same run, "
+                     f"interleaved", f"speedup x{g(ba['speedup'])} (Hopf map), "
+                     f"x{g(ba['stribeck']['speedup'])} (Stribeck map); outputs differ "
+                     f"on {diff}"])
     mj = H.get("main_job")
     if not mj or "ratio_wall" not in mj:
-        return []
-    return [["the main job (`sweepcore run studies/hopf_map.toml`) from an empty kernel "
+        return rows
+    return rows + [["the main job (`sweepcore run studies/hopf_map.toml`) from an empty kernel "
              "cache, then warm, back to back",
              f"{s(mj['cold']['wall_s'])} cold, {s(mj['warm']['wall_s'])} warm: "
              f"**{g(mj['ratio_wall'])}x** (wall)"]]

@@ -79,7 +79,7 @@ PROFILES = {
         tp_sides=[10, 32, 100, 316, 1000], tp_repeats_small=3, tp_repeats_large=2,
         peer_points=17, peer_ref_tol=1e-13, peer_rk45_tols=[1e-6, 1e-8, 1e-10],
         peer_rk4_dt=[0.04, 0.02, 0.01, 0.005, 0.0025, 0.001], peer_numba_repeats=1,
-        peer_map_points=65536, regimes_before="cd6c8a2", regimes_rounds=3,
+        peer_map_points=65536, regimes_before="23b2570", regimes_rounds=3,
         heyoka_map_shape=(256, 256), heyoka_tols=[1e-12, 1e-13, 1e-14], heyoka_repeats=2,
         heyoka_processes=2, heyoka_batch=8,
         pybasin_speeds=[1.175, 1.25, 1.5], pybasin_samples=5000, pybasin_repeats=3,

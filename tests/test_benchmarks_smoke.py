@@ -33,7 +33,7 @@ def smoke(tmp_path_factory):
 def test_every_section_writes_json_with_machine_and_commit(smoke):
     out, _ = smoke
     for name in ("hopf_map", "work_precision", "throughput", "peers", "cost_model",
-                 "heyoka", "pybasin"):
+                 "heyoka", "pybasin", "laws"):
         data = json.loads((out / f"{name}.json").read_text())
         assert data["mode"] == "smoke"
         assert {"date", "git_commit", "cpu_model", "numba", "numba_threading_layer"} \
@@ -46,7 +46,8 @@ def test_figures_and_readme_are_written(smoke):
         assert (out / png).stat().st_size > 1000
     text = readme.read_text()
     for heading in ("1. Hopf map", "2. Work-precision", "3. Throughput", "4. Peers",
-                    "5. Cost model", "7. Basin stability against pybasin"):
+                    "5. Cost model", "7. Basin stability against pybasin",
+                    "8. Friction laws given as tables"):
         assert heading in text
     heyoka = json.loads((out / "heyoka.json").read_text())
     assert ("6. heyoka.py on the Hopf map" in text) == ("skipped" not in heyoka)
@@ -63,6 +64,9 @@ def test_map_results_agree_with_references(smoke):
     wp = json.loads((out / "work_precision.json").read_text())
     exact = next(r for r in wp["settings"] if r["method"] == "exact")
     assert exact["const"]["amplitude_abs_max"] < 1e-12     # closed form, start stuck
+    laws = json.loads((out / "laws.json").read_text())     # a table of the law: its answers
+    assert laws["regime_mismatches"] == 0 and laws["max_amp_diff_over_L"] < 1e-6
+    assert laws["second_table"]["n_compiled"] == 0          # a table is data
 
 
 def test_pair_choice_reference_is_within_scipys_tolerance_range():
