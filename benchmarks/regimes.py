@@ -163,7 +163,7 @@ def before_after(ref: str, rounds: int = 3, repeats: int = 3) -> dict:
     strib = {s: [float(np.median(r["stribeck_times_s"])) for r in runs[s]] for s in runs}
     return {"ref": ref, "commit_before": sha, "commit_after": runs["after"][0]["commit"],
             "outputs": outputs,
-            "stribeck": {"median_s_before": float(np.median(strib["before"])),
+            "stribeck_map": {"median_s_before": float(np.median(strib["before"])),
                          "median_s_after": float(np.median(strib["after"])),
                          "speedup": float(np.median([b / a for b, a in
                                                      zip(strib["before"], strib["after"])])),

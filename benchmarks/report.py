@@ -301,9 +301,9 @@ def _regimes(R):
                         t_before=s(ba["median_s_before"]), t_after=s(ba["median_s_after"]),
                         speedup=g(ba["speedup"]), steps_before=g(ba["before"]["steps_total"]),
                         steps_after=g(ba["after"]["steps_total"]),
-                        s_before=s(ba.get("stribeck", {}).get("median_s_before")),
-                        s_after=s(ba.get("stribeck", {}).get("median_s_after")),
-                        s_speedup=g(ba.get("stribeck", {}).get("speedup")),
+                        s_before=s(ba.get("stribeck_map", {}).get("median_s_before")),
+                        s_after=s(ba.get("stribeck_map", {}).get("median_s_after")),
+                        s_speedup=g(ba.get("stribeck_map", {}).get("speedup")),
                         outputs="; ".join(
                             f"{name} map {o['rows_differing']} of {o['rows']} points "
                             f"differ (largest relative difference "
@@ -678,13 +678,13 @@ def _main_job_rows(H):
     maps against the kernels before (``benchmarks/regimes.py``)."""
     rows = []
     ba = H.get("regimes", {}).get("before_after", {})
-    if "speedup" in ba and "stribeck" in ba:
+    if "speedup" in ba and "stribeck_map" in ba:
         diff = ", ".join(f"{o['rows_differing']} of {o['rows']:,} points of the {name} map"
                          for name, o in ba.get("outputs", {}).items())
         rows.append([f"the Hopf map and the Stribeck map against the kernels before the "
                      f"law interface (commit {ba['commit_before'][:7]}), same run, "
                      f"interleaved", f"speedup x{g(ba['speedup'])} (Hopf map), "
-                     f"x{g(ba['stribeck']['speedup'])} (Stribeck map); outputs differ "
+                     f"x{g(ba['stribeck_map']['speedup'])} (Stribeck map); outputs differ "
                      f"on {diff}"])
     mj = H.get("main_job")
     if not mj or "ratio_wall" not in mj:

@@ -180,7 +180,7 @@ def test_every_law_kind_is_a_module_with_the_primitives():
     required = [name for name in ("force", "derivatives", "static_limits", "slope_bound")
                 if name not in interface._DEFAULTS]
     assert required == ["force", "derivatives", "static_limits", "slope_bound"]
-    for name, data, module in kernel_laws.LAWS:
+    for name, data, module, _sample in kernel_laws.LAWS:
         assert Path(module.__file__).parent == KERNEL_LAWS
         assert getattr(module, data.__name__) is data
         missing = [f for f in required if not hasattr(module, f)]
@@ -225,3 +225,21 @@ def test_the_second_compilers_signature_is_the_kernels():
     assert want in [tuple(s) for s in attractor.on_event.signatures]
     assert np.all(prefetch.derived_signature("table")[1] ==
                   prefetch.law_type("table"))
+
+
+def test_the_second_compiler_names_every_kinds_law_data():
+    """The type the second compiler compiles for is the type of the data a law object
+    of that kind hands the kernels (Leine's two floats, a table's array, ...)."""
+    from numba import typeof
+    import numpy as np
+    import sweepcore as sc
+    from sweepcore._kernels import laws as kernel_laws, prefetch
+    from sweepcore.laws import ANALYTIC
+    P = sc.Grid(m=1.0, k=1.0, r_y=1.0, r_k=[0.5, 1.0], v_s=0.5, v=1.0).rows(0, 2)
+    given = {kernel_laws.LAWS[kind][0]: lw for kind, _rows, lw in ANALYTIC.kernel_groups(P)}
+    table = sc.TableLaw(np.linspace(0.0, 2.0, 7), np.linspace(1.0, 0.7, 7))
+    given["table"] = table.data()
+    given["leine"] = sc.LeineLaw(f_s=1.0, delta=3.0).data()
+    assert set(given) == {row[0] for row in kernel_laws.LAWS}
+    for kind, data in given.items():
+        assert prefetch.law_type(kind) == typeof(data), kind

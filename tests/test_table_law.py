@@ -253,6 +253,20 @@ def test_leines_example_is_stick_slip_against_scipy():
     assert q.v_star == pytest.approx((math.sqrt(30.0) - 1.0) / 3.0, rel=1e-12)
 
 
+@pytest.mark.parametrize("delta, v", [(300.0, 0.2), (3000.0, 1.0)])
+def test_a_steep_leine_law_is_resolved(delta, v):
+    """A steep law (its slope -F_s delta at zero speed) makes the field unstable at
+    the rate delta F_s/m next to the belt speed: the steps there are bounded by the
+    law's own step bound (``law.step_bound``); without it the cycle was 3e-7 L off at
+    tol 1e-8. Against scipy with the same formula."""
+    a = sc.attractor(sc.Params(m=1.0, k=1.0, c=0.05, v=v, law=sc.LeineLaw(1.0, delta)))
+    ref = RL.stick_slip_cycle(RL.LawModel(1.0, 1.0, v, 0.05, leine_branch(1.0, delta),
+                                          1.0))
+    assert (a.regime, a.status) == ("stick_slip", "ok")
+    assert abs(a.amplitude - ref["amplitude"]) <= 1e-8 * (1.0 + v)
+    assert a.period == pytest.approx(ref["period"], rel=1e-8)
+
+
 def test_a_table_of_leines_law_gives_the_law_kinds_answers():
     law = sc.LeineLaw(1.0, 3.0)
     table = TableLaw.from_function(lambda s: np.sign(s) / (1.0 + 3.0 * np.abs(s)),

@@ -29,7 +29,7 @@ A kind module defines its data class and at least
 It may define any other function of this module by name (closed forms, exact
 roundings: the analytic family defines them all, which keeps the cubic map bit for
 bit what it was); a kind that defines ``constants`` defines every function taking
-``cf`` too.
+``cf`` too (the generic ones read the generic ``constants``: ``(k, c, v, p, s)``).
 """
 import inspect
 import math
@@ -119,7 +119,7 @@ def speed_range(p, lw):
 def constants(p, lw, s):
     """The law's constants for a slide with sign s, as locals of a stepper (taken once
     per step instead of loading p at every stage)."""
-    return p[K], p[C], p[V], p
+    return p[K], p[C], p[V], p, s
 
 
 @interface()
@@ -135,16 +135,25 @@ def friction_force(lw, cf, zd, s):
 
 
 @interface()
+def branch_derivatives(p, lw, zd, s):
+    """``(F'(zd), F''(zd))`` of the branch a slide with sign s follows (as ``force``:
+    at zd = 0, or a stage just past it, the slide's side; the law's two sides may
+    differ in slope)."""
+    f1, f2, _f3 = derivatives(p, lw, zd)
+    return f1, f2
+
+
+@interface()
 def field_slope(lw, cf, zd):
     """``-(c + F'(zd))`` [kN s/cm]: m times the sliding field's d zdd / d zdot."""
-    return -(cf[1] + derivatives(cf[3], lw, zd)[0])
+    return -(cf[1] + branch_derivatives(cf[3], lw, zd, cf[4])[0])
 
 
 @interface()
 def integrand(lw, cf, zd):
     """The part of F'(zd) [kN s/cm] whose time integral (the steppers' quadrature
     ``q_l``, accumulator A_ILAW) ``log_jacobian`` needs beside ``int zdot^2 dt``."""
-    return derivatives(cf[3], lw, zd)[0]
+    return branch_derivatives(cf[3], lw, zd, cf[4])[0]
 
 
 @interface()
@@ -338,11 +347,23 @@ def anti_damped(p, lw):
 @interface(inline=True)
 def step_bound(x, zd, s, cf, lw, k, m, v, dz):
     """``(h, a)``: the largest sliding step [s] the law itself needs resolved at the
-    state (x, zd) of a slide with sign s (a narrow layer of its slope, such as a
-    steep Stribeck term: ``laws/analytic.py``), with ``dz`` the velocity tolerance
-    [cm/s], and the acceleration a [cm/s^2] it computed on the way (NaN: none).
-    Generic form: no bound."""
-    return np.inf, np.nan
+    state (x, zd) of a slide with sign s, with ``dz`` the velocity tolerance [cm/s],
+    and the acceleration a [cm/s^2] it computed on the way (NaN: none).
+
+    Generic form: where the slope makes the field unstable, at the rate ``lam =
+    -(c + F')/m > 0``, a step is at most ``1/lam`` (the release from the breakaway
+    point starts with zdd = 0, and a step spanning many e-folds of a steep law's
+    instability is accepted by an error estimate that never saw them: Leine's law
+    with delta = 300 put the stick-slip cycle 3e-7 L off at tol 1e-8), or where
+    longer the time in which the force's drop over the slope's own width ``|F'/F''|``
+    moves zdot by ``dz`` (a layer narrower than the tolerance is crossed at once).
+    The analytic family's Stribeck layer has its own form (``laws/analytic.py``)."""
+    f1, f2 = branch_derivatives(cf[3], lw, zd, s)
+    lam = -(cf[1] + f1) / m
+    if not lam > 0.0:
+        return np.inf, np.nan
+    drop = f1 * f1 / abs(f2) if f2 != 0.0 else np.inf
+    return max(1.0 / lam, m * dz / drop), np.nan
 
 
 # ------------------------------------------- the law in the field (generic)

@@ -16,7 +16,6 @@ Usage: ``python -m sweepcore._kernels.prefetch METHOD_CODE KIND_NAME``.
 """
 import sys
 
-import numpy as np
 from numba import types, typeof
 
 from . import attractor, law, laws
@@ -26,11 +25,8 @@ A2 = types.Array(types.float64, 2, "C")
 
 
 def law_type(kind: str):
-    """The numba type of a kind's law data (its data class holds 1-D arrays or
-    nothing)."""
-    cls = laws.DATA[kind]
-    fields = [np.zeros(1) for _name in cls._fields]
-    return typeof(cls(*fields))
+    """The numba type of a kind's law data (of the law table's sample)."""
+    return typeof(laws.SAMPLES[kind])
 
 
 def search_signature(meth: int, kind: str) -> tuple:

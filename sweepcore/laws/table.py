@@ -380,8 +380,10 @@ def _fit(s, f, smoothing):
 
 
 def _least_slopes(x, c):
-    """The least F' on each piece: at its ends or where F'' = 0 inside (roots of a
-    cubic), lowered by a rounding margin (the certificate must not rest on rounding)."""
+    """The least F' on each piece: at its ends or where F'' = 0 inside (the real
+    parts of the roots of a cubic: a near-double real root can come out of
+    ``np.roots`` as a complex pair; an extra sample can only lower the least value),
+    lowered by a rounding margin (the certificate must not rest on rounding)."""
     h = np.diff(x)
     out = np.empty(h.size)
     d1 = c[:, 1:] * np.arange(1, DEGREE + 1)         # F' coefficients (degree 4)
@@ -389,8 +391,8 @@ def _least_slopes(x, c):
     for i in range(h.size):
         ts = [0.0, h[i]]
         roots = np.roots(d2[i, ::-1]) if np.any(d2[i] != 0.0) else []
-        ts += [r.real for r in roots if abs(r.imag) <= 1e-12 * h[i] and 0 < r.real < h[i]]
-        vals = np.polynomial.polynomial.polyval(np.array(ts), d1[i])
+        ts += [r.real for r in roots if 0 < r.real < h[i]]   # a near-double root may
+        vals = np.polynomial.polynomial.polyval(np.array(ts), d1[i])   # come out complex
         size = np.abs(d1[i]) @ (h[i] ** np.arange(DEGREE))
         out[i] = vals.min() - 1e-12 * size
     return out
@@ -406,7 +408,7 @@ def _largest_curvatures(x, c):
     for i in range(h.size):
         ts = [0.0, h[i]]
         roots = np.roots(d3[i, ::-1]) if np.any(d3[i] != 0.0) else []
-        ts += [r.real for r in roots if abs(r.imag) <= 1e-12 * h[i] and 0 < r.real < h[i]]
+        ts += [r.real for r in roots if 0 < r.real < h[i]]   # (extra points: safe)
         vals = np.abs(np.polynomial.polynomial.polyval(np.array(ts), d2[i]))
         size = np.abs(d2[i]) @ (h[i] ** np.arange(4))
         out[i] = vals.max() + 1e-12 * size

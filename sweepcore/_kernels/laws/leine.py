@@ -12,6 +12,7 @@ generic form from these primitives.
 from collections import namedtuple
 
 from ..jit import kernel
+from ..layout import C
 
 Leine = namedtuple("Leine", ("f_s", "delta"))
 
@@ -49,3 +50,9 @@ def slope_bound(p, lw, lo, hi):
 @kernel(inline="always")
 def speed_range(p, lw):
     return 1e-9 / lw.delta, 1e9 / lw.delta
+
+
+@kernel(inline="always")
+def anti_damped(p, lw):
+    """F' tends to 0 at high speed: anti-damped only for c < 0 (never: c >= 0)."""
+    return p[C] < 0.0

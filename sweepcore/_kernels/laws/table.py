@@ -156,6 +156,35 @@ def derivatives(p, lw, zd):
 
 
 @kernel(inline="always")
+def branch_derivatives(p, lw, zd, s):
+    d = lw.d
+    if s > 0.0 or (s == 0.0 and zd > 0.0):
+        _f, d1, d2, _d3 = _value(d, HEAD, int(d[0]), zd, True)
+        return d1, d2
+    if d[4] > 0.0:                               # odd: F(s) = -F(-s)
+        _f, d1, d2, _d3 = _value(d, HEAD, int(d[0]), -zd, True)
+        return d1, -d2
+    b, n = _branch(d, False)
+    _f, d1, d2, _d3 = _value(d, b, n, zd, False)
+    return d1, d2
+
+
+@kernel(inline="always")
+def anti_damped(p, lw):
+    """Past the table F continues linearly: its damping at high speed is c plus the
+    slope at each branch's far end."""
+    d = lw.d
+    n = int(d[0])
+    far = _value(d, HEAD, n, d[HEAD + n], True)[1]
+    if d[4] > 0.0:
+        other = far
+    else:
+        b, m = _branch(d, False)
+        other = _value(d, b, m, d[b], False)[1]
+    return p[C] + far < 0.0 and p[C] + other < 0.0
+
+
+@kernel(inline="always")
 def static_limits(p, lw):
     return lw.d[2], lw.d[3]
 
