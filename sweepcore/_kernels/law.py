@@ -231,7 +231,7 @@ def hopf_speeds(p, lw):
         u = u_lo * ratio ** i
         g = damping_at(p, lw, u)
         if i > 0 and (g < 0.0) != (g_prev < 0.0):
-            r = _bisect(p, lw, u_prev, u, g_prev < 0.0)
+            r = damping_root(p, lw, u_prev, u, g_prev < 0.0)
             if n == 0:
                 r1 = r
             elif n == 1:
@@ -245,7 +245,7 @@ def hopf_speeds(p, lw):
 
 
 @kernel
-def _bisect(p, lw, lo, hi, rising):
+def damping_root(p, lw, lo, hi, rising):
     """Root of ``damping_at`` in [lo, hi] where it changes sign (rising: - to +)."""
     for _ in range(2200):
         mid = 0.5 * (lo + hi)

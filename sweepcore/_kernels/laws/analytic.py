@@ -33,6 +33,7 @@ from numba import types
 from numba.extending import overload
 
 from ..jit import OVERLOAD_OPTIONS, kernel
+from ..law import damping_root
 from ..layout import A1, A2, C, K, M, RK, RY, V, VS
 
 EPS = np.finfo(np.float64).eps
@@ -244,20 +245,6 @@ def third_derivative(p, lw, va):
 
 
 @kernel
-def _bisect_root(p, lo, hi, rising):
-    """Root of ``damping_at`` in [lo, hi] where it changes sign (rising: - to +)."""
-    for _ in range(2200):
-        mid = 0.5 * (lo + hi)
-        if mid <= lo or mid >= hi:
-            break
-        if (damping_at(p, None, mid) < 0.0) == rising:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
-
-
-@kernel
 def _upper_bracket(p):
     """A speed where ``damping_at`` is positive (it grows like 3 alpha2 u^2 > 0)."""
     u = max(p[VS], 1.0)
@@ -319,13 +306,13 @@ def hopf_speeds(p, lw):
     if d > 0.0:
         if g0 >= 0.0:
             return (1, 0.0, np.nan) if g0 == 0.0 else (0, np.nan, np.nan)
-        return 1, _bisect_root(p, 0.0, hi, True), np.nan
+        return 1, damping_root(p, lw, 0.0, hi, True), np.nan
     umin = _argmin(p, hi)
     if damping_at(p, lw, umin) >= 0.0:
         return 0, np.nan, np.nan
     if g0 <= 0.0:
-        return 1, _bisect_root(p, umin, hi, True), np.nan
-    return 2, _bisect_root(p, 0.0, umin, False), _bisect_root(p, umin, hi, True)
+        return 1, damping_root(p, lw, umin, hi, True), np.nan
+    return 2, damping_root(p, lw, 0.0, umin, False), damping_root(p, lw, umin, hi, True)
 
 
 # --------------------------------------------------------------- normal form
