@@ -287,6 +287,22 @@ def normal_form_valid(p, lw):
     return False
 
 
+@kernel
+def rest_radius(x, zd, p, lw):
+    """``W = sqrt(2E/m)`` [cm/s] of the state (x [cm], zdot [cm/s]) about x_eq, with
+    ``E = (m w^2 + k y^2)/2``, ``y = x - x_eq``, ``w = zdot + v``: the largest
+    relative speed change on the sublevel set of E through the state. NaN where no
+    equilibrium certificate applies: v = 0, steady sliding not decaying (q >= 0), or
+    a set that reaches sticking (``W >= |v|``)."""
+    v = p[V]
+    if v == 0.0 or not q(p, lw) < 0.0:
+        return np.nan
+    y = x - x_eq(p, lw)
+    yd = zd + v
+    vel = math.sqrt(yd * yd + p[K] / p[M] * y * y)
+    return vel if vel < abs(v) else np.nan
+
+
 @interface()
 def certified_rest(x, zd, p, lw):
     """True when (x, zdot) lies in a sublevel set of E that provably decays to x_eq.
@@ -298,17 +314,10 @@ def certified_rest(x, zd, p, lw):
     decreases, the set is invariant and the motion converges to x_eq (LaSalle).
     Generic form: S is at least the least F' on ``[-v - W, -v + W]`` (mean value
     theorem), ``slope_bound``; a margin of 1e-12 keeps rounding from deciding."""
+    vel = rest_radius(x, zd, p, lw)
+    if not vel < abs(p[V]):             # NaN: no certificate applies
+        return False
     v = p[V]
-    if v == 0.0:
-        return False
-    if not q(p, lw) < 0.0:
-        return False
-    m = p[M]
-    y = x - x_eq(p, lw)
-    yd = zd + v
-    vel = math.sqrt(yd * yd + p[K] / m * y * y)
-    if not vel < abs(v):
-        return False
     smin = slope_bound(p, lw, -v - vel, -v + vel)
     return p[C] + smin > 1e-12 * (abs(p[C]) + abs(smin))
 

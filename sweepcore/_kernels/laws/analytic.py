@@ -33,7 +33,7 @@ from numba import types
 from numba.extending import overload
 
 from ..jit import OVERLOAD_OPTIONS, kernel
-from ..law import damping_root
+from ..law import damping_root, rest_radius
 from ..layout import A1, A2, C, K, M, RK, RY, V, VS
 
 EPS = np.finfo(np.float64).eps
@@ -414,16 +414,8 @@ def certified_rest(x, zd, p, lw):
     term's slope is monotone, least at one end of ``|s + |v|| <= W``. A margin of
     1e-12 of the terms summed keeps rounding from deciding (the Stribeck slope at the
     set's end, ``smin``, with its exponent's rounding ``eps |v|/v_s``; not ``d/v_s``)."""
-    v = p[V]
-    if v == 0.0:
-        return False
-    if not q(p, lw) < 0.0:
-        return False
-    m = p[M]
-    y = x - x_eq(p, lw)
-    yd = zd + v
-    vel = math.sqrt(yd * yd + p[K] / m * y * y)     # sqrt(2E/m)
-    va = abs(v)
+    vel = rest_radius(x, zd, p, lw)     # sqrt(2E/m); NaN: no certificate applies
+    va = abs(p[V])
     if not vel < va:
         return False
     poly = p[A2] * (3.0 * va * (va - vel) + vel * vel)
