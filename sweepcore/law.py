@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ._kernels import law as _law
+from ._kernels import derived as _derived
 from ._kernels import layout
 from .laws import ANALYTIC, FrictionLaw
 from .laws import analytic as _analytic
@@ -39,15 +39,15 @@ DEFAULTS = {"c": 0.0, **_analytic.DEFAULTS, "law": None}
 _Q = ("m", "v", "alpha1", "alpha2", "c", "r_y", "r_k", "v_s")
 _HOPF = ("alpha1", "alpha2", "c", "r_y", "r_k", "v_s")
 DERIVED = {
-    "omega": (_law.D_OMEGA, ("m", "k")),
-    "q": (_law.D_Q, _Q),
-    "x_eq": (_law.D_XEQ, ("k", "v", "alpha1", "alpha2", "r_y", "r_k", "v_s")),
-    "v_star": (_law.D_VSTAR, _HOPF),
-    "v_star_2": (_law.D_VSTAR2, _HOPF),
-    "first_lyapunov": (_law.D_LYAP, ("m", "k") + _HOPF),
-    "x_s": (_law.D_XS, ("k", "v", "r_y", "c")),
+    "omega": (_derived.D_OMEGA, ("m", "k")),
+    "q": (_derived.D_Q, _Q),
+    "x_eq": (_derived.D_XEQ, ("k", "v", "alpha1", "alpha2", "r_y", "r_k", "v_s")),
+    "v_star": (_derived.D_VSTAR, _HOPF),
+    "v_star_2": (_derived.D_VSTAR2, _HOPF),
+    "first_lyapunov": (_derived.D_LYAP, ("m", "k") + _HOPF),
+    "x_s": (_derived.D_XS, ("k", "v", "r_y", "c")),
     # a code of CRITICALITY: the sign of the third derivative of F at v_star
-    "criticality": (_law.D_CRIT, _HOPF),
+    "criticality": (_derived.D_CRIT, _HOPF),
 }
 CRITICALITY = {0: "none", 1: "supercritical", 2: "subcritical", 3: "degenerate"}
 
@@ -149,7 +149,7 @@ def evaluate(name: str, *arrays, law=None) -> np.ndarray:
     out = np.empty(P.shape[0])
     for _code, rows, lw in law.kernel_groups(P):
         sub = np.empty(rows.size)
-        _law.derived_rows(np.ascontiguousarray(P[rows]), lw, which, sub)
+        _derived.derived_rows(np.ascontiguousarray(P[rows]), lw, which, sub)
         out[rows] = sub
     return out.reshape(shape)
 

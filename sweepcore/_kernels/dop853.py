@@ -182,15 +182,8 @@ def dop853_step(x, zd, h, s, p, lw, o, want_q):
                       B11 * k11z + B12 * k12z)
     sx = o[O_RTOL] * (o[O_LX] + max(abs(x), abs(x_end)))
     sz = o[O_RTOL] * (o[O_LV] + max(abs(zd), abs(z_end))) + floor_z
-    e5x = (E5_1 * k1x + E5_6 * k6x + E5_7 * k7x + E5_8 * k8x + E5_9 * k9x + E5_10 * k10x +
-           E5_11 * k11x + E5_12 * k12x)
-    e5z = (E5_1 * k1z + E5_6 * k6z + E5_7 * k7z + E5_8 * k8z + E5_9 * k9z + E5_10 * k10z +
-           E5_11 * k11z + E5_12 * k12z)
-    e3x = (E3_1 * k1x + E3_6 * k6x + E3_7 * k7x + E3_8 * k8x + E3_9 * k9x + E3_10 * k10x +
-           E3_11 * k11x + E3_12 * k12x)
-    e3z = (E3_1 * k1z + E3_6 * k6z + E3_7 * k7z + E3_8 * k8z + E3_9 * k9z + E3_10 * k10z +
-           E3_11 * k11z + E3_12 * k12z)
-    err = _error(h, max(abs(e5x) / sx, abs(e5z) / sz), max(abs(e3x) / sx, abs(e3z) / sz))
+    err = _error(h, sx, sz, (k1x, k6x, k7x, k8x, k9x, k10x, k11x, k12x),
+                 (k1z, k6z, k7z, k8z, k9z, k10z, k11z, k12z))
     if not want_q:
         return x_end, z_end, 0.0, 0.0, 0.0, 0.0, err, True
     qx, qv, qw, ql = _quadratures(h, s, p, lw, cf, (x, x6, x7, x8, x9, x10, x11, x12),
@@ -199,8 +192,20 @@ def dop853_step(x, zd, h, s, p, lw, o, want_q):
 
 
 @kernel(inline="always")
-def _error(h, e5, e3):
-    """DOP853's scaled error from the scaled fifth- and third-order estimates."""
+def _error(h, sx, sz, KX, KZ):
+    """DOP853's scaled error (Hairer's estimator) from the stages KX, KZ (of x and
+    zdot: stages 1, 6-12) with the error scales sx, sz: the fifth- and third-order
+    estimates, each the larger of its two components."""
+    e5x = (E5_1 * KX[0] + E5_6 * KX[1] + E5_7 * KX[2] + E5_8 * KX[3] + E5_9 * KX[4] +
+           E5_10 * KX[5] + E5_11 * KX[6] + E5_12 * KX[7])
+    e5z = (E5_1 * KZ[0] + E5_6 * KZ[1] + E5_7 * KZ[2] + E5_8 * KZ[3] + E5_9 * KZ[4] +
+           E5_10 * KZ[5] + E5_11 * KZ[6] + E5_12 * KZ[7])
+    e3x = (E3_1 * KX[0] + E3_6 * KX[1] + E3_7 * KX[2] + E3_8 * KX[3] + E3_9 * KX[4] +
+           E3_10 * KX[5] + E3_11 * KX[6] + E3_12 * KX[7])
+    e3z = (E3_1 * KZ[0] + E3_6 * KZ[1] + E3_7 * KZ[2] + E3_8 * KZ[3] + E3_9 * KZ[4] +
+           E3_10 * KZ[5] + E3_11 * KZ[6] + E3_12 * KZ[7])
+    e5 = max(abs(e5x) / sx, abs(e5z) / sz)
+    e3 = max(abs(e3x) / sx, abs(e3z) / sz)
     den = e5 * e5 + 0.01 * e3 * e3
     return abs(h) * e5 * e5 / den ** 0.5 if den > 0.0 else 0.0
 

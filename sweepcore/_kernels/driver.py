@@ -379,9 +379,7 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
         if kind != 0:
             h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0,
                                              g1, kind, ta, tb, tc, gtol, cf)
-        if h_ev < 0.0 and 0.0 < g1 <= gtol and g1 < g0 and s * a1 * h >= -gtol and armed:
-            # the step ends on a touch (exact arcs end on turning points; also where the
-            # cubic dipped below 0 by rounding just before it): zdot stopped falling
+        if h_ev < 0.0 and _ends_on_touch(g0, g1, s * a1 * h, gtol, armed):
             h_ev, xe, touched = h, x1, True
         # --- extremum of x (Poincare section) inside the step
         if v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0):
@@ -400,6 +398,14 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
         _note_x(acc, x1, z1 + v)
         if last:
             return codes.EV_STOP_TIME, codes.OK
+
+
+@kernel(inline="always")
+def _ends_on_touch(g0, g1, a1h, gtol, armed):
+    """The step ends on a touch: zdot (as ``g = s zdot``) stopped falling within the
+    touch tolerance of 0 (exact arcs end on turning points; also where the step's
+    cubic dipped below 0 by rounding just before its end)."""
+    return armed and 0.0 < g1 <= gtol and g1 < g0 and a1h >= -gtol
 
 
 @kernel(inline="always")

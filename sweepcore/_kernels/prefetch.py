@@ -4,7 +4,7 @@ numba compiles single-threaded, and most of a cold start is compilation: the
 attractor kernel of one (method, law kind) is ~12 s of CPU. Its two halves are the
 driver (``attractor.next_event``, compiled first, as the entry is typed) and the
 attractor search (``attractor.on_event``, compiled after it); the derived quantities
-of the result (``law.derived_rows``) come after the sweep. A second process started
+of the result (``derived.derived_rows``) come after the sweep. A second process started
 with the first call compiles the search and the derived quantities into numba's
 cache while this one compiles the driver, and this one then loads them from the
 cache: on two cores the cold start takes about the driver's time. Where the second
@@ -18,7 +18,7 @@ import sys
 
 from numba import types, typeof
 
-from . import attractor, law, laws
+from . import attractor, derived, laws
 
 A1 = types.Array(types.float64, 1, "C")
 A2 = types.Array(types.float64, 2, "C")
@@ -35,7 +35,7 @@ def search_signature(meth: int, kind: str) -> tuple:
 
 
 def derived_signature(kind: str) -> tuple:
-    """The argument types of ``law.derived_rows`` (rows, law data, which, out)."""
+    """The argument types of ``derived.derived_rows`` (rows, law data, which, out)."""
     return (A2, law_type(kind), types.int64, A1)
 
 
@@ -52,7 +52,7 @@ def cached(dispatcher, sig) -> bool:
 
 def main(meth: int, kind: str) -> None:
     attractor.on_event.compile(search_signature(meth, kind))
-    law.derived_rows.compile(derived_signature(kind))
+    derived.derived_rows.compile(derived_signature(kind))
 
 
 if __name__ == "__main__":
