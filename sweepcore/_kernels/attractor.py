@@ -32,7 +32,7 @@ from .law import (anti_damped, breakaway, certified_rest, conservative,
                   normal_form_valid, piecewise_linear, x_eq)
 from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
                      A_XMIN, ACC_CYC, ACC_LAST, ACC_SEC, ACC_STEP, K, M, MAXED, MINNED,
-                     NA, NACC, NO, NOBS, NP, NS, NW, O_DT, O_GPS_A, O_GRAZE, O_LV,
+                     NA, NACC, NO, NOBS, NP, NS, NW, O_DT, O_GPS_A, O_LV,
                      O_LX, O_MAX_STEPS, O_MAX_TIME, O_METHOD, O_RTOL, OB_AMPLITUDE,
                      OB_CYCLE_SIZE, OB_FLOQUET, OB_MEAN, OB_NSTEPS, OB_PERIOD,
                      OB_REGIME, OB_STATUS, OB_STICK_FRACTION, OB_STICKS_PER_PERIOD,
@@ -48,7 +48,7 @@ from .resolution import check_cycle
 from .sections import (ACCEPT, ACCEPT_FLOOR, ACCEPT_NF, NEUTRAL, NF_JUMP,
                        RTOL_FLOOR, REST, TERMINAL, apply_decision, clear, neutral_decision,
                        newton_decision, note_event, own_map_step, push_section,
-                       static_belt_decision, undo_jump)
+                       sharpen_touch, static_belt_decision, undo_jump)
 from .return_map import return_slope
 from .stepper import ADAPTIVE, CLOSED_FORM
 
@@ -280,10 +280,8 @@ def retouch(meth, p, o, w):
     sharpen the touch: a conservative law (exact touches), a method without error
     control (exact arcs, gps, rk4: their touch tolerance is ``graze``) or the floor
     reached."""
-    if w[W_CONSERVATIVE] > 0.0 or not ADAPTIVE[meth] or o[O_RTOL] <= RTOL_FLOOR:
+    if w[W_CONSERVATIVE] > 0.0 or not ADAPTIVE[meth] or not sharpen_touch(o):
         return False
-    o[O_RTOL] = max(0.01 * o[O_RTOL], RTOL_FLOOR)
-    o[O_GRAZE] = 0.01 * o[O_GRAZE]
     w[W_RTOL] = o[O_RTOL]
     return True
 

@@ -32,7 +32,7 @@ from .layout import (K, M, NA, NO, NOBS, NP, NS, O_GRAZE, O_LX, O_MAX_STEPS, O_R
                      OB_NSTEPS, OB_REGIME, OB_STATUS, OB_X_MAX, OB_X_MIN, S_N, S_TOUCH,
                      S_X, V)
 from .return_map import return_slope
-from .sections import RTOL_FLOOR
+from .sections import RTOL_FLOOR, sharpen_touch
 
 N_RUNGS = 40          # amplitudes of the scan, geometric from LOWEST to TOP
 LOWEST = 1e-4         # lowest rung, of the length scale
@@ -103,10 +103,8 @@ def _refine(meth, p, lw, o, lo, g_lo, dp_lo, hi, st, acc):
             # Newton from lo: the fixed point inside (lo, a] may hide in the touch
             r = -g_lo / ((dp_lo - 1.0) * (a - lo)) if dp_lo != 1.0 else -1.0
             touched = touched and 0.0 < r <= 1.0
-            if touched and o[O_RTOL] > RTOL_FLOOR:
-                o[O_RTOL] = max(0.01 * o[O_RTOL], RTOL_FLOOR)   # the same start again
-                o[O_GRAZE] = 0.01 * o[O_GRAZE]     # (the touch tolerance's floor too)
-                continue
+            if touched and sharpen_touch(o):
+                continue                          # the same start again, finer
             touched_floor = touched_floor or touched
             if fine:
                 return a, np.nan, False, touched_floor

@@ -26,7 +26,8 @@ from .jit import kernel
 
 from . import codes
 from .law import log_saltation, static_limits
-from .layout import (A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, ACC_LAST, ACC_SEC, NA, O_RTOL,
+from .layout import (A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, ACC_LAST, ACC_SEC, NA, O_GRAZE,
+                     O_RTOL,
                      S_T, S_X, S_ZD, V, W_A, W_A_FROM, W_E, W_E_JUMP, W_E_REST,
                      W_ERR_JUMP, W_FD_A0, W_FD_A1, W_FD_DELTA, W_FD_PROBE,
                      W_FD_SLOPE, W_JUMPED, W_LX, W_N_EV, W_N_SEC, W_NEWTON_REST,
@@ -36,6 +37,19 @@ from .layout import (A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, ACC_LAST, ACC_SEC, NA, O_
 # Lowest relative tolerance given to the integrator: below it, roundoff in the
 # error estimate of dopri5 (weights rtol (L + |x|)) makes the controller erratic.
 RTOL_FLOOR = 1e-14
+
+
+@kernel(inline="always")
+def sharpen_touch(o):
+    """Lower the tolerance in force ``o[O_RTOL]`` a hundredfold (to RTOL_FLOOR at
+    most) and the touch tolerance's floor ``graze`` with it (``driver.touch_tol``:
+    max(graze, 20 rtol) |v|), to measure a touch again; False, changing nothing,
+    where the floor is reached."""
+    if o[O_RTOL] <= RTOL_FLOOR:
+        return False
+    o[O_RTOL] = max(0.01 * o[O_RTOL], RTOL_FLOOR)
+    o[O_GRAZE] = 0.01 * o[O_GRAZE]
+    return True
 
 # actions (what the search does after a section); from TERMINAL on, the answer
 FOLLOW = 0         # integrate the next return from where the motion is

@@ -30,6 +30,7 @@ from collections import namedtuple
 import numpy as np
 
 from ..jit import kernel, unowned
+from ..law import damping_root
 from ..layout import C, V
 
 Table = namedtuple("Table", ("d",))
@@ -258,7 +259,7 @@ def hopf_speeds(p, lw):
         s_ = _sample(d, b, n, k, up)
         g = p[C] + _value(d, b, n, s_, up)[1]
         if k > 0 and (g < 0.0) != (g_prev < 0.0):
-            r = _bisect(d, b, n, p[C], u_prev, abs(s_), g_prev < 0.0, up)
+            r = damping_root(p, lw, u_prev, abs(s_), g_prev < 0.0)
             if found == 0:
                 r1 = r
             elif found == 1:
@@ -269,21 +270,6 @@ def hopf_speeds(p, lw):
     if found == 0:
         return 0, (np.inf if g_prev < 0.0 else np.nan), np.nan
     return found, r1, r2
-
-
-@kernel
-def _bisect(d, b, n, damping, lo, hi, rising, up):
-    """Speed u in [lo, hi] where ``c + F'`` at ``s = u`` (up) or ``-u`` changes sign
-    (rising: - to +)."""
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if mid <= lo or mid >= hi:
-            break
-        if (damping + _value(d, b, n, mid if up else -mid, up)[1] < 0.0) == rising:
-            lo = mid
-        else:
-            hi = mid
-    return 0.5 * (lo + hi)
 
 
 @kernel(inline="always")
