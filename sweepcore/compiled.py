@@ -26,6 +26,7 @@ from numba.core import event
 
 from ._kernels import codes, entries, layout, stepper
 from ._kernels import laws as _kernel_laws
+from . import law as _law
 
 EPS = np.finfo(np.float64).eps
 
@@ -40,18 +41,11 @@ def methods_of(P: np.ndarray, laws, o: np.ndarray) -> np.ndarray:
     method = int(o[layout.O_METHOD])
     if method >= 0:
         return np.full(n, method, np.intp)
-    closed = np.zeros(n, bool)
-    static = np.zeros(n)
-    which = P[:, layout.LAW].astype(np.intp)
-    for i, law in enumerate(laws):
-        rows = which == i
-        if rows.any():
-            closed[rows] = law.closed_form(P[rows])
-            static[rows] = law.static_bound(P[rows])
+    closed = _law.per_law(P, laws, "closed_form", bool)
     with np.errstate(all="ignore"):
         k, m, v = P[:, layout.K], P[:, layout.M], P[:, layout.V]
         omega = np.sqrt(k / m)
-        lx = static / k + np.abs(v) / omega            # the kernels' length scale
+        lx = _law.length_scale(P, laws)
         lx = np.where(lx > 0.0, lx, 1.0)
         lv = np.where(v != 0.0, np.abs(v), omega * lx)
         rounding = EPS * lx * omega / np.maximum(lv, 1e-300)

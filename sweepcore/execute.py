@@ -206,5 +206,4 @@ def cycles(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray, found: np.ndarra
     """Every slip cycle of the rows of P (``out`` of shape (n, MAX_CYCLES, NOBS),
     ``found`` (n,) int64), as :func:`attractors`."""
     compiled.cycles(P, laws, o, out, found, parallel)
-    for j in range(out.shape[1]):       # every cycle slot of an unresolvable point
-        law.flag_unresolvable(P, o, out[:, j, :], laws)
+    law.flag_unresolvable(P, o, out, laws)     # every cycle slot of the point

@@ -104,16 +104,23 @@ def row_law(row, laws=(ANALYTIC,)) -> FrictionLaw:
     return laws[int(row[layout.LAW])]
 
 
+def per_law(P: np.ndarray, laws, name: str, dtype=np.float64) -> np.ndarray:
+    """``law.<name>(rows)`` of every row of the kernel rows P, each row by its own law
+    (``laws[row[LAW]]``)."""
+    which = P[:, layout.LAW].astype(np.intp)
+    out = np.zeros(P.shape[0], dtype)
+    for i, law in enumerate(laws):
+        rows = which == i
+        if rows.any():
+            out[rows] = getattr(law, name)(P[rows])
+    return out
+
+
 def length_scale(P: np.ndarray, laws=(ANALYTIC,)) -> np.ndarray:
     """The kernels' length scale of each row [cm] (``_kernels.law.length_scale``):
     the static bound over k plus ``|v|/omega``."""
     P = np.atleast_2d(P)
-    which = P[:, layout.LAW].astype(np.intp)
-    static = np.zeros(P.shape[0])
-    for i, law in enumerate(laws):
-        rows = which == i
-        if rows.any():
-            static[rows] = law.static_bound(P[rows])
+    static = per_law(P, laws, "static_bound")
     k, m = P[:, layout.K], P[:, layout.M]
     return static / k + np.abs(P[:, layout.V]) / np.sqrt(k / m)
 
@@ -269,16 +276,9 @@ def unresolvable(P: np.ndarray, o: np.ndarray, laws=(ANALYTIC,)) -> np.ndarray:
 
     P = np.atleast_2d(np.asarray(P, np.float64))
     m, k, v = P[:, layout.M], P[:, layout.K], P[:, layout.V]
-    which = P[:, layout.LAW].astype(np.intp)
-    slope = np.zeros(P.shape[0])
-    linear = np.zeros(P.shape[0], bool)
-    conservative = np.zeros(P.shape[0], bool)
-    for i, law in enumerate(laws):
-        rows = which == i
-        if rows.any():
-            slope[rows] = law.slope_scale(P[rows])
-            linear[rows] = law.closed_form(P[rows])
-            conservative[rows] = law.conservative(P[rows])
+    slope = per_law(P, laws, "slope_scale")
+    linear = per_law(P, laws, "closed_form", bool)
+    conservative = per_law(P, laws, "conservative", bool)
     with np.errstate(all="ignore"):
         root_m, root_k = np.sqrt(m), np.sqrt(k)
         zeta = np.maximum(np.abs(P[:, layout.C]), slope) / (root_m * root_k)
@@ -299,12 +299,13 @@ def unresolvable(P: np.ndarray, o: np.ndarray, laws=(ANALYTIC,)) -> np.ndarray:
 
 def flag_unresolvable(P: np.ndarray, o: np.ndarray, out: np.ndarray,
                       laws=(ANALYTIC,)) -> None:
-    """Give the observable rows ``out`` of :func:`unresolvable` points the status
-    ``unresolvable_scale`` and the regime ``failed`` (their numbers are kept, as
-    the search returned them: estimates without digits to trust)."""
+    """Give the observable rows ``out`` (n, ..., NOBS: every slot of a row) of
+    :func:`unresolvable` points the status ``unresolvable_scale`` and the regime
+    ``failed`` (their numbers are kept, as the search returned them: estimates
+    without digits to trust)."""
     from ._kernels import codes
 
     bad = unresolvable(P, o, laws)
     if bad.any():
-        out[bad, layout.OB_STATUS] = codes.SCALE
-        out[bad, layout.OB_REGIME] = codes.R_FAILED
+        out[bad, ..., layout.OB_STATUS] = codes.SCALE
+        out[bad, ..., layout.OB_REGIME] = codes.R_FAILED

@@ -133,3 +133,20 @@ def test_attractor_and_sweep_apply_one_scale_rule(p):
     assert a.regime == codes.REGIME_NAMES[int(ds.regime)]
     for name in ("amplitude", "period", "mean", "floquet", "n_steps"):
         np.testing.assert_array_equal(getattr(a, name), ds[name].item())
+
+
+def test_every_cycle_slot_of_an_unresolvable_point_is_flagged():
+    """``slip_cycles`` rows hold a slot per cycle: the m = 1e300 slider (flagged, as
+    above) is flagged in every slot, with its numbers kept; the paper's slider in
+    none."""
+    P = sc.Grid(**{**PAPER, "m": [5.0, 1e300]}).rows(0, 2)
+    out = np.zeros((2, 4, layout.NOBS))
+    out[..., layout.OB_AMPLITUDE] = 1.5
+    law.flag_unresolvable(P, make_options(), out)
+    assert np.all(out[1, :, layout.OB_STATUS] == codes.SCALE)
+    assert np.all(out[1, :, layout.OB_REGIME] == codes.R_FAILED)
+    assert np.all(out[0, :, layout.OB_STATUS] == codes.OK)
+    assert np.all(out[..., layout.OB_AMPLITUDE] == 1.5)
+    ds = sc.slip_cycles(sc.Grid(**{**PAPER, "v": 7.0, "m": [5.0, 1e300]}), progress=False)
+    assert np.all(ds.cycle_status.sel(m=1e300) == codes.SCALE)
+    assert not np.any(ds.cycle_status.sel(m=5.0) == codes.SCALE)

@@ -24,5 +24,4 @@ LAWS = (
 )
 MODULES = {row[1]: row[2] for row in LAWS}
 KIND_CODES = {row[0]: i for i, row in enumerate(LAWS)}
-DATA = {row[0]: row[1] for row in LAWS}
 SAMPLES = {row[0]: row[3] for row in LAWS}
