@@ -41,7 +41,7 @@ from .grid import Grid, checked_grid
 from .io import check_flag, result_path
 from .options import checked_keywords, make_options
 from .params import check_real
-from .sizing import basin_chunk_size, basin_need, refuse_unaffordable
+from .sizing import basin_need, refuse_unaffordable
 
 __all__ = ["basin_stability", "clusters", "ROUTE_NAMES", "STATUS_NAMES"]
 
@@ -428,10 +428,9 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
     execute.check_chunks(chunks, " (points per chunk)")
     target_path = None if path is None else result_path(path, overwrite=overwrite)
     kind, target = execute.resolve(client, scheduler)
-    refuse_unaffordable(basin_need(grid.size, spec.samples, spec.checks, spec.route,
-                                   chunks))
-    chunk = basin_chunk_size(grid.size, spec.samples if spec.route != "exact"
-                             else spec.checks, chunks)
+    need = basin_need(grid.size, spec.samples, spec.checks, spec.route, chunks)
+    refuse_unaffordable(need)
+    chunk = need["chunk"]
     call = (f"sweepcore.basin_stability({grid!r}, x0={spec.box[0]!r}, "
             f"xdot0={spec.box[1]!r}, samples={spec.samples}, method={method!r}, "
             f"tol={tol!r}, route={route!r}, sampling={sampling!r}, seed={seed!r})")
@@ -446,14 +445,8 @@ def basin_stability(grid: Grid, x0=(-2.0, 2.0), xdot0=(0.0, 2.0), samples: int =
 
     with execute.connected(kind, target) as (kind, target):
         if target_path is None:
-            bounds = execute.chunk_bounds(grid.size, chunk)
-            parts = [None] * len(bounds)
-            with resumable.progress_bar(grid.size, 0, progress, "basins") as bar:
-                def handle(i, packed):
-                    parts[i] = packed
-                    bar.update(bounds[i][1] - bounds[i][0])
-                execute.run(kind, target, range(len(bounds)), task(bounds), handle)
-            return labelled(parts)
+            return labelled(resumable.compute_in_memory(grid.size, chunk, kind, target,
+                                                        task, progress, "basins"))
         fixed = {"kind": "basins", "grid": grid.fingerprint(), "options": o.tolist(),
                  "spec": [list(spec.box[0]), list(spec.box[1]), spec.samples,
                           spec.route, spec.sampling, spec.seed, spec.checks,

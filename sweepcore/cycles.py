@@ -129,10 +129,7 @@ def scan(grid: Grid, o: np.ndarray, chunks=None, client=None, scheduler=None,
         return lambda i: (packed_chunk, (*grid.block(*bounds[i]), o))
     with execute.connected(kind, target) as (kind, target):
         if path is None:
-            bounds = execute.chunk_bounds(size, chunk)
-            parts = [None] * len(bounds)
-            execute.run(kind, target, range(len(bounds)), task(bounds),
-                        parts.__setitem__)
+            parts = resumable.compute_in_memory(size, chunk, kind, target, task, False)
             return (*_unpacked(np.concatenate(parts)), None)
         fixed = {"kind": "cycles", "grid": grid.fingerprint(), "options": o.tolist()}
         store = resumable.open_store(path, fixed, {"grid": repr(grid)}, size,

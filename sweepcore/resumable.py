@@ -56,6 +56,27 @@ def progress_bar(size: int, initial: int, progress, desc: str = "sweep"):
                 file=sys.stderr)
 
 
+def compute_in_memory(size: int, chunk: int, kind, target, task, progress,
+                      what: str = "sweep", handle=None) -> list | None:
+    """Compute every chunk of ``size`` points (:func:`sweepcore.execute.chunk_bounds`)
+    with the executor ``(kind, target)``, without a store, ``task(bounds)`` giving
+    :func:`sweepcore.execute.run`'s task: the results in chunk order, or each given
+    to ``handle(a, b, result)`` (the points ``[a, b)``) as it finishes."""
+    bounds = execute.chunk_bounds(size, chunk)
+    parts = [None] * len(bounds)
+    with progress_bar(size, 0, progress, what) as bar:
+        def done(i, result):
+            a, b = bounds[i]
+            if handle is None:
+                parts[i] = result
+            else:
+                handle(a, b, result)
+            bar.update(b - a)
+
+        execute.run(kind, target, range(len(bounds)), task(bounds), done)
+    return parts if handle is None else None
+
+
 def compute_missing(store: WorkingStore, kind, target, task, progress,
                     what: str = "sweep") -> None:
     """Compute the chunks ``store`` lacks (or holds damaged) with the executor

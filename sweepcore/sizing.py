@@ -225,7 +225,8 @@ def basin_need(points: int, samples: int, checks: int, route: str,
                chunks: int | None = None) -> dict:
     """What :func:`sweepcore.basin_stability` needs: ``points`` grid points, each
     with ``samples`` starts (sampled route) or ``2 checks + 3`` runs and ``50
-    checks`` candidate starts (exact route; "auto" may take either at any point)."""
+    checks`` candidate starts (exact route; "auto" may take either at any point),
+    in tasks of ``chunk`` points (:func:`basin_chunk_size`)."""
     exact = route != "sampled"
     exact_runs = 2 * checks + 3
     runs = {"sampled": samples, "exact": exact_runs}.get(route,
@@ -239,7 +240,7 @@ def basin_need(points: int, samples: int, checks: int, route: str,
     what = (f"basin stability of {_count(points, 'point')} with samples="
             f"{_number(samples)} starts a point and checks={_number(checks)} (route "
             f"{route!r})")
-    return {"what": what, "memory": result + work,
+    return {"what": what, "memory": result + work, "chunk": chunk,
             "elements": max(chunk * runs * layout.NP, 2 * candidates, 2 * samples,
                             points * layout.NOBS),
             "parts": f"the result {size_text(result)}, a task of "

@@ -225,17 +225,14 @@ def _chunk_task(grid, o, bounds):
 
 def _compute(grid, o, kind, target, chunk, progress) -> np.ndarray:
     """Observables ``(layout.NOBS, grid.size)``, computed in memory."""
-    size = grid.size
-    bounds = execute.chunk_bounds(size, chunk)
-    cols = np.empty((layout.NOBS, size))     # one contiguous row per observable
-    with resumable.progress_bar(size, 0, progress) as bar:
-        def handle(i, result):
-            a, b = bounds[i]
-            cols[:, a:b] = result.T
-            bar.update(b - a)
+    cols = np.empty((layout.NOBS, grid.size))     # one contiguous row per observable
 
-        execute.run(kind, target, range(len(bounds)), _chunk_task(grid, o, bounds),
-                    handle)
+    def handle(a, b, result):
+        cols[:, a:b] = result.T
+
+    resumable.compute_in_memory(grid.size, chunk, kind, target,
+                                lambda bounds: _chunk_task(grid, o, bounds), progress,
+                                handle=handle)
     return cols
 
 
