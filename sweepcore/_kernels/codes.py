@@ -84,6 +84,8 @@ R_STUCK = 4         # permanent stick (static belt, v = 0)
 R_UNBOUNDED = 5     # the motion grows without bound (e.g. alpha2 = 0, alpha1 > 0, v = 0)
 R_UNCONVERGED = 6   # budget spent, attractor not recognised
 R_FAILED = 7        # numerical failure (see status)
+R_APERIODIC = 8     # a forced response with no period up to the limit (its Lyapunov
+                    # exponent says whether it is chaotic)
 
 REGIME_NAMES = {
     R_EQUILIBRIUM: "equilibrium",
@@ -94,6 +96,7 @@ REGIME_NAMES = {
     R_UNBOUNDED: "unbounded",
     R_UNCONVERGED: "unconverged",
     R_FAILED: "failed",
+    R_APERIODIC: "aperiodic",
 }
 
 # --- outcome of a boundary search (sweepcore.boundaries; the Python solvers' verdicts)

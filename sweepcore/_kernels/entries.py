@@ -11,7 +11,7 @@ Every entry releases the GIL: Python threads share a call's rows
 """
 import functools
 
-from . import attractor, cycles, trajectory
+from . import attractor, cycles, forced_attractor, forced_trajectory, trajectory
 from .jit import kernel, unowned
 from .law import borrowed
 
@@ -58,7 +58,30 @@ def _options(meth):
     return options
 
 
+def _forced_rows(meth):
+    @kernel(entry=True, nogil=True)
+    def forced_rows(P, lw, ex, o, out, nmax):
+        """The steady forced response of every row of P (``out`` (n, NFOB))."""
+        P, lw, o, out = unowned(P), borrowed(lw), unowned(o), unowned(out)
+        for i in range(P.shape[0]):
+            forced_attractor.forced_point(meth, P[i], lw, ex, o, out[i], nmax)
+    return forced_rows
+
+
+def _forced_trajectory(meth):
+    @kernel(entry=True, nogil=True)
+    def run_forced_trajectory(p, lw, ex, o, t_samples, out_x, out_zd, out_mode, ev_t,
+                              ev_kind, ev_x, ev_zd, acc):
+        """``forced_trajectory.run_forced_trajectory`` of one row."""
+        return forced_trajectory.run_forced_trajectory(
+            p, borrowed(lw), ex, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind,
+            ev_x, ev_zd, acc)
+    return run_forced_trajectory
+
+
 FACTORIES = {"attractor_rows": _attractor_rows,
+             "forced_rows": _forced_rows,
+             "forced_trajectory": _forced_trajectory,
              "slip_cycles_rows": _slip_cycles_rows,
              "trajectory": _trajectory,
              "options": _options}

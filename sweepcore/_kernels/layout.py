@@ -20,7 +20,13 @@ VS = 8       # Stribeck speed v_s [cm/s]
 X0 = 9       # start position [cm]
 XD0 = 10     # start velocity [cm/s]
 LAW = 11     # index of the row's law among the call's laws (read by Python only)
-NP = 12
+# the excitation's per-point parameters: read by the excitation modules only
+# (excitations/, sweepcore/excitations/; a test checks it). F0 = Y0 = 0: no excitation.
+F0 = 12      # amplitude of the harmonic load F0 cos(Omega t + phi) on the slider [kN]
+OMEGA = 13   # excitation frequency Omega [rad/s]
+PHI = 14     # phase of the load phi [rad]
+Y0 = 15      # amplitude of the anchor's motion y = Y0 cos(Omega t) [cm]
+NP = 16
 
 # option row o
 O_METHOD = 0     # method code (the row of stepper.METHODS; -1: "auto")
@@ -52,10 +58,11 @@ A_NSTICK = 8    # finite sticks begun
 A_DT = 9        # duration of the interval [s], summed from step lengths so that it
                 # keeps its digits when absolute times are large (after long sticks)
 A_ILAW = 10     # int of the law's non-polynomial slope term (law.law_integrand) dt [s]
-NA = 11
+A_NSTOP = 11    # zero-duration stops (slide-slide) passed (the forced driver)
+NA = 12
 # how accumulators of consecutive intervals combine (attractor search): sums, maxima,
 # minima. Every slot is in exactly one of these (a test checks it).
-SUMMED = (A_IX, A_IXD2, A_WF, A_TSTICK, A_NSTICK, A_DT, A_ILAW)
+SUMMED = (A_IX, A_IXD2, A_WF, A_TSTICK, A_NSTICK, A_DT, A_ILAW, A_NSTOP)
 MAXED = (A_XMAX, A_XDMAX)
 MINNED = (A_XMIN, A_XDMIN)
 
@@ -126,3 +133,10 @@ OB_X_MIN = 12
 OB_XDOT_MAX = 13  # largest xdot on the attractor (grazing indicator: v - xdot_max)
 OB_FLOQUET = 14   # nontrivial Floquet multiplier of a slip cycle (return-map derivative)
 NOBS = 15
+# a forced response's row: the columns above (OB_FLOQUET: the largest |multiplier| of
+# the stroboscopic map P^n; OB_CYCLE_SIZE and OB_T_SETTLE as documented for it) and
+OB_MULTIPLICITY = 15   # n: the response's period is n forcing periods
+OB_STOPS_PER_PERIOD = 16  # zero-duration stops per response period
+OB_LYAPUNOV = 17       # largest Lyapunov exponent [1/s] (aperiodic responses)
+OB_LYAPUNOV_ERROR = 18  # its error estimate [1/s]
+NFOB = 19
