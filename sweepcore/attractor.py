@@ -5,7 +5,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from . import execute
+from . import execute, forced
 from ._kernels import codes, layout
 from .options import check_method, checked_keywords, make_options
 from .params import Params
@@ -67,6 +67,12 @@ def attractor(params: Params, x0: float = 0.0, xdot0: float | None = None,
     **options
         dt, max_steps, max_periods, gps_a, graze (see ``make_options``).
 
+    Returns
+    -------
+    Attractor, or sweepcore.forced.Response for a forced slider (F0 or Y0 given):
+    the steady response the start settles on, a fixed point of the stroboscopic map
+    (``periods``: the largest multiplicity sought).
+
     Notes
     -----
     The search (``sweepcore/_kernels/attractor.py``) stops at the first whole period
@@ -82,6 +88,9 @@ def attractor(params: Params, x0: float = 0.0, xdot0: float | None = None,
     rule of :func:`sweepcore.law.flag_unresolvable`.
     """
     row = start_row(params, x0, xdot0)
+    if params.forced:
+        forced.check_method(method)
+        return forced.response(params, row, make_options(method, tol=tol, **options))
     check_method(method, params)
     out = np.empty((1, layout.NOBS))
     # the one call of the kernel that sweep, the boundaries and the diagrams share:

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import xarray as xr
 
-from . import law
+from . import excitations, law
 from ._kernels import layout
 from .laws import ANALYTIC, LAW_DIM
 from .laws import analytic as _analytic
@@ -24,11 +24,11 @@ from .params import (LONG_NAMES, RULES, UNITS, check_derived, check_law, check_r
                      law_ranges)
 
 # axes in dimension order, with their kernel column (check_real rules: params.RULES)
-AXES = law.PARAMETERS + ("x0", "xdot0")
-COLUMNS = {**law.COLUMNS, "x0": layout.X0, "xdot0": layout.XD0}
+AXES = law.PARAMETERS + excitations.KEYWORDS + ("x0", "xdot0")
+COLUMNS = {**law.COLUMNS, **excitations.COLUMNS, "x0": layout.X0, "xdot0": layout.XD0}
 # axes that may be None: xdot0 (start stuck: xdot0 = v), r_k (= r_y: no Stribeck
 # term) and v_s (not used without a Stribeck term: NaN in the kernel rows)
-OPTIONAL = ("xdot0", "r_k", "v_s")
+OPTIONAL = ("xdot0", "r_k", "v_s", "Omega")
 POINT_DIM = "point"
 # flat indices (len, rows, chunk bounds) are numpy intp: a larger grid has none
 MAX_SIZE = int(np.iinfo(np.intp).max)
@@ -183,6 +183,10 @@ class Grid:
     r_k: object = None
     v_s: object = None
     law: object = None
+    F0: object = 0.0
+    Omega: object = None
+    phi: object = 0.0
+    Y0: object = 0.0
     mode: str = field(default="product", kw_only=True)
 
     def __post_init__(self):
@@ -204,6 +208,7 @@ class Grid:
                 continue
             value = _check_axis(name, getattr(self, name), unique=self.mode == "product")
             object.__setattr__(self, name, value)
+        excitations.check("Grid", {n: getattr(self, n) for n in excitations.KEYWORDS})
         if self.mode == "points":
             lengths = {n: len(self.axis(n)) for n in self.swept}
             if len(set(lengths.values())) > 1:
@@ -258,15 +263,29 @@ class Grid:
             return (ANALYTIC,)
         return self.law if isinstance(self.law, tuple) else (self.law,)
 
+    @property
+    def forced(self) -> bool:
+        """Whether any point is excited (F0 or Y0 not 0): the grid's result is a
+        forced response's (``sweepcore.variables.FORCED_OBSERVABLES``)."""
+        return excitations.given({n: getattr(self, n) for n in excitations.KEYWORDS})
+
+    @property
+    def _axes(self) -> tuple[str, ...]:
+        """The axes a result labels: the excitation's only where it is given."""
+        if self.forced:
+            return AXES
+        return tuple(n for n in AXES if n not in excitations.KEYWORDS)
+
     @classmethod
     def points(cls, m, k, r_y=None, v=None, alpha1=None, alpha2=None, x0=0.0, xdot0=None,
-               c=0.0, r_k=None, v_s=None, law=None) -> Grid:
+               c=0.0, r_k=None, v_s=None, law=None, F0=0.0, Omega=None, phi=0.0,
+               Y0=0.0) -> Grid:
         """Scattered parameter sets: equal-length 1-D arrays, read index by index.
 
         Scalars are shared by every point. The result has one dimension, ``point``.
         """
-        return cls(m, k, r_y, v, alpha1, alpha2, x0, xdot0, c, r_k, v_s, law,
-                   mode="points")
+        return cls(m, k, r_y, v, alpha1, alpha2, x0, xdot0, c, r_k, v_s, law, F0, Omega,
+                   phi, Y0, mode="points")
 
     # ------------------------------------------------------------------ shape
     def axis(self, name: str):
@@ -282,12 +301,12 @@ class Grid:
     def swept(self) -> tuple[str, ...]:
         """Names of the array axes, in dimension order (``law`` first)."""
         laws = (LAW_DIM,) if isinstance(self.law, tuple) else ()
-        return laws + tuple(n for n in AXES if isinstance(self.axis(n), np.ndarray))
+        return laws + tuple(n for n in self._axes if isinstance(self.axis(n), np.ndarray))
 
     @property
     def fixed(self) -> tuple[str, ...]:
         """Names of the scalar axes (None axes excluded)."""
-        return tuple(n for n in AXES if isinstance(self.axis(n), float))
+        return tuple(n for n in self._axes if isinstance(self.axis(n), float))
 
     @property
     def dims(self) -> tuple[str, ...]:
@@ -316,7 +335,7 @@ class Grid:
         if self.law is not None:
             parts.append(f"law={[one.name for one in self.laws]!r}"
                          if isinstance(self.law, tuple) else f"law={self.law!r}")
-        for name in AXES:
+        for name in self._axes:
             if self.law is not None and name in _analytic.PARAMETERS:
                 continue
             val = self.axis(name)
@@ -353,7 +372,9 @@ class Grid:
         for name in AXES:
             val = self.axis(name)
             col = COLUMNS[name]
-            if val is None:     # start stuck on the belt; a law's parameter left out
+            if val is None and name == "Omega":     # no excitation
+                P[:, col] = np.nan
+            elif val is None:   # start stuck on the belt; a law's parameter left out
                 P[:, col] = P[:, layout.V] if name == "xdot0" else \
                     self.laws[0].missing_column(name, P)
             elif isinstance(val, np.ndarray):
@@ -391,7 +412,7 @@ class Grid:
         if isinstance(self.law, tuple):
             out[LAW_DIM] = xr.Variable(LAW_DIM, np.array([one.name for one in self.law]),
                                        {"long_name": "friction law (sweepcore.laws)"})
-        for name in AXES:
+        for name in self._axes:
             val = self.axis(name)
             attrs = {"units": UNITS[name], "long_name": LONG_NAMES[name]}
             if val is None and name == "r_k" and self.law is None:   # = r_y
@@ -413,7 +434,7 @@ class Grid:
         for one in (self.laws if self.law is not None else ()):
             h.update(b"law")
             h.update(one.fingerprint())
-        for name in AXES:
+        for name in self._axes:
             val = self.axis(name)
             h.update(name.encode())
             if isinstance(val, np.ndarray):

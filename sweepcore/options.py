@@ -57,9 +57,14 @@ def _shown(val) -> str:
     return repr(val)
 
 
+# the largest multiplicity a forced response search keeps history for
+# (forced_attractor.NH = 40 stroboscopic states: 2 n + 2 of them)
+MAX_PERIODS_SOUGHT = 19
+
 def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = None,
                  max_steps: int = 2_000_000, max_periods: float = 2000.0,
-                 gps_a: float | None = None, graze: float = 1e-10) -> np.ndarray:
+                 gps_a: float | None = None, graze: float = 1e-10,
+                 periods: int = 16) -> np.ndarray:
     """Validate numerical options and return the kernel option row.
 
     Parameters
@@ -84,6 +89,10 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
         Relative tolerance that decides a tangential touch of zdot = 0 (of the
         motion's velocity scale |v|), in (0, 1e-6]; the adaptive steppers use at
         least 20 tol.
+    periods : int
+        A forced response (``F0`` or ``Y0`` given): the largest multiplicity n
+        sought, 1 ... 19 (a response of period n T, T = 2 pi / Omega; none up to
+        it: aperiodic).
     """
     if method not in METHODS:
         raise ValueError(f"method must be one of {METHODS}, got {method!r}"
@@ -113,7 +122,12 @@ def make_options(method: str = "auto", tol: float = 1e-8, dt: float | None = Non
     if gps_a is not None and (isinstance(gps_a, bool) or not isinstance(gps_a, (int, float))
                               or not _finite(gps_a)):
         raise ValueError(f"gps_a must be a finite number [cm], got {_shown(gps_a)}")
+    if isinstance(periods, bool) or not isinstance(periods, (int, np.integer)) or \
+            not 1 <= periods <= MAX_PERIODS_SOUGHT:
+        raise ValueError(f"periods must be an integer in [1, {MAX_PERIODS_SOUGHT}], "
+                         f"got {_shown(periods)}")
     o = np.zeros(layout.NO)
+    o[layout.O_PERIODS] = periods
     o[layout.O_METHOD] = AUTO if method == "auto" else codes.METHOD_CODES[method]
     o[layout.O_RTOL] = tol
     o[layout.O_DT] = -1.0 if dt is None else dt

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import law
+from . import excitations, law
 from ._kernels import layout
 from .laws import ANALYTIC, OBJECTS
 from .laws import analytic as _analytic
@@ -21,7 +21,7 @@ from .options import checked_keywords
 UNITS = {
     "m": "kN s2 cm-1", "k": "kN cm-1", "r_y": "kN", "v": "cm s-1",
     "alpha1": "kN s cm-1", "alpha2": "kN s3 cm-3", "c": "kN s cm-1", "r_k": "kN",
-    "v_s": "cm s-1", "x0": "cm", "xdot0": "cm s-1",
+    "v_s": "cm s-1", "x0": "cm", "xdot0": "cm s-1", **excitations.UNITS,
 }
 # units of the run settings, for the messages of check_real
 SETTING_UNITS = {"t_end": "s", "output_dt": "s", "dt": "s"}
@@ -32,12 +32,13 @@ LONG_NAMES = {
     "alpha2": "cubic friction-speed coefficient", "c": "viscous damping coefficient",
     "r_k": "kinetic friction level (Stribeck law; r_k = r_y: none)",
     "v_s": "Stribeck speed", "x0": "initial position", "xdot0": "initial velocity",
+    **excitations.LONG_NAMES,
 }
 # validation rules of every parameter (check_real keywords)
 RULES = {"m": {"positive": True}, "k": {"positive": True}, "r_y": {"nonnegative": True},
          "v": {}, "alpha1": {}, "alpha2": {"nonnegative": True},
          "c": {"nonnegative": True}, "r_k": {"nonnegative": True},
-         "v_s": {"positive": True}, "x0": {}, "xdot0": {}}
+         "v_s": {"positive": True}, "x0": {}, "xdot0": {}, **excitations.RULES}
 
 
 def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
@@ -187,6 +188,12 @@ class Params:
         A friction law given as an object (:mod:`sweepcore.laws`) instead of the
         analytic family: then r_y, alpha1, alpha2, r_k and v_s are not given (the law
         holds its own data), and the damping c stays the slider's.
+    F0, Omega, phi, Y0 : float, optional
+        The external excitation (``sweepcore.excitations``): a harmonic load
+        ``F0 cos(Omega t + phi)`` [kN] on the slider and a motion ``Y0 cos(Omega t)``
+        [cm] of the anchor of spring and damper (then the slider's equation is
+        ``m x'' + c (x' - y') + k (x - y) + r_a = F0 cos(Omega t + phi)``);
+        Omega [rad/s] > 0 is required with either. Default: none (F0 = Y0 = 0).
 
     Raises
     ------
@@ -206,8 +213,17 @@ class Params:
     r_k: float | None = None
     v_s: float | None = None
     law: object = None
+    F0: float = 0.0
+    Omega: float | None = None
+    phi: float = 0.0
+    Y0: float = 0.0
 
     def __post_init__(self):
+        for name in excitations.KEYWORDS:
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, check_real(name, getattr(self, name),
+                                                          **RULES[name]))
+        excitations.check("Params", self.excitation_values())
         if self.v is None:
             raise TypeError("Params() missing the belt speed v [cm s-1]")
         for name in ("m", "k", "v", "c"):
@@ -239,6 +255,15 @@ class Params:
                              f"differs from r_y; got r_k={self.r_k!r}, r_y={self.r_y!r}")
         check_derived("Params", {n: (v, v) for n, v in self.values().items()
                                  if v is not None and n != "law"})
+
+    def excitation_values(self) -> dict:
+        """The excitation's keywords by name."""
+        return {n: getattr(self, n) for n in excitations.KEYWORDS}
+
+    @property
+    def forced(self) -> bool:
+        """Whether the slider is excited (F0 or Y0 not 0)."""
+        return excitations.given(self.excitation_values())
 
     @property
     def friction_law(self):
@@ -328,6 +353,9 @@ class Params:
         r[layout.X0] = x0
         r[layout.XD0] = xdot0
         r[layout.LAW] = 0.0
+        for name, col in excitations.COLUMNS.items():
+            val = getattr(self, name)
+            r[col] = np.nan if val is None else val
         return r
 
 

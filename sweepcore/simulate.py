@@ -6,7 +6,7 @@ import math
 import numpy as np
 import xarray as xr
 
-from . import compiled, labels, law
+from . import compiled, excitations, forced, labels, law
 from ._kernels import codes, layout
 from ._kernels.trajectory import fresh_acc
 from .options import check_method, checked_keywords, make_options
@@ -78,9 +78,17 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
     if isinstance(max_events, bool) or not isinstance(max_events, (int, np.integer)) \
             or max_events < 1:
         raise ValueError(f"max_events must be an integer >= 1, got {max_events!r}")
-    check_method(method, params)
-    o, _status = compiled.options(row, params.friction_law, make_options(
-        method, tol=tol, dt=dt, max_steps=max_steps, gps_a=gps_a, graze=graze))
+    if params.forced:
+        forced.check_method(method)
+        o = make_options(method, tol=tol, dt=dt, max_steps=max_steps, gps_a=gps_a,
+                         graze=graze)
+        o[layout.O_METHOD] = forced.METHOD
+        run = forced.trajectory
+    else:
+        check_method(method, params)
+        o, _status = compiled.options(row, params.friction_law, make_options(
+            method, tol=tol, dt=dt, max_steps=max_steps, gps_a=gps_a, graze=graze))
+        run = compiled.trajectory
     t = np.arange(n) * output_dt
     if t[-1] < t_end:
         t = np.append(t, t_end)
@@ -91,8 +99,8 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
         mode = np.empty(t.shape, np.int64)
         ev = [np.empty(cap), np.empty(cap, np.int64), np.empty(cap), np.empty(cap)]
         acc = fresh_acc()
-        n_ev, status, n_steps, _meth = compiled.trajectory(row, params.friction_law, o,
-                                                           t, xs, zds, mode, *ev, acc)
+        n_ev, status, n_steps, _meth = run(row, params.friction_law, o, t, xs, zds, mode,
+                                           *ev, acc)
         if n_ev <= cap or cap >= max_events:
             break
         cap = min(max_events, 2 * n_ev)
@@ -101,9 +109,11 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
                            "raise max_events or shorten t_end")
     ds = _dataset(params, row, o, t, xs, zds, mode, [e[:n_ev] for e in ev],
                   int(status), int(n_steps))
+    ds["time_stuck"] = ((), float(acc[layout.A_TSTICK]), TIME_STUCK)
+    if params.forced:       # the load does work too: no energy balance of these two
+        return ds
     ds["friction_work"] = ((), float(acc[layout.A_WF]), FRICTION_WORK)
     ds["damping_work"] = ((), params.c * float(acc[layout.A_IXD2]), DAMPING_WORK)
-    ds["time_stuck"] = ((), float(acc[layout.A_TSTICK]), TIME_STUCK)
     return ds
 
 
@@ -118,6 +128,9 @@ DAMPING_WORK = {"units": "kN cm", "long_name": "work of the viscous damper on th
 FRICTION_WORK = {"units": "kN cm", "long_name": "work of the friction force on the slider",
                  "comment": "integral of r_a xdot dt over the run; the slider's energy "
                             "k x^2/2 + m xdot^2/2 changes by -(friction_work + damping_work)"}
+LOAD = {"units": "kN", "long_name": "external force on the slider",
+        "comment": "F0 cos(Omega t + phi) + k y + c y' with y = Y0 cos(Omega t): the "
+                   "load and the anchor's motion as one force"}
 TIME_STUCK = {"units": "s", "long_name": "time stuck on the belt during the run"}
 
 
@@ -127,7 +140,9 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
     stick = mode == codes.STICK
     # while sliding the law F on the side the phase says; stuck, the force that
     # holds the slider, -(k x + c v)
-    ra = np.where(stick, law.stick_force(x, params), law.friction(zd, params, phase=mode))
+    load = excitations.load(params, t)
+    ra = np.where(stick, law.stick_force(x, params) + load,
+                  law.friction(zd, params, phase=mode))
     method = codes.METHOD_NAMES[int(o[layout.O_METHOD])]
     ev_t, ev_kind, ev_x, ev_zd = ev
     kinds = sorted(k for k in codes.EVENT_NAMES if k <= codes.EV_ABNORMAL_STOP)
@@ -142,7 +157,8 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
                                   "comment": "zdot = xdot - v, eq. (2)"}),
             "r_a": ("time", ra, {"units": "kN", "long_name": "friction force on the slider",
                                  "comment": "eq. (40) while sliding, -k x while stuck"}),
-            "r": ("time", params.k * (x - v * t) + ra + params.k * v * t + params.c * xd,
+            "r": ("time", params.k * (x - v * t) + ra + params.k * v * t + params.c * xd
+                  - load,
                   {"units": "kN", "long_name": "restoring force",
                    "comment": "r = k x + c xdot + r_a = -m xddot (eqs. 3, 11; c: the "
                               "damper)"}),
@@ -163,7 +179,9 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
                 # the slider and its start: scalar coordinates with units, as in a sweep
                 **{name: ((), value, {"units": UNITS[name], "long_name": LONG_NAMES[name]})
                    for name, value in {**params.values(), "x0": row[layout.X0],
-                                       "xdot0": row[layout.XD0]}.items()
+                                       "xdot0": row[layout.XD0],
+                                       **(params.excitation_values() if params.forced
+                                          else {})}.items()
                    if value is not None and name != "law"}},
         attrs={
             **labels.provenance("sweepcore single-slider simulation",
@@ -176,7 +194,10 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
             **params.friction_law.attrs(),
         },
     )
+    if params.forced:
+        ds["load"] = ("time", load, LOAD)
     if status != codes.OK:
         ds.attrs["comment"] += (" The run stopped with status "
                                 f"{codes.STATUS_NAMES[status]}; samples after it are NaN.")
     return ds
+

@@ -67,7 +67,7 @@ import uuid
 import numpy as np
 import xarray as xr
 
-from . import execute, labels, resumable, variables
+from . import execute, forced, labels, resumable, variables
 from ._kernels import codes, layout
 from .boundary import BOUNDARY_VARIABLES, hopf_boundary, reversal_cycles
 from .grid import Grid, checked_grid
@@ -104,9 +104,17 @@ def _observables(grid: Grid, start: int, stop: int, o: np.ndarray,
     """The kernel and the scale rule on the chunk's rows: the one call that
     :func:`sweepcore.attractor` and the boundary searches make too
     (:func:`sweepcore.execute.attractors`)."""
-    out = np.empty((stop - start, layout.NOBS))
-    execute.attractors(grid.rows(start, stop), grid.laws, o, out, parallel)
+    out = np.empty((stop - start, width(grid)))
+    if grid.forced:
+        forced.responses(grid.rows(start, stop), grid.laws, o, out, parallel)
+    else:
+        execute.attractors(grid.rows(start, stop), grid.laws, o, out, parallel)
     return out
+
+
+def width(grid: Grid) -> int:
+    """Columns of a point's result: the attractor's, or a forced response's."""
+    return layout.NFOB if grid.forced else layout.NOBS
 
 
 # -------------------------------------------------------------------- sweep
@@ -225,7 +233,7 @@ def _chunk_task(grid, o, bounds):
 
 def _compute(grid, o, kind, target, chunk, progress) -> np.ndarray:
     """Observables ``(layout.NOBS, grid.size)``, computed in memory."""
-    cols = np.empty((layout.NOBS, grid.size))     # one contiguous row per observable
+    cols = np.empty((width(grid), grid.size))     # one contiguous row per observable
 
     def handle(a, b, result):
         cols[:, a:b] = result.T
@@ -291,7 +299,10 @@ def _checked_arguments(grid, method, tol, chunks, options, overwrite,
     check_flag("overwrite", overwrite)
     check_flag("progress", progress, none=True)
     o = make_options(method, tol=tol, **options)
-    check_method(method, grid)
+    if grid.forced:
+        forced.check_method(method)
+    else:
+        check_method(method, grid)
     execute.check_chunks(chunks, " (points per chunk)")
     return o
 
@@ -300,7 +311,7 @@ def _working_store(path, grid, o, method, tol, options, chunk) -> WorkingStore:
     """The resumable store of ``path``, keyed by a hash of what fixes the results."""
     readable = {"grid": repr(grid), "method": method, "tol": tol, **options}
     fixed = {"grid": grid.fingerprint(), "options": o.tolist()}
-    return resumable.open_store(path, fixed, readable, grid.size, layout.NOBS, chunk,
+    return resumable.open_store(path, fixed, readable, grid.size, width(grid), chunk,
                                 default_chunk(grid.size))
 
 
@@ -336,7 +347,8 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
     grid's shape (a numpy view, or a dask array read from the working store)."""
     dims = grid.dims
     data = {}
-    for name, (col, *meta) in variables.OBSERVABLES.items():
+    table = variables.FORCED_OBSERVABLES if grid.forced else variables.OBSERVABLES
+    for name, (col, *meta) in table.items():
         values = column(col)
         if name in variables.INTEGER:
             fill = variables.INTEGER[name]
@@ -367,7 +379,7 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
         da = labels.analytic(name, inputs, dims, grid.laws)   # a Variable where inputs are
         ds[name] = xr.Variable(da.dims, da.data, da.attrs)
 
-    if "v" in ds.dims and ds.sizes["v"] >= 2:
+    if "v" in ds.dims and ds.sizes["v"] >= 2 and not grid.forced:
         # lazily: the boundary needs the regime of the whole grid, 1 byte per point
         # (and which slip cycles overshoot the belt, 1 byte more)
         src = ds[["regime", "v_star"]].assign(reversal=reversal_cycles(ds)).compute(

@@ -39,10 +39,56 @@ OBSERVABLES = {
                 "all stepper calls, including rejected steps and event polishing"),
 }
 
+# a forced response (sweepcore.forced): the observables of its period n T, T = 2 pi /
+# Omega (columns of the forced row, layout.NFOB). cycle_size is not defined for it.
+FORCED_OBSERVABLES = {
+    "multiplicity": (layout.OB_MULTIPLICITY, "1", "multiplicity of the response",
+                     "n: the response repeats after n forcing periods 2 pi/Omega; NaN "
+                     "for an aperiodic response or an unforced point"),
+    "period": (layout.OB_PERIOD, "s", "period of the response",
+               "n 2 pi/Omega; NaN for an aperiodic response"),
+    "amplitude": (layout.OB_AMPLITUDE, "cm", "vibration amplitude",
+                  "half of max x - min x over the response's period (over the sampled "
+                  "periods for an aperiodic response)"),
+    "mean": (layout.OB_MEAN, "cm", "mean position",
+             "time average of x over the response's period"),
+    "x_max": (layout.OB_X_MAX, "cm", "largest x of the response", ""),
+    "x_min": (layout.OB_X_MIN, "cm", "smallest x of the response", ""),
+    "xdot_max": (layout.OB_XDOT_MAX, "cm s-1", "largest velocity of the response", ""),
+    "velocity_amplitude": (layout.OB_VAMPLITUDE, "cm s-1", "velocity amplitude",
+                           "half of max xdot - min xdot over the response's period"),
+    "sticks_per_period": (layout.OB_STICKS_PER_PERIOD, "1", "finite sticks per period",
+                          "sticks of finite duration in one response period; -1 where "
+                          "none was measured"),
+    "stops_per_period": (layout.OB_STOPS_PER_PERIOD, "1",
+                         "zero-duration stops per period",
+                         "slide-slide stops (eq. 22: reversals and touches) in one "
+                         "response period, counted apart from the sticks (Hong & Liu's "
+                         "classification); -1 where none was measured"),
+    "stick_fraction": (layout.OB_STICK_FRACTION, "1", "fraction of the period stuck",
+                       "time stuck / response period"),
+    "floquet": (layout.OB_FLOQUET, "1", "largest Floquet multiplier modulus",
+                "largest |multiplier| of the stroboscopic map P^n at the response: < 1 "
+                "stable; 0 is the second multiplier of every response with a stick"),
+    "lyapunov": (layout.OB_LYAPUNOV, "s-1", "largest Lyapunov exponent",
+                 "ln(floquet)/period for a periodic response; measured over 256 "
+                 "forcing periods (two runs, renormalised every period) for an "
+                 "aperiodic one: > 0 chaotic"),
+    "lyapunov_error": (layout.OB_LYAPUNOV_ERROR, "s-1", "error of the Lyapunov exponent",
+                       "standard error over 8 blocks of 32 periods; 0 for a periodic "
+                       "response (its exponent is the multiplier's)"),
+    "t_settle": (layout.OB_T_SETTLE, "s", "settling time",
+                 "time after which the response was found (forcing periods iterated "
+                 "from the start)"),
+    "n_steps": (layout.OB_NSTEPS, "1", "integrator steps spent on the point",
+                "all stepper calls, including rejected steps, event polishing and the "
+                "Jacobian's re-runs"),
+}
+
 # observables stored as integers (int64), counts, so that they read as counts in
 # every tool (CSV "68", not "68.0"): name -> the value stored where the kernel
 # measured none (NaN), or None where it always measures one
-INTEGER = {"n_steps": None, "sticks_per_period": -1}
+INTEGER = {"n_steps": None, "sticks_per_period": -1, "stops_per_period": -1}
 REGIME = {
     "units": "1",
     "long_name": "attractor regime",

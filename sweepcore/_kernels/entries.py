@@ -60,11 +60,11 @@ def _options(meth):
 
 def _forced_rows(meth):
     @kernel(entry=True, nogil=True)
-    def forced_rows(P, lw, ex, o, out, nmax):
+    def forced_rows(P, lw, ex, o, out):
         """The steady forced response of every row of P (``out`` (n, NFOB))."""
         P, lw, o, out = unowned(P), borrowed(lw), unowned(o), unowned(out)
         for i in range(P.shape[0]):
-            forced_attractor.forced_point(meth, P[i], lw, ex, o, out[i], nmax)
+            forced_attractor.forced_point(meth, P[i], lw, ex, o, out[i])
     return forced_rows
 
 

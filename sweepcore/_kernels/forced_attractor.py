@@ -31,7 +31,7 @@ from .jit import kernel
 from .law import anti_damped, length_scale
 from .layout import (A_DT, A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
                      A_XMIN, K, M, NA, NFOB, NO, NP, NS, O_LV, O_LX, O_MAX_STEPS,
-                     O_MAX_TIME, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE, OB_FLOQUET,
+                     O_MAX_TIME, O_PERIODS, O_RTOL, OB_AMPLITUDE, OB_CYCLE_SIZE, OB_FLOQUET,
                      OB_LYAPUNOV, OB_LYAPUNOV_ERROR, OB_MEAN, OB_MULTIPLICITY, OB_NSTEPS,
                      OB_PERIOD, OB_REGIME, OB_STATUS, OB_STICK_FRACTION,
                      OB_STICKS_PER_PERIOD, OB_STOPS_PER_PERIOD, OB_T_SETTLE,
@@ -48,7 +48,7 @@ NH = 40               # stroboscopic states kept (at least 2 NMAX + 2 used)
 
 
 @kernel
-def forced_options(p, lw, fa, fb, om, o_in, nmax):
+def forced_options(p, lw, fa, fb, om, o_in):
     """The point's option row: scales L = r/k + |v|/omega + |e|/k [cm] and
     max(|v|, omega L) [cm/s]; the integration tolerance a hundredth of the asked
     one (>= RTOL_FLOOR)."""
@@ -175,11 +175,11 @@ def newton(u, n, p, lw, fa, fb, om, o, acc, ws, T, work, oft, tol):
             a11 = jxx - 1.0
             a22 = jzz - 1.0
             dd = a11 * a22 - jxz * jzx
-            if dd == 0.0:
-                return False, mu1, mu2, res, codes.OK
-            dxn = (-rx * a22 + rz * jxz) / dd
-            dzn = (-rz * a11 + rx * jzx) / dd
+            dxn = (-rx * a22 + rz * jxz) / dd if dd != 0.0 else 0.0
+            dzn = (-rz * a11 + rx * jzx) / dd if dd != 0.0 else 0.0
         res = max(abs(rx) / lx, abs(rz) / lv)
+        if res <= 1e-2 * tol:           # a fixed point already (a neutral one too)
+            return True, mu1, mu2, res, codes.OK
         step = max(abs(dxn) / lx, abs(dzn) / lv)
         u[S_X] += dxn
         if not stuck:
@@ -188,6 +188,8 @@ def newton(u, n, p, lw, fa, fb, om, o, acc, ws, T, work, oft, tol):
                 return False, mu1, mu2, res, codes.OK
         if step <= 1e-2 * tol:
             return True, mu1, mu2, res, codes.OK
+        if not step > 0.0:              # singular: no step to take
+            return False, mu1, mu2, res, codes.OK
         if step > 10.0 * TRY:
             return False, mu1, mu2, res, codes.OK
     return False, mu1, mu2, res, codes.OK
@@ -272,10 +274,10 @@ def lyapunov(u, p, lw, fa, fb, om, o, acc, ws, T, work, shadow, out):
 
 
 @kernel
-def forced_point(meth, p, lw, ex, o_in, out, nmax):
+def forced_point(meth, p, lw, ex, o_in, out):
     """Fill ``out`` (layout OB_*, length NFOB) with the steady response of one forced
-    point reached from (p[X0], p[XD0]) at t = 0 (module docstring); ``nmax``: the
-    largest multiplicity sought."""
+    point reached from (p[X0], p[XD0]) at t = 0 (module docstring); the option
+    ``O_PERIODS``: the largest multiplicity sought."""
     for i in range(NFOB):
         out[i] = np.nan
     out[OB_NSTEPS] = 0.0
@@ -285,7 +287,8 @@ def forced_point(meth, p, lw, ex, o_in, out, nmax):
         return
     fa, fb, om = coefficients(ex, p)
     T = forcing_period(ex, p)
-    o = forced_options(p, lw, fa, fb, om, o_in, nmax)
+    o = forced_options(p, lw, fa, fb, om, o_in)
+    nmax = int(o_in[O_PERIODS])
     tol = o_in[O_RTOL]
     oft = o.copy()
     oft[O_RTOL] = RTOL_FLOOR
@@ -306,6 +309,7 @@ def forced_point(meth, p, lw, ex, o_in, out, nmax):
     hist[0] = st
     status = codes.OK
     cooldown = np.zeros(nmax + 1)
+    tries = np.zeros(nmax + 1)
     for j in range(1, jmax + 1):
         status = run_periods(st, p, lw, fa, fb, om, o, acc, ws, T, 1, False)
         if status != codes.OK:
@@ -343,7 +347,17 @@ def forced_point(meth, p, lw, ex, o_in, out, nmax):
                     out[OB_REGIME] = codes.R_NEUTRAL   # a neutral family: the start
                     out[OB_STATUS] = codes.UNRESOLVED  # picks the member
                 return
-            cooldown[n] = j + 2 * n + 2
+            if not ok and abs(mu1 - 1.0) <= 1e-3 and mu2 < 1.0:
+                # no isolated fixed point next to a multiplier 1: a neutral family
+                # (at Omega/omega = 1/(2 n), c = 0), whose member the start picks
+                _answer(st.copy(), n, j, mu1, p, lw, fa, fb, om, o, acc, ws, T, work,
+                        out, tol, oft)
+                if out[OB_REGIME] != codes.R_STUCK:
+                    out[OB_REGIME] = codes.R_NEUTRAL
+                    out[OB_STATUS] = codes.UNRESOLVED
+                return
+            tries[n] += 1.0
+            cooldown[n] = j + (2 * n + 2) * 2.0 ** min(tries[n], 20.0)
             break
         if status != codes.OK:
             break

@@ -17,7 +17,7 @@ def run_forced_trajectory(p, lw, ex, o_in, t_samples, out_x, out_zd, out_mode, e
     returns (n_events, status, n_steps) as ``trajectory.run_trajectory``."""
     fa, fb, om = coefficients(ex, p)
     _T = forcing_period(ex, p)
-    o = forced_options(p, lw, fa, fb, om, o_in, 1)
+    o = forced_options(p, lw, fa, fb, om, o_in)
     ws = np.empty((4, 12))
     st = np.zeros(NS)
     initial_forced(st, p[X0], p[XD0], p, lw, fa, fb, om, o)

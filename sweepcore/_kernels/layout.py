@@ -38,7 +38,8 @@ O_GPS_A = 5      # shift constant a of the GPS coordinates [cm]; NaN -> length s
 O_GRAZE = 6      # relative tolerance of tangential touches (graze) and exit snaps
 O_LX = 7         # the point's length scale [cm]   } filled per point by
 O_LV = 8         # the point's velocity scale [cm/s] } attractor.resolve_options
-NO = 9
+O_PERIODS = 9    # a forced response: the largest multiplicity n sought (P^n)
+NO = 10
 
 # simulation state st
 S_T, S_X, S_ZD, S_MODE, S_ARMED, S_H, S_N = range(7)   # S_N: stepper calls so far

@@ -1,0 +1,69 @@
+"""The external excitation of the slider: its keywords and its kinds.
+
+    m x'' + c (x' - y') + k (x - y) + F(x' - v) = F0 cos(Omega t + phi),
+    y = Y0 cos(Omega t)
+
+A harmonic load of amplitude ``F0`` [kN], frequency ``Omega`` [rad/s] and phase
+``phi`` [rad] on the slider, and a harmonic motion of amplitude ``Y0`` [cm] of the
+anchor of spring and damper (Hong & Liu, J. Sound Vib. 229 (2000) 1171-1192; the
+paper's eq. (4) carries the load). They are keywords of ``Params`` and axes of
+``Grid`` like the slider's parameters, and columns of the kernel rows read only by
+the excitation modules (here and ``sweepcore/_kernels/excitations/``).
+
+The kinds are rows of ``EXCITATIONS`` (name, kernel data, module): ``none`` (F0 = Y0
+= 0: the autonomous belt, on the autonomous kernels, bit for bit as without this
+table) and ``harmonic`` (either excitation or both). ``sweepcore.excitations.theory``
+holds the closed forms of the forced oscillator.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .._kernels import layout
+from . import harmonic, none
+
+EXCITATIONS = (
+    ("none", none),
+    ("harmonic", harmonic),
+)
+KEYWORDS = ("F0", "Omega", "phi", "Y0")
+UNITS = {"F0": "kN", "Omega": "rad s-1", "phi": "rad", "Y0": "cm"}
+LONG_NAMES = {
+    "F0": "amplitude of the harmonic load F0 cos(Omega t + phi) on the slider",
+    "Omega": "excitation frequency",
+    "phi": "phase of the harmonic load",
+    "Y0": "amplitude of the anchor's motion Y0 cos(Omega t)",
+}
+RULES = {"F0": {}, "Omega": {"positive": True}, "phi": {}, "Y0": {}}
+DEFAULTS = {"F0": 0.0, "Omega": None, "phi": 0.0, "Y0": 0.0}
+COLUMNS = {"F0": layout.F0, "Omega": layout.OMEGA, "phi": layout.PHI, "Y0": layout.Y0}
+
+
+def kinds(P: np.ndarray) -> np.ndarray:
+    """The excitation kind of every kernel row (an index of ``EXCITATIONS``)."""
+    forced = (P[:, layout.F0] != 0.0) | (P[:, layout.Y0] != 0.0)
+    return forced.astype(np.intp)
+
+
+def given(values: dict) -> bool:
+    """Whether keyword values (scalars or arrays, by name) excite the slider."""
+    return any(np.any(np.asarray(values.get(n) if values.get(n) is not None else 0.0)
+                      != 0.0) for n in ("F0", "Y0"))
+
+
+def check(where: str, values: dict) -> None:
+    """Refuse an excitation without its frequency, naming the keywords."""
+    if given(values) and values.get("Omega") is None:
+        shown = ", ".join(f"{n}={values[n]!r}" for n in ("F0", "Y0")
+                          if values.get(n) is not None and np.any(np.asarray(values[n])))
+        raise ValueError(f"{where}: the excitation frequency Omega [rad s-1] is "
+                         f"required with {shown}")
+
+
+
+def load(params, t: np.ndarray) -> np.ndarray:
+    """The excitation of ``params`` as one force on the slider [kN] at the times t
+    [s] (``F0 cos(Omega t + phi) + k y + c y'``); 0 without one."""
+    if not params.forced:
+        return np.zeros_like(t)
+    return harmonic.load(params, t)
