@@ -14,13 +14,11 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from . import compiled, execute, excitations, variables
-from ._kernels import codes, entries, layout, stepper
-from ._kernels.excitations import EXCITATIONS as _KERNEL_EXCITATIONS
+from . import compiled, excitations, variables
+from ._kernels import codes, layout, stepper
 
-# the forced kernels integrate with the eighth-order pair (its step with time)
-METHOD = stepper.DOP853
 METHODS = ("auto", "dop853")
+METHOD = stepper.DOP853
 
 
 def check_method(method: str) -> None:
@@ -33,70 +31,22 @@ def check_method(method: str) -> None:
 
 def responses(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray,
               parallel: bool = False) -> None:
-    """The steady response of every row of P into ``out`` (n, NFOB)."""
-    kind = excitations.kinds(P)
-    out[:, layout.NOBS:] = np.nan
-    still = np.flatnonzero(kind == 0)
-    if still.size:
-        sub = np.empty((still.size, layout.NOBS))
-        execute.attractors(np.ascontiguousarray(P[still]), laws, o, sub, parallel)
-        out[still, :layout.NOBS] = sub
-    moved = np.flatnonzero(kind != 0)
-    if not moved.size:
-        return
-    Pm = np.ascontiguousarray(P[moved])
-    sub = np.empty((moved.size, layout.NFOB))
-    o_forced = o.copy()
-    o_forced[layout.O_METHOD] = METHOD
-    which = Pm[:, layout.LAW].astype(np.intp)
-    ex = _KERNEL_EXCITATIONS[1][3]
-    kernel = entries.entry("forced_rows", METHOD)
-    for i, law in enumerate(laws):
-        mine = np.flatnonzero(which == i)
-        if not mine.size:
-            continue
-        for lkind, rows_, lw in law.kernel_groups(Pm[mine]):
-            rows = mine[rows_]
-            block = np.ascontiguousarray(Pm[rows])
-            res = np.empty((rows.size, layout.NFOB))
-            with compiled.compiling("forced response", METHOD, lkind):
-                _run(kernel, block, lw, ex, o_forced, res, parallel)
-            sub[rows] = res
-    out[moved] = sub
-
-
-def _run(kernel, P, lw, ex, o, out, parallel):
-    """The kernel over the rows, on numba's thread count of Python threads when
-    ``parallel`` (the kernels release the GIL; blocks of rows taken in turn)."""
-    import numba
-    from concurrent.futures import ThreadPoolExecutor
-    n = P.shape[0]
-    threads = min(numba.get_num_threads(), n) if parallel else 1
-    if threads <= 1:
-        kernel(P, lw, ex, o, out)
-        return
-    kernel(P[:1], lw, ex, o, out[:1])       # compile once, not per thread
-    block = 8
-    starts = list(range(1, n, block))
-
-    def work(a):
-        b = min(a + block, n)
-        kernel(P[a:b], lw, ex, o, out[a:b])
-    with ThreadPoolExecutor(threads) as pool:
-        list(pool.map(work, starts))
+    """The steady response of every row of P into ``out`` (n, NFOB): each
+    excitation kind's rows by its module (``sweepcore.excitations``)."""
+    for module, rows in excitations.groups(P):
+        block = np.ascontiguousarray(P[rows]) if rows.size < P.shape[0] else P
+        res = np.empty((rows.size, layout.NFOB))
+        module.run(block, laws, o, res, parallel)
+        out[rows] = res
 
 
 def trajectory(row: np.ndarray, law, o: np.ndarray, *arrays):
     """One run of the forced driver from ``row``: ``(n_events, status, n_steps,
     method)``, as ``sweepcore.compiled.trajectory``."""
     P = row[None, :]
-    ((_meth, lkind, _rows, lw),) = compiled.groups(P, (law,), o)
-    o_forced = o.copy()
-    o_forced[layout.O_METHOD] = METHOD
-    ex = _KERNEL_EXCITATIONS[1][3]
-    with compiled.compiling("forced trajectory", METHOD, lkind):
-        n_ev, status, n_steps = entries.entry("forced_trajectory", METHOD)(
-            row, lw, ex, o_forced, *arrays)
+    ((module, _rows),) = excitations.groups(P)
+    ((_meth, kind, _r, lw),) = compiled.groups(P, (law,), o)
+    n_ev, status, n_steps = module.trajectory(row, lw, kind, o, *arrays)
     return n_ev, status, n_steps, METHOD
 
 

@@ -195,7 +195,7 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
         },
     )
     if params.forced:
-        ds["load"] = ("time", load, LOAD)
+        ds["external_force"] = ("time", load, LOAD)
     if status != codes.OK:
         ds.attrs["comment"] += (" The run stopped with status "
                                 f"{codes.STATUS_NAMES[status]}; samples after it are NaN.")

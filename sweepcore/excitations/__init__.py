@@ -45,6 +45,14 @@ def kinds(P: np.ndarray) -> np.ndarray:
     return forced.astype(np.intp)
 
 
+def groups(P: np.ndarray):
+    """``[(module, rows)]``: the rows of P (indices) of each excitation kind, with
+    the kind's module (whose ``run`` solves them)."""
+    which = kinds(P)
+    return [(module, np.flatnonzero(which == i)) for i, (_n, module) in
+            enumerate(EXCITATIONS) if (which == i).any()]
+
+
 def given(values: dict) -> bool:
     """Whether keyword values (scalars or arrays, by name) excite the slider."""
     return any(np.any(np.asarray(values.get(n) if values.get(n) is not None else 0.0)

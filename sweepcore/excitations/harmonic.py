@@ -1,12 +1,72 @@
 """A harmonic load on the slider and a harmonic motion of the anchor: both enter the
 slider's equation as one harmonic force (``sweepcore/_kernels/excitations/harmonic.py``),
-solved by the forced kernels (``sweepcore/_kernels/forced_attractor.py``)."""
+solved by the forced kernels (``sweepcore/_kernels/forced_attractor.py``) with the
+eighth-order pair (its step with time, ``sweepcore/_kernels/forced_step.py``)."""
 import numpy as np
 
+from .._kernels import entries, layout, stepper
 from .._kernels.excitations import harmonic as _kernel
 
 NAME = "harmonic"
 DATA = _kernel.Harmonic()
+METHOD = stepper.DOP853
+
+
+def run(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray, parallel: bool) -> None:
+    """The steady response of every row into ``out`` (n, NFOB), one group of rows per
+    law kind on the forced entry kernel (compiled on first use)."""
+    from .. import compiled
+    o = o.copy()
+    o[layout.O_METHOD] = METHOD
+    kernel = entries.entry("forced_rows", METHOD)
+    which = P[:, layout.LAW].astype(np.intp)
+    for i, law in enumerate(laws):
+        mine = np.flatnonzero(which == i)
+        if not mine.size:
+            continue
+        for kind, sub, lw in law.kernel_groups(P[mine]):
+            rows = mine[sub]
+            block = np.ascontiguousarray(P[rows])
+            res = np.empty((rows.size, layout.NFOB))
+            with compiled.compiling("forced response", METHOD, kind):
+                _threads(kernel, block, lw, o, res, parallel)
+            out[rows] = res
+
+
+def trajectory(row: np.ndarray, lw, kind: int, o: np.ndarray, *arrays):
+    """One run of the forced driver from ``row``: ``(n_events, status, n_steps)``."""
+    from .. import compiled
+    o = o.copy()
+    o[layout.O_METHOD] = METHOD
+    with compiled.compiling("forced trajectory", METHOD, kind):
+        return entries.entry("forced_trajectory", METHOD)(row, lw, DATA, o, *arrays)
+
+
+def _threads(kernel, P, lw, o, out, parallel):
+    """The kernel over the rows, on numba's thread count of Python threads when
+    ``parallel`` (the kernels release the GIL; blocks of rows taken in turn, so a
+    thread that drew costly points takes fewer)."""
+    import itertools
+    from concurrent.futures import ThreadPoolExecutor
+
+    import numba
+    n = P.shape[0]
+    threads = min(numba.get_num_threads(), n) if parallel else 1
+    if threads <= 1:
+        kernel(P, lw, DATA, o, out)
+        return
+    kernel(P[:1], lw, DATA, o, out[:1])         # compile once, not per thread
+    block = max(1, min(8, (n - 1) // (4 * threads)))
+    starts = itertools.count(1, block)
+
+    def work(_):
+        for a in starts:
+            if a >= n:
+                return
+            b = min(a + block, n)
+            kernel(P[a:b], lw, DATA, o, out[a:b])
+    with ThreadPoolExecutor(threads) as pool:
+        list(pool.map(work, range(threads)))
 
 
 def load(params, t: np.ndarray) -> np.ndarray:
