@@ -43,7 +43,7 @@ from scipy.optimize import brentq
 
 from reference import friction
 
-__all__ = ["Forced", "forced_run", "forced_steady"]
+__all__ = ["Forced", "forced_run", "forced_steady", "lyapunov"]
 
 
 class Forced:
@@ -307,6 +307,27 @@ def _section(mod, z, t, n, rtol):
     return ts
 
 
+def lyapunov(mod, z, t0, periods, rtol=1e-12, d=1e-6, batches=5):
+    """Largest Lyapunov exponent [1/s] of the motion from z = (x, x') at t0, by two
+    trajectories (Benettin): a neighbour d away (in units of the scales L and
+    L omega + |v|) is set back to distance d along their difference after every
+    period, and the exponent is the mean of ln(distance/d)/T. Returns (exponent,
+    standard error of the means of ``batches`` equal batches)."""
+    scale = np.array([mod.L, mod.Lv])
+    z = np.asarray(z, float)
+    u = np.array([1.0, 1.0]) / math.sqrt(2.0)
+    logs, t = [], float(t0)
+    for _ in range(periods):
+        z1 = _map(mod, z, t, 1, rtol)[0]
+        w1 = _map(mod, z + d * u * scale, t, 1, rtol)[0]
+        diff = (w1 - z1) / scale
+        dist = float(np.hypot(*diff))
+        logs.append(math.log(dist / d))
+        u, z, t = diff / dist, z1, t + mod.T
+    means = np.array([np.mean(b) for b in np.array_split(logs, batches)]) / mod.T
+    return float(np.mean(logs) / mod.T), float(np.std(means, ddof=1) / math.sqrt(batches))
+
+
 def forced_steady(mod, x0=0.0, xd0=0.0, t0=0.0, n_max=16, max_periods=2000,
                   rtol=1e-12, settle_rtol=1e-8, detect_tol=1e-4, multipliers=True):
     """The steady response that the motion from (x0, xd0) at t0 reaches.
@@ -324,8 +345,10 @@ def forced_steady(mod, x0=0.0, xd0=0.0, t0=0.0, n_max=16, max_periods=2000,
     multiplicity n, period n T [s], amplitude, mean, x_max, x_min [cm], xdot_max,
     xdot_min, velocity_amplitude [cm/s], sticks_per_period, stops_per_period,
     stick_fraction, multipliers (largest modulus first; NaN without
-    ``multipliers``), floquet (the largest modulus), section (t, x, x'), events
-    [(t, kind, x)] of one response period."""
+    ``multipliers``), floquet (the largest modulus), lyapunov = ln(floquet)/(n T)
+    [1/s], section (t, x, x'), events [(t, kind, x)] of one response period. An
+    aperiodic response has its ``lyapunov`` (and ``lyapunov_error``) from
+    ``lyapunov`` over 200 periods and no other observable."""
     scale = np.array([mod.L, mod.Lv])
     z, t = np.array([x0, xd0], float), float(t0)
     points, n = [z], 0
@@ -343,7 +366,8 @@ def forced_steady(mod, x0=0.0, xd0=0.0, t0=0.0, n_max=16, max_periods=2000,
         if n:
             break
     if not n:
-        return dict(status="aperiodic", multiplicity=0)
+        lam, err = lyapunov(mod, z, t, 200, rtol)
+        return dict(status="aperiodic", multiplicity=0, lyapunov=lam, lyapunov_error=err)
     ts = _section(mod, z, t, n, settle_rtol)
     rs = forced_run(mod, z[0], z[1], t, ts, settle_rtol)
     zs = np.array([rs["x1"], rs["xd1"]])
@@ -369,4 +393,5 @@ def forced_steady(mod, x0=0.0, xd0=0.0, t0=0.0, n_max=16, max_periods=2000,
                 sticks_per_period=sum(1 for e in ev if e[1] == "stick"),
                 stops_per_period=sum(1 for e in ev if e[1].endswith("_stop")),
                 stick_fraction=orbit["stick_time"] / span, multipliers=mu,
-                floquet=float(np.abs(mu[0])), section=(ts, zs[0], zs[1]), events=ev)
+                floquet=float(np.abs(mu[0])), lyapunov=np.log(np.abs(mu[0])) / span,
+                section=(ts, zs[0], zs[1]), events=ev)

@@ -20,9 +20,11 @@ scipy integration with exact sticks that imports nothing from sweepcore):
   just above it one stick a period;
 * a base motion is its equivalent load: the two runs agree to 1e-9 of the length
   scale, sticks and stops included, for a Stribeck law with a cubic term;
-* the neutral family is flagged exactly where a multiplier is 1.
+* the neutral family is flagged exactly where a multiplier is 1;
+* the reference's Lyapunov exponent (its answer for an aperiodic response) is
+  ln(rho)/T on Den Hartog's motion at beta = 2, where the period's map is -rho I.
 
-Runtime ~30 s (the reference is Python; each steady response is a few hundred
+Runtime ~30 s of calls (the reference is Python; each steady response is a few hundred
 periods of DOP853 at most).
 """
 import math
@@ -30,7 +32,7 @@ import math
 import numpy as np
 import pytest
 
-from reference_forced import Forced, forced_run, forced_steady
+from reference_forced import Forced, forced_run, forced_steady, lyapunov
 from sweepcore.excitations import theory
 
 # Den Hartog's slider: omega = 5 rad/s, F0 = 10 kN, length unit F0/k = 0.2 cm
@@ -176,3 +178,20 @@ def test_closed_forms_say_nan_outside_their_motion_and_refuse_bad_input():
         theory.den_hartog_amplitude(M, K, F0, OMEGA, 1.0)           # resonance
     with pytest.raises(ValueError, match="v must"):
         theory.belt_critical_load(1.0, 4.0, 0.4, 0.0, 1.5)
+
+
+def test_lyapunov_exponent_of_den_hartogs_motion_is_its_multipliers():
+    """The reference's two-trajectory exponent (its aperiodic answer) on a motion
+    whose multipliers are known: at beta = 2 the half-period matrix N has
+    eigenvalues +-i sqrt(rho), so the period's map is -rho I and every perturbation
+    shrinks by exactly rho a period: exponent ln(rho)/T, to 1e-6 relative (the
+    neighbour 1e-6 of the scales away, rtol 1e-12)."""
+    beta, r = 2.0, 0.3
+    Omega = beta * OMEGA
+    mod = Forced(M, K, F0=F0, Omega=Omega, r_y=r * F0)
+    X = F0 / K * theory.den_hartog_scaled(beta, r)
+    t0 = theory.den_hartog_phase_scaled(beta, r) / Omega
+    lam, err = lyapunov(mod, (-X, 0.0), t0, 20)
+    rho = abs(theory.den_hartog_multipliers(M, K, F0, Omega, r * F0)[0])
+    assert lam == pytest.approx(math.log(rho) * Omega / (2 * math.pi), rel=1e-6)
+    assert err < 1e-6 * abs(lam)
