@@ -274,8 +274,8 @@ def _jacobian(mod, z, t0, n, rtol, scale, h=1e-6):
     for j in range(2):
         dz = np.zeros(2)
         dz[j] = h * scale[j]
-        J[:, j] = (_map(mod, z + dz, t0, n, rtol)[0] - _map(mod, z - dz, t0, n, rtol)[0]) \
-            / (2 * dz[j])
+        up, down = _map(mod, z + dz, t0, n, rtol)[0], _map(mod, z - dz, t0, n, rtol)[0]
+        J[:, j] = (up - down) / (2 * dz[j])
     return J
 
 

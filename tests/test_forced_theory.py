@@ -5,7 +5,8 @@ scipy integration with exact sticks that imports nothing from sweepcore):
 
 * Den Hartog's continuous motion (c = 0, v = 0): the amplitude to 1e-9 relative (the
   reference's fixed point is found to 1e-11 of the scales at rtol 1e-12), mean 0,
-  two zero-duration stops and no stick a period, and the multipliers
+  two zero-duration stops and no stick a period, the forcing phase of the minimum
+  to 1e-9 rad, and the multipliers
   ``mu = lambda^2`` to 1e-6 (the reference's central differences with steps 1e-5
   of the scales at rtol 1e-12: error ~ 1e-12/1e-5); the quoted values of x0 to their
   last digit;
@@ -40,9 +41,9 @@ M, K, F0 = 2.0, 50.0, 10.0
 OMEGA = math.sqrt(K / M)
 
 
-@pytest.mark.parametrize("beta, r, x0", [(2.0, 0.3, 0.2976761850), (1.5, 0.5, 0.5537749242),
-                                         (0.8, 0.3, 2.6261048757), (3.0, 0.1, 0.1235096338),
-                                         (1.2, 0.3, 2.0723842680)])
+@pytest.mark.parametrize("beta, r, x0", [
+    (2.0, 0.3, 0.2976761850), (1.5, 0.5, 0.5537749242), (0.8, 0.3, 2.6261048757),
+    (3.0, 0.1, 0.1235096338), (1.2, 0.3, 2.0723842680)])
 def test_den_hartog_amplitude_is_the_quoted_value(beta, r, x0):
     # quoted to 10 decimals: agreement to half a unit of the last one
     assert theory.den_hartog_scaled(beta, r) == pytest.approx(x0, abs=5e-11)
@@ -84,13 +85,17 @@ def test_den_hartog_motion_and_multipliers_against_the_reference(beta, r, start)
         theory.den_hartog_amplitude(M, K, F0, Omega, r * F0), rel=1e-9)
     assert abs(res["mean"]) < 1e-9 * res["amplitude"]              # symmetric motion
     assert (res["sticks_per_period"], res["stops_per_period"]) == (0, 2)
+    # the minimum's stop sits at the forcing phase psi
+    t_min = [t for t, kind, x in res["events"] if x < 0]
+    miss = Omega * t_min[0] - theory.den_hartog_phase_scaled(beta, r)
+    assert abs(math.remainder(miss, 2 * math.pi)) < 1e-9
     mu = theory.den_hartog_multipliers(M, K, F0, Omega, r * F0)
     assert np.sort_complex(res["multipliers"]) == pytest.approx(np.sort_complex(mu),
                                                                 abs=1e-6)
 
 
-@pytest.mark.parametrize("beta, below, above", [(0.8, (0, 2), (2, 0)), (2.0, (0, 2), (2, 0)),
-                                                (0.4, (0, 2), (2, 2))])
+@pytest.mark.parametrize("beta, below, above", [
+    (0.8, (0, 2), (2, 0)), (2.0, (0, 2), (2, 0)), (0.4, (0, 2), (2, 2))])
 def test_boundary_separates_continuous_motion_from_sticking(beta, below, above):
     """(sticks, stops) a period at 0.97 r_b and 1.03 r_b, from Den Hartog's minimum."""
     rb = theory.continuous_motion_boundary(beta)
@@ -105,17 +110,28 @@ def test_boundary_separates_continuous_motion_from_sticking(beta, below, above):
         assert (res["sticks_per_period"], res["stops_per_period"]) == expected, factor
 
 
-# a belt under a load: omega = 2 rad/s, c = 0.4 kN s/cm, Coulomb friction r_k = 1 kN
+# a belt under a load: omega = 2 rad/s, c = 0.4 kN s/cm, Coulomb friction r_k = 0.7 kN
 BELT = dict(m=1.0, k=4.0, c=0.4, v=0.5)
-R_K, BELT_OMEGA = 1.0, 1.5
+R_K, BELT_OMEGA = 0.7, 1.5
 
 
-def test_below_the_critical_load_the_response_is_linear_and_shifted():
+def _asymmetric(s):
+    """A callable law: kinetic levels 1 kN (s > 0) and R_K (s < 0)."""
+    return 1.0 if s > 0 else -R_K
+
+
+@pytest.mark.parametrize("law", ["family", "callable"])
+def test_below_the_critical_load_the_response_is_linear_and_shifted(law):
+    """Only the kinetic level on the belt's slow side (s < 0) counts below F0_crit:
+    the family's Coulomb law and a callable one with other levels and static
+    limits (1.2, 0.8) give the same response."""
     crit = theory.belt_critical_load(**BELT, Omega=BELT_OMEGA)
     F0 = 0.99 * crit
-    mod = Forced(**BELT, F0=F0, Omega=BELT_OMEGA, r_y=R_K)
+    kw = dict(r_y=R_K) if law == "family" else dict(law=(_asymmetric, 1.2, 0.8))
+    mod = Forced(**BELT, F0=F0, Omega=BELT_OMEGA, **kw)
     res = forced_steady(mod, x0=R_K / BELT["k"])
-    amp, mean, _lag = theory.belt_linear_response(**BELT, r_k=R_K, F0=F0, Omega=BELT_OMEGA)
+    amp, mean, _lag = theory.belt_linear_response(**BELT, r_k=R_K, F0=F0,
+                                                  Omega=BELT_OMEGA)
     assert res["status"] == "ok" and res["sticks_per_period"] == 0
     assert res["amplitude"] == pytest.approx(amp, rel=1e-9)
     assert res["mean"] == pytest.approx(mean, rel=1e-9)
@@ -171,7 +187,8 @@ def test_neutral_family_is_flagged_where_a_multiplier_is_one():
 def test_closed_forms_say_nan_outside_their_motion_and_refuse_bad_input():
     rb = theory.continuous_motion_boundary(2.0)
     assert np.isnan(theory.den_hartog_amplitude(M, K, F0, 2 * OMEGA, 1.01 * rb * F0))
-    assert np.isnan(theory.den_hartog_multipliers(M, K, F0, 2 * OMEGA, 1.01 * rb * F0)).all()
+    assert np.isnan(theory.den_hartog_multipliers(M, K, F0, 2 * OMEGA,
+                                                  1.01 * rb * F0)).all()
     with pytest.raises(ValueError, match="beta"):
         theory.den_hartog_scaled(-1.0, 0.3)
     with pytest.raises(ValueError, match="Omega"):

@@ -24,10 +24,10 @@ import math
 
 import numpy as np
 
-__all__ = ["den_hartog_scaled", "den_hartog_phase_scaled", "den_hartog_multipliers_scaled",
-           "continuous_motion_boundary", "den_hartog_amplitude", "den_hartog_multipliers",
-           "belt_critical_load", "belt_linear_response", "base_equivalent_load",
-           "neutral_family"]
+__all__ = ["den_hartog_scaled", "den_hartog_phase_scaled",
+           "den_hartog_multipliers_scaled", "continuous_motion_boundary",
+           "den_hartog_amplitude", "den_hartog_multipliers", "belt_critical_load",
+           "belt_linear_response", "base_equivalent_load", "neutral_family"]
 
 
 def _checked(name, value, low=0.0, strict=True):
@@ -136,7 +136,8 @@ def _kappa_sup(beta):
     t = math.tan(0.5 * p)
 
     def kappa(u):
-        return (np.sin(u) - t * np.cos(u) + t * np.cos(beta * u)) / (beta * np.sin(beta * u))
+        num = np.sin(u) - t * np.cos(u) + t * np.cos(beta * u)
+        return num / (beta * np.sin(beta * u))
 
     n = 400 * (1 + int(p / (2 * math.pi)))
     u = np.linspace(0.0, p, n + 1)[1:-1]
