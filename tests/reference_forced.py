@@ -212,6 +212,8 @@ def forced_run(mod, x0, xd0, t0, t_end, rtol=1e-12, t_eval=None):
     xo = None if te is None else np.full(te.shape, np.nan)
     xdo = None if te is None else np.full(te.shape, np.nan)
     while t < t_end:
+        if len(events) > 100000:      # sticks and slides without end (Zeno)
+            raise RuntimeError(f"more than 100000 switches before t = {t!r}")
         if s == 0:
             tb, side = _breakaway(mod, t, x, t_end)
             t1 = t_end if tb is None else tb
