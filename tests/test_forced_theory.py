@@ -218,16 +218,19 @@ def test_lyapunov_exponent_of_den_hartogs_motion_is_its_multipliers():
 
 
 def test_without_a_load_the_run_is_the_autonomous_references():
-    """F0 = Y0 = 0: the paper's slider (cubic law) from rest, sticks and slips
-    included, as the autonomous reference (tests/reference.py) computes it, to 1e-9
-    of the length scale (both DOP853 at rtol 1e-12)."""
-    p = dict(m=5.0, k=50.0, r_y=10.0, v=5.0, alpha1=1.0, alpha2=0.01)
+    """F0 = Y0 = 0: a slider on the belt (cubic and Stribeck terms) started stuck,
+    through a breakaway, a slide-slide reversal, a stick and a second breakaway, as
+    the autonomous reference (tests/reference.py) computes it: events within 1e-9 s,
+    x within 1e-9 of the length scale (both DOP853 at rtol 1e-12)."""
+    p = dict(m=5.0, k=50.0, r_y=10.0, v=2.0, alpha1=1.0, alpha2=0.01)
+    law = dict(r_k=6.0, v_s=0.5)
     t = np.linspace(0.0, 3.0, 301)
-    x_ref, _xd, ev_ref = reference_run(**p, x0=0.0, xd0=0.0, t_eval=t)
+    x_ref, _xd, ev_ref = reference_run(**p, x0=0.0, xd0=p["v"], t_eval=t, **law)
     mod = Forced(p["m"], p["k"], v=p["v"], r_y=p["r_y"], alpha1=p["alpha1"],
-                 alpha2=p["alpha2"], Omega=1.0)
-    run = forced_run(mod, 0.0, 0.0, 0.0, t[-1], 1e-12, t)
-    assert [k for _t, k, _x in ev_ref] == [k.rstrip("+-") for _t, k, _x in run["events"]]
+                 alpha2=p["alpha2"], Omega=1.0, **law)
+    run = forced_run(mod, 0.0, p["v"], 0.0, t[-1], 1e-12, t)
+    kinds = [k.rstrip("+-") for _t, k, _x in run["events"]]
+    assert kinds == [k for _t, k, _x in ev_ref] == ["slip", "normal_stop", "stick", "slip"]
     np.testing.assert_allclose([e[0] for e in run["events"]], [e[0] for e in ev_ref],
                                atol=1e-9)
     assert np.max(np.abs(run["x"] - x_ref)) < 1e-9 * mod.L
