@@ -40,7 +40,7 @@ from .layout import (A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX
                      OB_STOPS_PER_PERIOD, OB_T_SETTLE, OB_VAMPLITUDE, OB_X_MAX, OB_X_MIN,
                      OB_XDOT_MAX, S_ARMED, S_MODE, S_N, S_T, S_X, S_ZD, V, X0, XD0)
 
-TRY = 1e-1            # states within this (in L) after n periods: try Newton on P^n
+TRY = 1.0             # states within this (in L) after n periods: try Newton on P^n
 RTOL_FLOOR = 1e-13    # the tightest integration tolerance used
 LYAP_PERIODS = 256    # periods of the Lyapunov estimate
 LYAP_BLOCKS = 8

@@ -30,7 +30,7 @@ from . import codes
 from .events import cubic, zd_event
 from .forced_step import forced_accel, forced_step, load
 from .jit import kernel
-from .law import constants, static_limits, step_bound
+from .law import constants, field_slope, static_limits, step_bound
 from .layout import (A_DT, A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
                      A_XMIN, C, K, M, O_LV, O_LX, O_MAX_STEPS, O_RTOL, S_ARMED, S_H,
                      S_MODE, S_N, S_T, S_X, S_ZD, V)
@@ -209,53 +209,62 @@ def _at(x, zd, t, tau, s, p, lw, cf, fa, fb, om, o, ws, vw):
 
 
 @kernel
-def _polish(which, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, lo, hi, st):
-    """Root in [lo, hi] of a function of the re-stepped state at t + tau: which 0:
-    s zdot (falling through 0), 1: xdot, 2: zdot'. Bisection on the sign at lo,
-    with secant steps (regula falsi, Illinois). Returns (tau, x, zd)."""
-    x1, z1, _q, _e = _at(x, zd, t, lo, s, p, lw, cf, fa, fb, om, o, ws, vw)
-    flo = _value(which, x1, z1, t + lo, s, p, lw, cf, fa, fb, om)
-    x2, z2, _q, _e = _at(x, zd, t, hi, s, p, lw, cf, fa, fb, om, o, ws, vw)
-    fhi = _value(which, x2, z2, t + hi, s, p, lw, cf, fa, fb, om)
-    st[S_N] += 2.0
-    if flo == 0.0:
-        return lo, x1, z1
-    if (fhi > 0.0) == (flo > 0.0):
-        return hi, x2, z2            # no sign change on the integrator
-    side = 0
-    for _ in range(200):
-        if hi - lo <= 2.0 * EPS * max(hi, 1e-300):
-            break
-        tau = (lo * fhi - hi * flo) / (fhi - flo)
-        if not lo < tau < hi:
-            tau = 0.5 * (lo + hi)
-        xm, zm, _q, _e = _at(x, zd, t, tau, s, p, lw, cf, fa, fb, om, o, ws, vw)
+def _polish(which, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, lo, hi, sign_lo, guess,
+            st):
+    """Root in (lo, hi] of a function of the re-stepped state at t + tau (which 0:
+    s zdot, 1: xdot, 2: zdot'), whose sign at lo is ``sign_lo``: safeguarded Newton
+    from ``guess`` (the step's Hermite cubic's root), bisection where a Newton step
+    leaves the bracket, as ``events.polish``. Returns (tau, x, zd)."""
+    tau = guess if lo < guess <= hi else 0.5 * (lo + hi)
+    x1 = x
+    z1 = zd
+    for _ in range(60):
+        x1, z1, _q, _e = _at(x, zd, t, tau, s, p, lw, cf, fa, fb, om, o, ws, vw)
         st[S_N] += 1.0
-        fm = _value(which, xm, zm, t + tau, s, p, lw, cf, fa, fb, om)
-        if fm == 0.0:
-            return tau, xm, zm
-        if (fm > 0.0) == (flo > 0.0):
-            lo, flo = tau, fm
-            if side == -1:
-                fhi *= 0.5
-            side = -1
+        f, df = _value(which, x1, z1, t + tau, s, p, lw, cf, fa, fb, om)
+        if f == 0.0:
+            break
+        if (f > 0.0) == (sign_lo > 0.0):
+            lo = tau
         else:
-            hi, fhi = tau, fm
-            if side == 1:
-                flo *= 0.5
-            side = 1
-    x2, z2, _q, _e = _at(x, zd, t, hi, s, p, lw, cf, fa, fb, om, o, ws, vw)
-    st[S_N] += 1.0
-    return hi, x2, z2
+            hi = tau
+        if hi - lo <= 2.0 * EPS * hi:
+            break
+        tn = tau - f / df if df != 0.0 else 0.5 * (lo + hi)
+        if not lo < tn < hi:
+            tn = 0.5 * (lo + hi)
+        if abs(tn - tau) <= 2.0 * EPS * hi:
+            tau = tn
+            x1, z1, _q, _e = _at(x, zd, t, tau, s, p, lw, cf, fa, fb, om, o, ws, vw)
+            st[S_N] += 1.0
+            break
+        tau = tn
+    return tau, x1, z1
 
 
 @kernel(inline="always")
 def _value(which, x, zd, t, s, p, lw, cf, fa, fb, om):
+    """The function ``which`` of ``_polish`` and its time derivative."""
+    a = forced_accel(x, zd, t, s, p, lw, cf, fa, fb, om)
     if which == 0:
-        return s * zd
+        return s * zd, s * a
     if which == 1:
-        return zd + p[V]
-    return forced_accel(x, zd, t, s, p, lw, cf, fa, fb, om)
+        return zd + p[V], a
+    rate = load_rate(fa, fb, om, t)
+    return a, (-p[K] * (zd + p[V]) + field_slope(lw, cf, zd) * a + rate) / p[M]
+
+
+@kernel
+def _cubic_root(g0, g1, d0, d1, ta, tb):
+    """The root in [ta, tb] of the Hermite cubic (values g, theta-derivatives d),
+    positive at ta, by bisection (a guess for ``_polish``)."""
+    for _ in range(40):
+        tm = 0.5 * (ta + tb)
+        if cubic(g0, g1, d0, d1, tm) > 0.0:
+            ta = tm
+        else:
+            tb = tm
+    return 0.5 * (ta + tb)
 
 
 @kernel
@@ -264,11 +273,14 @@ def _extrema(x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, hk, z1, a0, a1, acc,
     from (x, zd) at t; z1, a1: zdot and zdot' at hk."""
     v = p[V]
     xd0 = zd + v
-    if xd0 != 0.0 and (xd0 > 0.0) != (z1 + v > 0.0):
-        _h, xx, zx = _polish(1, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, 0.0, hk, st)
+    xd1 = z1 + v
+    if xd0 != 0.0 and (xd0 > 0.0) != (xd1 > 0.0):
+        _h, xx, zx = _polish(1, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, 0.0, hk,
+                             xd0, hk * xd0 / (xd0 - xd1), st)
         _note(acc, xx, zx + v)
     if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
-        _h, xv, zv = _polish(2, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, 0.0, hk, st)
+        _h, xv, zv = _polish(2, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, 0.0, hk,
+                             a0, hk * a0 / (a0 - a1), st)
         _note(acc, xv, zv + v)
 
 
@@ -320,20 +332,23 @@ def slide_forced(st, p, lw, fa, fb, om, o, acc, ws, vw, t_stop, measure, track):
                                            st[S_ARMED] > 0.0, near)
         st[S_ARMED] = 1.0 if armed else 0.0
         h_ev = -1.0
+        d0 = s * a0 * h
+        d1 = s * a1 * h
         if kind == 1:
             tau, xe, ze = _polish(0, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, ta * h,
-                                  tb * h, st)
-            if s * ze <= 0.0 or abs(ze) <= gtol:
+                                  tb * h, 1.0, _cubic_root(g0, g1, d0, d1, ta, tb) * h, st)
+            if s * ze <= gtol:
                 h_ev = tau
         if kind == 2 or (kind == 1 and h_ev < 0.0 and s * a0 < 0.0 < s * a1):
             lo = 0.5 * (ta + tc) * h if kind == 2 else 0.0
             hi = 0.5 * (tc + tb) * h if kind == 2 else h
+            guess = tc * h if kind == 2 else h * a0 / (a0 - a1)
             tau, xc, zc = _polish(2, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, lo, hi,
-                                  st)
+                                  -s, guess, st)
             if s * zc <= gtol:
                 if s * zc < 0.0:        # a double crossing: the first root
                     tau, xc, zc = _polish(0, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws,
-                                          vw, 0.0, tau, st)
+                                          vw, 0.0, tau, 1.0, 0.5 * tau, st)
                 h_ev = tau
         if h_ev < 0.0 and armed and 0.0 < g1 <= gtol and g1 < g0:
             h_ev = h                     # the step ends on a touch
