@@ -214,6 +214,33 @@ def law_labels(laws) -> tuple[dict, dict]:
     return {}, variables
 
 
+BEYOND_TABLE = {
+    "units": "1", "long_name": "motion beyond the friction table",
+    "flag_values": np.array([0, 1], dtype=np.int8),
+    "flag_meanings": "within_table beyond_table",
+    "comment": "1 where the attractor's relative speed xdot - v (from xdot_max and "
+               "xdot_max - 2 velocity_amplitude) leaves the speeds the friction table "
+               "covers (law_speed_span), where the table's end force is held; 0 also "
+               "where no attractor was measured"}
+
+
+def beyond_table(ds: xr.Dataset, laws):
+    """``beyond_table`` over a sweep's points (int8), or None where no law of the
+    sweep is a table (``FrictionLaw.speed_span`` finite)."""
+    spans = np.array([one.speed_span() for one in laws], np.float64)
+    if np.isinf(spans).all() or "xdot_max" not in ds:
+        return None
+    lo, hi = spans[:, 0], spans[:, 1]
+    if LAW_DIM in ds.dims:
+        lo, hi = xr.DataArray(lo, dims=LAW_DIM), xr.DataArray(hi, dims=LAW_DIM)
+    else:
+        lo, hi = lo[0], hi[0]
+    top = ds.xdot_max - ds.v
+    bottom = top - 2.0 * ds.velocity_amplitude
+    flag = ((top > hi) | (bottom < lo)).astype(np.int8)
+    return xr.Variable(flag.dims, flag.data, BEYOND_TABLE)
+
+
 TABLE_SPEED = {"units": "cm s-1", "long_name": "relative speed of the friction table",
                "comment": "the points the law was given (TableLaw); NaN: padding"}
 TABLE_FORCE = {"units": "kN", "long_name": "friction force of the friction table",
