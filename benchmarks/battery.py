@@ -540,7 +540,7 @@ def _readme_sweep(ds):
 def law_probes():
     """The friction law's interfaces (TableLaw, its from_function and from_csv,
     LeineLaw): magnitudes, sizes, names, files, and tables whose representation
-    must keep the data's shape (issue 36's probes)."""
+    must keep the data's shape."""
     line = np.linspace(0.0, 4.0, 7)
     probe("law TableLaw forces of 1e307", tl(line, 1e307 * (1.0 - 0.1 * line)),
           names=("force",))
@@ -563,7 +563,7 @@ def law_probes():
           tl(step_s, step_f, smoothing=0.01), names=("smoothing",))
     probe("law TableLaw step from 1 to 0 kN", tl([0, 1, 2, 3, 4, 5], [1, 1, 1, 0, 0, 0]),
           "valid", check=law_between(np.linspace(0, 8, 4001), 0.0, 1.0, None))
-    probe("law TableLaw issue table at 3.647 cm/s",
+    probe("law TableLaw 1 -> 0.4 kN table at 3.647 cm/s",
           tl([0, .01, .02, 1, 2, 3, 4], [1, .5, .45, .4, .4, .4, .4]), "valid",
           check=law_between(np.linspace(0, 10, 4001), 0.4, 1.0,
                             lambda law: None if abs(float(law.force(3.647)) - 0.4) < 1e-12

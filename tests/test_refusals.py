@@ -325,7 +325,7 @@ def smooth(s):
         "speed_max 1e300", "speed_max 1e-300", "speed_min -1e300", "1/s + 0.5"])
 def test_hostile_law_inputs_are_refused_by_name(call, message):
     """Each crashed (LinAlgError, OverflowError, TypeError), hung or was taken
-    silently before (issue 36's law probes)."""
+    silently before (the law probes of benchmarks/battery.py)."""
     with pytest.raises((TypeError, ValueError), match=message):
         call()
 

@@ -77,7 +77,7 @@ def test_no_piece_leaves_the_range_of_its_samples(seed):
         assert F.min() >= lo - 1e-14 and F.max() <= hi + 1e-14, i
 
 
-def test_the_issues_tables_stay_between_their_samples():
+def test_tables_that_swung_negative_stay_between_their_samples():
     """The quintic interpolant gave -352.8 kN at 3.647 cm/s for the first, a step
     from 1 to 0 kN swung negative."""
     law = TableLaw([0, .01, .02, 1, 2, 3, 4], [1, .5, .45, .4, .4, .4, .4])
@@ -109,7 +109,7 @@ def test_past_the_table_the_last_force_is_held(odd):
 
 
 def test_the_readme_table_has_no_failed_point_at_any_belt_speed():
-    """The issue's sweep: v = 0.2 .. 3.9 cm/s (m = k = 1, c = 0.1). The data's slope
+    """The README table swept over v = 0.2 .. 3.9 cm/s (m = k = 1, c = 0.1). The data's slope
     beyond 2 cm/s (-0.005) is damped by c: no speed is unbounded (the quintic's
     linear continuation to negative friction made 3.0 .. 3.9 unbounded)."""
     law = TableLaw(README_SPEED, README_FORCE, static=1.1, name="measured")
