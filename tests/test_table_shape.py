@@ -160,3 +160,17 @@ def test_an_asymmetric_mirror_table_gets_the_odd_tables_labels(seed):
     np.testing.assert_array_equal(a.status.values, b.status.values)
     L = 1.0 + np.abs(v)
     assert np.nanmax(np.abs(a.amplitude.values - b.amplitude.values) / L) <= 1e-7
+
+
+def test_a_smoothed_tables_deviation_is_its_largest_residual():
+    """With smoothing the representation passes near the points: ``deviation`` is
+    the largest |F(s_i) - F_i| (FITPACK's criterion bounds it by sqrt(n) sigma),
+    and the smoothed curve keeps the force's sign."""
+    rng = np.random.default_rng(7)
+    s = np.linspace(0.0, 5.0, 41)
+    f = 0.6 + 0.4 * np.exp(-s) + rng.normal(0.0, 0.01, s.size)
+    law = TableLaw(s, f, smoothing=0.01)
+    residual = np.abs(law.force(s, phase=1.0) - f).max()
+    assert law.deviation == pytest.approx(residual, rel=1e-9, abs=1e-15)
+    assert 0.0 < law.deviation <= np.sqrt(s.size) * 0.01
+    assert law.force(dense(s), phase=1.0).min() > 0.0
