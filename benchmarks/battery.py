@@ -1,6 +1,7 @@
 """A hostile-input and fault battery of the newer public functions: basin_stability,
 slip_cycles, bifurcation_diagram, locate_boundaries, continue_boundary, the plotting
-API and the ``sweepcore basins`` command.
+API, the ``sweepcore basins`` command and the friction laws' interfaces (probes named
+"law ...": ``--only law``).
 
 Every probe runs in its own process (forked from this one, which has imported
 sweepcore but run no kernel), under an address-space limit (``--memory-gib``) and a
@@ -461,6 +462,164 @@ def command_probes():
           check=lambda r: None if (r["work"] / "b.nc").is_file() else "no file")
 
 
+# ------------------------------------------------------------------ law inputs
+S7 = [0.0, 0.1, 0.25, 0.5, 1.0, 2.0, 4.0]            # the README's measured table
+F7 = [1.0, 0.93, 0.82, 0.68, 0.55, 0.51, 0.50]
+
+
+def tl(speed=S7, force=F7, **kw):
+    return lambda: sc().TableLaw(speed() if callable(speed) else speed,
+                                 force() if callable(force) else force, **kw)
+
+
+def ff(f, speed_max=8.0, **kw):
+    return lambda: sc().TableLaw.from_function(f, speed_max, **kw)
+
+
+def law_between(speeds, lo, hi, force_at):
+    """A check: the law's force at ``speeds`` within [lo, hi] (1e-12 slack)."""
+    def check(law):
+        F = law.force(np.asarray(speeds, float), phase=1.0)
+        if not (np.all(F >= lo - 1e-12) and np.all(F <= hi + 1e-12)):
+            return f"force {F.min():.4g} .. {F.max():.4g} outside [{lo}, {hi}]"
+        return force_at(law) if force_at else None
+    return check
+
+
+def _csv_file(text, mode="w"):
+    def make():
+        work = Path(tempfile.mkdtemp(dir=os.environ["BATTERY_WORK"]))
+        path = work / "curve.csv"
+        with open(path, mode) as fh:
+            fh.write(text)
+        return path
+    return make
+
+
+def from_csv(make):
+    return lambda: sc().TableLaw.from_csv(make())
+
+
+def _fifo_csv():
+    work = Path(tempfile.mkdtemp(dir=os.environ["BATTERY_WORK"]))
+    os.mkfifo(work / "curve.csv")
+    return work / "curve.csv"
+
+
+def _modifies(s):
+    s *= 2.0                                  # changes the speeds it is asked about
+    return 0.5 + 0.5 * np.exp(-s / 2.0)
+
+
+def _many_laws_sweep():
+    s = sc()
+    speed = np.linspace(0.0, 4.0, 7)
+    laws = [s.TableLaw(speed, 1.0 - 0.1 * speed + 1e-4 * i, name=f"t{i}")
+            for i in range(1000)]
+    return s.sweep(s.Grid(m=1.0, k=1.0, c=0.1, v=[0.5, 1.0], law=laws), progress=False)
+
+
+def _huge_law_grid():
+    s = sc()
+    speed = np.linspace(0.0, 4.0, 7)
+    laws = [s.TableLaw(speed, 1.0 - 0.1 * speed + 1e-4 * i, name=f"t{i}")
+            for i in range(1000)]
+    return s.sweep(s.Grid(m=1.0, k=1.0, c=np.linspace(0.05, 0.2, 256),
+                          v=np.linspace(0.2, 3.0, 256), law=laws), progress=False)
+
+
+def _readme_sweep(ds):
+    from sweepcore._kernels import codes
+    bad = ds.status.values != codes.OK
+    unbounded = ds.regime.values == list(ds.regime.attrs["flag_meanings"].split()).index(
+        "unbounded")
+    return f"{int(bad.sum())} failed, {int(unbounded.sum())} unbounded" \
+        if bad.any() or unbounded.any() else None
+
+
+def law_probes():
+    """The friction law's interfaces (TableLaw, its from_function and from_csv,
+    LeineLaw): magnitudes, sizes, names, files, and tables whose representation
+    must keep the data's shape."""
+    line = np.linspace(0.0, 4.0, 7)
+    probe("law TableLaw forces of 1e307", tl(line, 1e307 * (1.0 - 0.1 * line)),
+          names=("force",))
+    probe("law TableLaw forces of 1e300", tl(line, 1e300 * (1.0 - 0.1 * line)),
+          names=("force",))
+    probe("law TableLaw speeds of 1e-300", tl(1e-300 * line, 1.0 - 0.1 * line),
+          names=("speed",))
+    probe("law TableLaw speeds closer than float64 resolves",
+          tl([0.0, 1e-14, 1.0, 2.0, 3.0, 4.0], F7[:6]), names=("speed",))
+    probe("law TableLaw 0-d speed array", tl(np.array(1.0), np.array(1.0)),
+          names=("speed",))
+    probe("law TableLaw name=b'x'", tl(name=b"x"), names=("name",))
+    probe("law TableLaw name with NUL", tl(name="a\x00b"), names=("name",))
+    for label, value in (("1e300", 1e300), ("1e6", 1e6), ("10**400", 10 ** 400),
+                         ("nan", float("nan")), ("-0.1", -0.1), ("True", True)):
+        probe(f"law TableLaw smoothing={label}", tl(smoothing=value),
+              names=("smoothing",))
+    step_s, step_f = np.arange(10.0), np.r_[np.ones(4), np.zeros(6)]
+    probe("law TableLaw smoothing=0.01 of a step (fit goes negative)",
+          tl(step_s, step_f, smoothing=0.01), names=("smoothing",))
+    probe("law TableLaw step from 1 to 0 kN", tl([0, 1, 2, 3, 4, 5], [1, 1, 1, 0, 0, 0]),
+          "valid", check=law_between(np.linspace(0, 8, 4001), 0.0, 1.0, None))
+    probe("law TableLaw 1 -> 0.4 kN table at 3.647 cm/s",
+          tl([0, .01, .02, 1, 2, 3, 4], [1, .5, .45, .4, .4, .4, .4]), "valid",
+          check=law_between(np.linspace(0, 10, 4001), 0.4, 1.0,
+                            lambda law: None if abs(float(law.force(3.647)) - 0.4) < 1e-12
+                            else f"F(3.647) = {float(law.force(3.647))!r}"))
+    probe("law TableLaw README table past its end",
+          tl(), "valid", check=law_between(np.linspace(0, 1e3, 4001), 0.5, 1.0, None))
+    probe("law TableLaw of 1e5 samples", tl(lambda: np.linspace(0.0, 10.0, 100_000),
+                                            lambda: 1.0 + np.exp(-np.linspace(0.0, 10.0,
+                                                                              100_000))),
+          "valid", check=law_between(np.linspace(0, 12, 4001), 1.0, 2.0, None))
+    probe("law TableLaw of 1e6 + 1 samples", tl(lambda: np.linspace(0.0, 1.0, 1_000_001),
+                                                lambda: np.ones(1_000_001)),
+          names=("points",))
+    probe("law LeineLaw(10**400, 3)", lambda: sc().LeineLaw(10 ** 400, 3),
+          names=("f_s",))
+    probe("law LeineLaw(1e100, 1e100)", lambda: sc().LeineLaw(1e100, 1e100),
+          names=("f_s",))
+    probe("law LeineLaw(1, 1e-300)", lambda: sc().LeineLaw(1, 1e-300), names=("delta",))
+    probe("law LeineLaw name with NUL", lambda: sc().LeineLaw(1, 3, name="a\x00b"),
+          names=("name",))
+    probe("law LeineLaw name=b'x'", lambda: sc().LeineLaw(1, 3, name=b"x"),
+          names=("name",))
+    smooth = lambda s: 0.5 + 0.5 * np.exp(-np.abs(s) / 0.5)   # noqa: E731
+    for label, value in (("1e300", 1e300), ("1e-300", 1e-300), ("10**400", 10 ** 400),
+                         ("inf", float("inf"))):
+        probe(f"law from_function speed_max={label}", ff(smooth, value),
+              names=("speed_max",))
+    probe("law from_function speed_min=-1e300", ff(smooth, speed_min=-1e300),
+          names=("speed_min",))
+    probe("law from_function 1/s + 0.5", ff(lambda s: 1.0 / s + 0.5), names=("f",))
+    probe("law from_function that modifies its input", ff(_modifies), "valid",
+          check=lambda law: None if abs(float(law.force(1.0)) - (0.5 + 0.5 * np.exp(
+              -1.0))) < 1e-8 else f"F(1) = {float(law.force(1.0))!r}")
+    probe("law from_csv FIFO", from_csv(_fifo_csv), names=("FIFO",))
+    probe("law from_csv device", lambda: sc().TableLaw.from_csv("/dev/zero"),
+          names=("device",))
+    probe("law from_csv directory", lambda: sc().TableLaw.from_csv(
+        os.environ["BATTERY_WORK"]), names=("directory",))
+    rows = "".join(f"{s},{f}\n" for s, f in zip(S7, F7))
+    probe("law from_csv UTF-8 BOM (Excel)", from_csv(_csv_file(
+        "\ufeffspeed [cm/s],force [kN]\n" + rows, "w")), "valid",
+        check=lambda law: None if np.array_equal(law.speed, S7) else "speeds differ")
+    probe("law from_csv of 1.1e6 rows", from_csv(_csv_file(
+        "speed [cm/s],force [kN]\n" + "".join(f"{i},1\n" for i in range(1_100_000)))),
+        names=("rows",))
+    probe("law simulate --law-table FIFO", cli(
+        ["simulate", "--m", "1", "--k", "1", "--v", "0.5", "--law-table", "F.csv", "-o",
+         "s.nc"], prepare=lambda w: os.mkfifo(w / "F.csv")), names=("FIFO",))
+    probe("law README table swept v = 0.2 .. 3.9", lambda: sc().sweep(sc().Grid(
+        m=1.0, k=1.0, c=0.1, v=np.round(np.arange(0.2, 3.95, 0.1), 10),
+        law=tl(static=1.1)()), progress=False), "valid", check=_readme_sweep)
+    probe("law Grid of 1,000 tables x 2 speeds", _many_laws_sweep, "valid",
+          check=lambda ds: None if ds.sizes["law"] == 1000 else "laws lost")
+    probe("law 1,000 tables x 256 x 256", _huge_law_grid, names=("memory",))
+
+
 def fault_probes():
     """Killed writes and resumes of the file-writing functions (each a probe)."""
     probe("slip_cycles killed mid-write leaves no temporary", killed_write("cycles"),
@@ -615,7 +774,7 @@ def run_probe(index, timeout, memory, work):
 
 def build():
     for add in (basin_probes, cycle_probes, diagram_probes, boundary_probes,
-                plot_probes, command_probes, fault_probes):
+                plot_probes, command_probes, fault_probes, law_probes):
         add()
 
 
@@ -644,9 +803,10 @@ def main(argv=None) -> int:
         work = Path(tmp)
         ctx = mp.get_context("fork")
         maker = ctx.Process(target=make_fixtures, args=(work,))
-        maker.start()
-        maker.join()
-        if maker.exitcode != 0:
+        if any("plot" in PROBES[i]["name"] for i in chosen):   # the files they draw
+            maker.start()
+            maker.join()
+        if maker.exitcode not in (0, None):
             print("battery: the fixture files could not be made", file=sys.stderr)
             return 1
         verdicts, counts = [], {}

@@ -52,7 +52,9 @@ def _analytic_sizes(grid: Grid) -> int:
     """Points of the analytic variables together (each over its own dimensions)."""
     total = 0
     for name in variables.ANALYTIC:
-        swept = [a for a in law.DERIVED[name][1] if a in grid.swept]
+        # each law of a law dimension has its own (law.DERIVED names the analytic
+        # family's parameters only: 1,000 laws were counted as one)
+        swept = [a for a in law.DERIVED[name][1] + ("law",) if a in grid.swept]
         if grid.mode == "points":
             total += grid.size if swept else 1
         else:

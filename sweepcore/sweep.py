@@ -401,6 +401,9 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
     if grid.xdot0 is None:
         ds.attrs["initial_velocity"] = "xdot0 = v: every point starts stuck on the belt"
     law_attrs, law_variables = labels.law_labels(grid.laws)
+    beyond = labels.beyond_table(ds, grid.laws)
+    if beyond is not None:
+        law_variables["beyond_table"] = beyond
     ds.attrs.update(law_attrs)
     ds = ds.assign(law_variables)
     labels.mark_spacing(ds)

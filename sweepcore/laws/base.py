@@ -8,9 +8,64 @@ law data ``lw`` (``sweepcore/_kernels/law.py``).
 """
 from __future__ import annotations
 
+import math
+import numbers
+
 import numpy as np
 
 from .._kernels import laws as _kernel_laws
+
+# The magnitudes a law's numbers may have (nonzero ones) [kN, cm/s, s/cm]: the window
+# in which a change of units of the paper's slider leaves its answers unchanged
+# (sweepcore.law, "resolvable magnitudes"); beyond it the law's slopes and their
+# products (F'^2/F'', the certificate's sums) overflow or lose every digit.
+WINDOW = (1e-100, 1e100)
+
+
+def _shown(value) -> str:
+    """``repr`` of a value, or the size of a huge integer (its repr says nothing)."""
+    if isinstance(value, numbers.Integral) and abs(int(value)).bit_length() > 64:
+        return f"an integer of about 1e{int(abs(int(value)).bit_length() * 0.30103)}"
+    return repr(value)
+
+
+def real(name: str, value, unit: str, positive: bool = False, window: bool = False,
+         shown=None, rule: str | None = None) -> float:
+    """``value`` as a float, refused by ``name`` unless it is a real number (not a
+    bool), finite in float64, > 0 if ``positive`` and, with ``window``, of a
+    magnitude inside ``WINDOW``."""
+    units = f" [{unit}]" if unit else ""
+    rule = rule or f"a finite number{' > 0' if positive else ''}{units}"
+    bad = ValueError(f"{name} must be {rule}, got {_shown(value if shown is None else shown)}")
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+        raise bad
+    try:
+        x = float(value)
+    except (OverflowError, ValueError):
+        raise bad from None
+    if not math.isfinite(x) or (positive and not x > 0.0):
+        raise bad
+    if window:
+        magnitude_window(name, np.array([x]), unit)
+    return x
+
+
+def magnitude_window(name: str, a: np.ndarray, unit: str) -> None:
+    """Refuse an array whose nonzero magnitudes leave ``WINDOW``, by name."""
+    mag = np.abs(a[a != 0.0])
+    out = mag[(mag < WINDOW[0]) | (mag > WINDOW[1])]
+    if out.size:
+        raise ValueError(f"{name} holds {float(out[0])!r}{' ' + unit if unit else ''}: "
+                         f"magnitudes from {WINDOW[0]:g} to {WINDOW[1]:g} (or 0) are "
+                         "resolved; choose units in which they are moderate")
+
+
+def check_name(name) -> str:
+    """A law's label: a non-empty str without NUL (netCDF strings end at one)."""
+    if not isinstance(name, str) or not name.strip() or "\x00" in name:
+        raise ValueError(f"name must be a non-empty string without NUL characters, "
+                         f"got {name!r}")
+    return name
 
 
 class FrictionLaw:
@@ -92,6 +147,11 @@ class FrictionLaw:
     def table(self):
         """``(speed, force)`` arrays the law was given as, or None."""
         return None
+
+    def speed_span(self) -> tuple[float, float]:
+        """``(lo, hi)`` [cm/s]: the relative speeds where the law is known (a table's
+        range; beyond it a table holds its end forces); every speed for a formula."""
+        return -np.inf, np.inf
 
     def describe(self) -> str:
         """One line for summaries (the command line's "slider:" line)."""

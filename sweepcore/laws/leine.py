@@ -6,13 +6,10 @@ Leine & Nijmeijer, "Dynamics and Bifurcations of Non-Smooth Mechanical Systems"
 """
 from __future__ import annotations
 
-import math
-import numbers
-
 import numpy as np
 
 from .._kernels.laws.leine import Leine
-from .base import FrictionLaw
+from .base import FrictionLaw, check_name, real
 
 
 class LeineLaw(FrictionLaw):
@@ -32,14 +29,14 @@ class LeineLaw(FrictionLaw):
     STUDY_KEYS = {"f_s": "number, required", "delta": "number, required"}
 
     def __init__(self, f_s, delta, name=None):
-        for label, val in (("f_s", f_s), ("delta", delta)):
-            if isinstance(val, bool) or not isinstance(val, numbers.Real) or \
-                    not (math.isfinite(val) and val > 0):
-                unit = "kN" if label == "f_s" else "s cm-1"
-                raise ValueError(f"{label} must be a finite number > 0 [{unit}], got "
-                                 f"{val!r}")
-        self.f_s, self.delta = float(f_s), float(delta)
-        self.name = "leine" if name is None else str(name)
+        self.f_s = real("f_s", f_s, "kN", positive=True, window=True)
+        self.delta = real("delta", delta, "s cm-1", positive=True, window=True)
+        self.name = check_name("leine" if name is None else name)
+        if not np.isfinite(6.0 * self.f_s * self.delta ** 3):
+            raise ValueError(f"f_s = {self.f_s!r} kN with delta = {self.delta!r} s/cm: "
+                             "the third derivative at zero speed (6 f_s delta^3) "
+                             "overflows float64; choose units in which the "
+                             "magnitudes are moderate")
 
     def data(self):
         return Leine(self.f_s, self.delta)

@@ -1,38 +1,46 @@
 """A friction law known as a table of force against speed (measured), or as any
-function of the speed: represented by a quintic spline.
+function of the speed: represented by a shape-preserving quintic spline.
 
 Measured force-speed tables are how friction is known in practice; Modelica's
 ``SupportFriction`` and ``BearingFriction`` take such a table ``f_pos[:, 2]`` with a
 ``peak`` factor for the static force, interpolated linearly. sweepcore needs more
 than a continuous F: the Hopf speeds are roots of ``c + F'``, the first Lyapunov
 coefficient (sub- or supercritical) needs ``F'''`` and the equilibrium certificate a
-bound of ``F'``. The representation is therefore a quintic spline (degree 5, C4):
-F, F', F'' and F''' are continuous, the interpolant of smooth data converges at
-order 6, and the kernels evaluate it as a piecewise polynomial (scipy's
-``make_interp_spline``/``make_splrep`` and ``PPoly.from_spline`` build it; why a
-quintic: docs/methods.md, "Tabulated friction laws"). Past the last speed of a
-branch the law continues linearly with the end's value and slope.
+bound of ``F'``. The representation is therefore a quintic Hermite spline (C2, F'''
+defined on each piece) that keeps the data's shape: monotone where the samples are,
+never beyond the range of the two samples of a piece, accurate to order 6 on smooth
+data (:mod:`sweepcore.laws.spline`; why: docs/methods.md, "Tabulated friction
+laws"). Past the last speed of a branch the force is held at the last sample's value
+(F' = 0 there; the spline ends with zero slope and curvature, so the join is C2).
 
-Every result of a table law records ``deviation``: the largest distance of the
-representation from the given points (from the function, for
-:meth:`TableLaw.from_function`), the representation's error with respect to what
-the user gave. The accuracy contract of the engine holds for the law as represented.
+Every result of a table law records ``deviation``: the largest distance by which the
+representation leaves the range of the data between two samples (a rigorous bound,
+from the Bernstein control points; rounding only) or, with ``smoothing``, from the
+given points; for :meth:`TableLaw.from_function`, from the function. The accuracy
+contract of the engine holds for the law as represented.
 """
 from __future__ import annotations
 
 import csv
+import io
 import math
 import numbers
+import os
 import re
+import stat
 from pathlib import Path
 
 import numpy as np
 
 from .._kernels.laws.table import Table, pack
-from .base import FrictionLaw
+from . import spline
+from .base import FrictionLaw, check_name, magnitude_window, real
 
-DEGREE = 5                    # quintic: F''' continuous
-MIN_POINTS = DEGREE + 1       # an interpolating spline of degree k needs k + 1 points
+DEGREE = spline.DEGREE
+MIN_POINTS = DEGREE + 1       # the slope estimates are polynomials through 6 or 7 points
+MAX_POINTS = 1_000_000        # a table's size rule: 72 MB of kernel data (9 floats a piece)
+DEVIATION_TOL = 1e-9          # largest excess over the data's range, x max |F| (rounding)
+CLOSEST = 1e-12               # least step between speeds, x the branch's span
 ZERO = 1e-300                 # where from_function asks f for its limits at 0
 # units a CSV header may state, and their factor to the model's units (cm/s, kN)
 SPEED_UNITS = {"cm/s": 1.0, "cm s-1": 1.0, "m/s": 100.0, "m s-1": 100.0,
@@ -41,20 +49,30 @@ FORCE_UNITS = {"kN": 1.0, "N": 1e-3}
 
 
 def _finite_1d(name: str, values) -> np.ndarray:
-    if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__len__") or \
+            np.ndim(values) == 0:
         raise TypeError(f"{name} must be a 1-D sequence of real numbers, got "
-                        f"{type(values).__name__}")
-    for i, x in enumerate(values):
-        if isinstance(x, (bool, np.bool_)) or not isinstance(x, numbers.Real):
-            raise TypeError(f"{name} must hold real numbers, got {x!r} of type "
-                            f"{type(x).__name__} (element {i})")
-    a = np.array(values, dtype=np.float64)
+                        f"{type(values).__name__}" + (" of 0 dimensions" if hasattr(
+                            values, "__len__") else ""))
+    if len(values) > MAX_POINTS:
+        raise ValueError(f"{name} has {len(values)} points; a table holds at most "
+                         f"{MAX_POINTS} (sample the law more coarsely)")
+    if not (isinstance(values, np.ndarray) and values.dtype.kind in "iuf"):
+        for i, x in enumerate(values):
+            if isinstance(x, (bool, np.bool_)) or not isinstance(x, numbers.Real):
+                raise TypeError(f"{name} must hold real numbers, got {x!r} of type "
+                                f"{type(x).__name__} (element {i})")
+    try:
+        a = np.array(values, dtype=np.float64)
+    except OverflowError:
+        raise ValueError(f"{name} must be finite, got an integer beyond float64") from None
     if a.ndim != 1:
         raise ValueError(f"{name} must be 1-D, got shape {a.shape}")
     bad = np.flatnonzero(~np.isfinite(a))
     if bad.size:
         raise ValueError(f"{name} must be finite, got {float(a[bad[0]])!r} (element "
                          f"{int(bad[0])})")
+    magnitude_window(name, a, "cm/s" if name == "speed" else "kN")
     return a
 
 
@@ -68,10 +86,11 @@ class TableLaw(FrictionLaw):
         for a law odd in s (``F(-s) = -F(s)``; the first speed must be 0, its force
         ``F(0+)``); spanning both signs for an asymmetric law, with 0 twice: the
         last point of the negative branch (``F(0-)``) and the first of the positive
-        one (``F(0+)``).
+        one (``F(0+)``). At most ``MAX_POINTS`` (1e6).
     force : 1-D sequence of float
         The sliding friction force F [kN] at each speed: >= 0 for s >= 0, <= 0 for
-        s <= 0 (friction opposes the relative motion).
+        s <= 0 (friction opposes the relative motion). Beyond the last speed of a
+        branch its last force is held.
     static : float, optional
         The largest force sticking holds [kN], on either side; default ``F(0+)``
         (and ``-F(0-)`` on the negative side). Larger values give stiction, as
@@ -80,17 +99,21 @@ class TableLaw(FrictionLaw):
         The law's label (the ``law`` coordinate of a sweep over laws); default
         ``"table"``.
     smoothing : float, optional
-        Noise of the measured forces [kN] (a standard deviation). None (default)
-        interpolates every point; a value fits the smoothest quintic spline whose
-        residual sum of squares is at most ``n smoothing^2`` (FITPACK's criterion,
-        ``scipy.interpolate.make_splrep``): use it for noisy data, whose
-        interpolant's F''' is noise. The residual is recorded in ``deviation``.
+        Noise of the measured forces [kN] (a standard deviation), below the largest
+        force. None (default) interpolates every point; a value replaces the forces
+        by the smoothest quintic spline whose residual sum of squares is at most
+        ``n smoothing^2`` (FITPACK's criterion, ``scipy.interpolate.make_splrep``)
+        at the given speeds, and represents those: use it for noisy data, whose
+        interpolant's F''' is noise. Refused where the smoothed force changes sign.
 
     Attributes
     ----------
     deviation : float
-        Largest ``|F_represented(s_i) - F_i|`` over the given points [kN] (for
-        :meth:`from_function`: over the check points between the samples).
+        [kN] The largest distance by which the representation leaves the range of
+        the two data values of a piece (interpolation: rounding only; a table where
+        it passes ``DEVIATION_TOL`` times max |F| is refused), or with smoothing the
+        largest residual at the given points; for :meth:`from_function`, the
+        largest distance from the function at the check points.
     """
 
     kind = "table"
@@ -102,24 +125,24 @@ class TableLaw(FrictionLaw):
         return cls.from_csv(values.pop("table"), **values)
 
     def __init__(self, speed, force, static=None, name=None, smoothing=None):
+        self._build(speed, force, static, name, smoothing, sampled=False)
+
+    def _build(self, speed, force, static, name, smoothing, sampled):
+        """The law's checks and representation; ``sampled``: the samples of a
+        function (``from_function``), whose extrema lie between samples: kept free
+        there (``spline.shape_preserving``), checked against the function."""
         s = _finite_1d("speed", speed)
         f = _finite_1d("force", force)
         if s.shape != f.shape:
             raise ValueError(f"speed and force must have equal lengths, got {s.size} "
                              f"speeds and {f.size} forces")
-        if name is None:
-            name = "table"
-        if not isinstance(name, str) or not name.strip() or "\x00" in name:
-            raise ValueError(f"name must be a non-empty string, got {name!r}")
-        if smoothing is not None and (isinstance(smoothing, bool) or not isinstance(
-                smoothing, numbers.Real) or not (math.isfinite(smoothing) and
-                                                 smoothing > 0)):
-            raise ValueError(f"smoothing must be a finite number > 0 [kN] (the "
-                             f"forces' noise) or None, got {smoothing!r}")
+        name = check_name("table" if name is None else name)
+        if smoothing is not None:
+            smoothing = real("smoothing", smoothing, "kN", positive=True)
         self.name = name
         self.speed = s
         self.force_values = f
-        self.smoothing = None if smoothing is None else float(smoothing)
+        self.smoothing = smoothing
         zeros = np.flatnonzero(s == 0.0)
         if s.size and s[0] == 0.0 and zeros.size == 1:
             self.odd = True
@@ -142,10 +165,7 @@ class TableLaw(FrictionLaw):
         if static is None:
             limits = (f0p, f0n)
         else:
-            if isinstance(static, bool) or not isinstance(static, numbers.Real) or \
-                    not math.isfinite(static):
-                raise ValueError(f"static must be a finite number [kN] or None, got "
-                                 f"{static!r}")
+            static = real("static", static, "kN")
             if static < max(f0p, f0n):
                 raise ValueError(
                     f"static must be at least F(0+) = {f0p!r}"
@@ -155,12 +175,23 @@ class TableLaw(FrictionLaw):
             limits = (float(static), float(static))
         self.static = None if static is None else float(static)
         self._limits = limits
-        self._pos = _fit(*pos, self.smoothing)
-        self._neg = self._pos if neg is None else _fit(*neg, self.smoothing)
-        dev = [float(np.max(np.abs(_evaluate(self._pos, pos[0]) - pos[1])))]
+        scale = float(np.abs(f).max())
+        if smoothing is not None and not smoothing < scale:
+            raise ValueError(f"smoothing must be below the largest force {scale!r} kN "
+                             f"(noise that large leaves no data to fit), got "
+                             f"{smoothing!r}")
+        fits = [_fit("positive", *pos, smoothing, sampled)]
         if neg is not None:
-            dev.append(float(np.max(np.abs(_evaluate(self._neg, neg[0]) - neg[1]))))
-        self.deviation = max(dev)
+            fits.append(_fit("negative", *neg, smoothing, sampled))
+        self._pos, self._pos_slopes, dev_pos = fits[0]
+        self._neg, self._neg_slopes, dev_neg = fits[-1]
+        self.deviation = max(dev_pos, dev_neg)
+        if not sampled and smoothing is None and not \
+                self.deviation <= DEVIATION_TOL * scale:
+            raise ValueError(
+                f"the table {name!r} is not represented within its data's range: "
+                f"departure {self.deviation:.3g} kN, more than {DEVIATION_TOL:g} of "
+                f"the largest force (speeds or forces too close to resolve)")
 
     @staticmethod
     def _check_branch(label, s, f):
@@ -174,6 +205,13 @@ class TableLaw(FrictionLaw):
             raise ValueError(f"speed must be strictly increasing: {what} speeds "
                              f"{float(s[i])!r} and {float(s[i + 1])!r} on the {label} "
                              "branch")
+        span = float(s[-1] - s[0])
+        if step.min() < CLOSEST * span:
+            i = int(np.argmin(step))
+            raise ValueError(f"speed steps must be at least {CLOSEST:g} of the "
+                             f"{label} branch's span {span!r} cm/s (float64 resolves "
+                             f"no finer slope), got {float(s[i])!r} and "
+                             f"{float(s[i + 1])!r}")
         sign = 1.0 if label == "positive" else -1.0
         wrong = np.flatnonzero(sign * f < 0.0)
         if wrong.size:
@@ -200,22 +238,34 @@ class TableLaw(FrictionLaw):
         """
         if not callable(f):
             raise TypeError(f"f must be a callable of the speed, got {type(f).__name__}")
-        for label, val in (("speed_max", speed_max), ("tol", tol)):
-            if isinstance(val, bool) or not isinstance(val, numbers.Real) or \
-                    not (math.isfinite(val) and val > 0):
-                raise ValueError(f"{label} must be a finite number > 0, got {val!r}")
-        if speed_min is not None and (isinstance(speed_min, bool) or not isinstance(
-                speed_min, numbers.Real) or not (math.isfinite(speed_min) and speed_min < 0)):
-            raise ValueError(f"speed_min must be a finite number < 0 or None, got "
-                             f"{speed_min!r}")
+        speed_max = real("speed_max", speed_max, "cm/s", positive=True, window=True)
+        tol = real("tol", tol, "", positive=True)
+        if speed_min is not None:
+            speed_min = -real("speed_min", -speed_min if isinstance(
+                speed_min, numbers.Real) and not isinstance(speed_min, bool) else
+                speed_min, "cm/s", positive=True, window=True, shown=speed_min,
+                rule="a finite number < 0 or None")
+        max_points = int(real("max_points", max_points, "", positive=True))
 
         def call(s):
+            # a copy, read-only: f may not change the speeds it was asked about
+            s = np.array(s)
+            s.setflags(write=False)
             try:
                 out = np.asarray(f(s), np.float64)
                 if out.shape != np.shape(s):
                     raise ValueError
             except (TypeError, ValueError):
                 out = np.array([float(f(float(x))) for x in np.ravel(s)])
+            bad = np.flatnonzero(~np.isfinite(out))
+            if bad.size:
+                raise ValueError(f"f({float(s[bad[0]])!r}) = {float(out[bad[0]])!r}: "
+                                 "f must give a finite force [kN] on the sampled range")
+            try:
+                magnitude_window("f", out, "kN")
+            except ValueError as err:
+                raise ValueError(f"{err} (f sampled at {float(s.min())!r} .. "
+                                 f"{float(s.max())!r} cm/s)") from None
             return out
 
         pos = _samples(float(speed_max))
@@ -225,7 +275,8 @@ class TableLaw(FrictionLaw):
             # f at 0: its limit from the side (a law written with sign(s) is 0 there)
             at = np.where(speed == 0.0, np.where(np.signbit(speed), -ZERO, ZERO), speed)
             force = call(at)
-            law = cls(speed, force, static=static, name=name or "function")
+            law = cls.__new__(cls)
+            law._build(speed, force, static, name or "function", None, sampled=True)
             scale = float(np.max(np.abs(force)))
             worst = 0.0
             refined = []
@@ -235,7 +286,7 @@ class TableLaw(FrictionLaw):
                 worst = max(worst, float(err.max()))
                 refined.append(np.union1d(branch, mids[err > tol * scale]))
             if worst <= tol * scale:
-                law.deviation = max(worst, law.deviation)
+                law.deviation = worst            # from the function, not the samples
                 law.tol = tol
                 return law
             if sum(b.size for b in refined) > max_points:
@@ -254,14 +305,7 @@ class TableLaw(FrictionLaw):
         such as ``speed [cm/s],force [kN]`` (speed in cm/s, m/s or mm/s; force in kN
         or N), then one row per point. A header without units is refused."""
         path = Path(path)
-        try:
-            with open(path, newline="") as fh:
-                rows = [r for r in csv.reader(fh) if r and any(c.strip() for c in r)]
-        except OSError as err:
-            raise OSError(f"cannot read the friction table {str(path)!r}: "
-                          f"{err.strerror or err}") from None
-        except UnicodeDecodeError:
-            raise ValueError(f"{str(path)!r} is not a text CSV file") from None
+        rows = _csv_rows(path)
         if len(rows) < 2:
             raise ValueError(f"{str(path)!r}: a header and at least one row are needed")
         header = rows[0]
@@ -315,17 +359,22 @@ class TableLaw(FrictionLaw):
         return self.speed, self.force_values
 
     def slope_scale(self, P):
-        slopes = [np.abs(self._pos[2]).max(), np.abs(_end_slopes(self._pos)).max()]
-        if not self.odd:
-            slopes += [np.abs(self._neg[2]).max(), np.abs(_end_slopes(self._neg)).max()]
-        bound = float(max(slopes + [np.abs(_max_slopes(self._pos)).max(),
-                                    np.abs(_max_slopes(self._neg)).max()]))
+        bound = max(float(self._pos_slopes.max()), float(self._neg_slopes.max()))
         return np.full(P.shape[0], bound)
 
+    def speed_span(self):
+        """``(lo, hi)`` [cm/s]: the relative speeds the table covers (beyond them its
+        end forces are held)."""
+        hi = float(self.speed[-1])
+        return (-hi, hi) if self.odd else (float(self.speed[0]), hi)
+
     def attrs(self):
+        lo, hi = self.speed_span()
         out = {"law": self.name, "law_kind": self.kind,
-               "law_representation": "quintic spline (C4), linear past the table",
+               "law_representation": "shape-preserving quintic Hermite spline (C2), "
+                                     "end forces held past the table",
                "law_deviation": self.deviation,
+               "law_speed_span": f"{lo:.17g}, {hi:.17g}",
                "law_static": ", ".join(f"{x:.17g}" for x in self._limits)}
         if self.smoothing is not None:
             out["law_smoothing"] = self.smoothing
@@ -353,6 +402,8 @@ class TableLaw(FrictionLaw):
                          np.array(self._limits + (self.smoothing or 0.0,)).tobytes()])
 
 
+
+
 # ------------------------------------------------------------------ the spline
 def _samples(hi: float) -> np.ndarray:
     """The first speeds of ``from_function`` on [0, hi]: 32 uniform and 16 geometric
@@ -361,91 +412,86 @@ def _samples(hi: float) -> np.ndarray:
                                      hi * np.geomspace(1e-6, 1.0 / 32, 16)]))
 
 
-def _fit(s, f, smoothing):
-    """``(x, c, dmin, d2)``: breakpoints, ascending coefficients (n, 6), and on each
-    piece the least F' and the largest |F''|, of the quintic spline through (or,
-    smoothing, near) the points."""
-    from scipy.interpolate import PPoly, make_interp_spline, make_splrep
+def _fit(label, s, f, smoothing, sampled=False):
+    """``(branch, largest |F'| of each piece, deviation)`` of one branch: the
+    kernels' ``(x, c, dmin, d2)`` of the shape-preserving spline through the points
+    (with ``smoothing``: through FITPACK's smoothing spline at the same speeds, with
+    its slopes), and how far it leaves the data (docstring of ``TableLaw``)."""
+    far_last = label == "positive"          # the far end: the largest |s|
+    slopes = None
+    if smoothing is not None:
+        from scipy.interpolate import make_splrep
+        try:
+            spl = make_splrep(s, f, k=DEGREE, s=s.size * smoothing ** 2)
+        except (ValueError, ArithmeticError, np.linalg.LinAlgError) as err:
+            raise ValueError(f"smoothing={smoothing!r}: FITPACK cannot fit the "
+                             f"{label} branch ({err})") from None
+        fitted = spl(s)
+        sign = 1.0 if far_last else -1.0
+        wrong = np.flatnonzero(sign * fitted < 0.0)
+        if wrong.size:
+            i = int(wrong[0])
+            raise ValueError(
+                f"smoothing={smoothing!r} kN changes the sign of the force on the "
+                f"{label} branch ({float(fitted[i]):.3g} kN at speed {float(s[i])!r}): "
+                "friction must oppose the motion; give a smaller smoothing")
+        slopes = (spl(s, 1), spl(s, 2))
+        deviation = float(np.abs(fitted - f).max())
+        f = fitted
+    branch, dmax, excess = spline.fit(s, f, far_last, slopes, free_turns=sampled)
+    parts = (branch[1], branch[2], branch[3], dmax)
+    if not all(np.isfinite(a).all() for a in parts):
+        raise ValueError(f"the {label} branch's slopes overflow float64 (speeds "
+                         f"{float(s[0])!r} .. {float(s[-1])!r} cm/s, forces up to "
+                         f"{float(np.abs(f).max())!r} kN): choose units in which the "
+                         "magnitudes are moderate")
     if smoothing is None:
-        spl = make_interp_spline(s, f, k=DEGREE)
-    else:
-        spl = make_splrep(s, f, k=DEGREE, s=s.size * smoothing ** 2)
-    pp = PPoly.from_spline(spl)
-    x = np.asarray(pp.x, np.float64)
-    c = np.asarray(pp.c, np.float64)
-    keep = np.flatnonzero(np.diff(x) > 0.0)      # drop empty pieces at repeated knots
-    x = np.append(x[keep], x[keep[-1] + 1])
-    c = np.ascontiguousarray(c[::-1, keep].T)     # ascending powers, a row per piece
-    return x, c, _least_slopes(x, c), _largest_curvatures(x, c)
-
-
-def _least_slopes(x, c):
-    """The least F' on each piece: at its ends or where F'' = 0 inside (the real
-    parts of the roots of a cubic: a near-double real root can come out of
-    ``np.roots`` as a complex pair; an extra sample can only lower the least value),
-    lowered by a rounding margin (the certificate must not rest on rounding)."""
-    h = np.diff(x)
-    out = np.empty(h.size)
-    d1 = c[:, 1:] * np.arange(1, DEGREE + 1)         # F' coefficients (degree 4)
-    d2 = d1[:, 1:] * np.arange(1, DEGREE)            # F'' coefficients (degree 3)
-    for i in range(h.size):
-        ts = [0.0, h[i]]
-        roots = np.roots(d2[i, ::-1]) if np.any(d2[i] != 0.0) else []
-        ts += [r.real for r in roots if 0 < r.real < h[i]]   # a near-double root may
-        vals = np.polynomial.polynomial.polyval(np.array(ts), d1[i])   # come out complex
-        size = np.abs(d1[i]) @ (h[i] ** np.arange(DEGREE))
-        out[i] = vals.min() - 1e-12 * size
-    return out
-
-
-def _largest_curvatures(x, c):
-    """The largest |F''| on each piece: at its ends or where F''' = 0 inside (roots
-    of a quadratic), raised by a rounding margin."""
-    h = np.diff(x)
-    out = np.empty(h.size)
-    d2 = c[:, 2:] * np.array([2.0, 6.0, 12.0, 20.0])     # F'' coefficients (degree 3)
-    d3 = d2[:, 1:] * np.arange(1, 4)                     # F''' coefficients (degree 2)
-    for i in range(h.size):
-        ts = [0.0, h[i]]
-        roots = np.roots(d3[i, ::-1]) if np.any(d3[i] != 0.0) else []
-        ts += [r.real for r in roots if 0 < r.real < h[i]]   # (extra points: safe)
-        vals = np.abs(np.polynomial.polynomial.polyval(np.array(ts), d2[i]))
-        size = np.abs(d2[i]) @ (h[i] ** np.arange(4))
-        out[i] = vals.max() + 1e-12 * size
-    return out
-
-
-def _max_slopes(branch):
-    """The largest |F'| on each piece (for the slope scale): a bound from the
-    coefficients' sizes."""
-    x, c, _dmin, _d2 = branch
-    h = np.diff(x)
-    d1 = np.abs(c[:, 1:] * np.arange(1, DEGREE + 1))
-    return (d1 * h[:, None] ** np.arange(DEGREE)).sum(axis=1)
-
-
-def _end_slopes(branch):
-    x, c, _dmin, _d2 = branch
-    return np.array([c[0, 1], np.polynomial.polynomial.polyval(
-        x[-1] - x[-2], c[-1, 1:] * np.arange(1, DEGREE + 1))])
+        deviation = excess
+    return branch, dmax, deviation
 
 
 def _evaluate(branch, s):
-    """F of one branch at speeds s (numpy; linear past the ends), as the kernels."""
+    """F of one branch at speeds s (numpy), as the kernels: past the far end the
+    end force is held (speeds beyond either end are taken at that end)."""
     x, c, _dmin, _d2 = branch
-    s = np.asarray(s, np.float64)
+    s = np.clip(np.asarray(s, np.float64), x[0], x[-1])
     i = np.clip(np.searchsorted(x, s, side="right") - 1, 0, x.size - 2)
     t = s - x[i]
-    inside = (s >= x[0]) & (s <= x[-1])
     f = np.zeros_like(s)
     for j in range(DEGREE, -1, -1):
         f = f * t + c[i, j]
-    # linear continuation past the ends, with the end's value and slope
-    lo_f = c[0, 0]
-    lo_d = c[0, 1]
-    hi_t = x[-1] - x[-2]
-    hi_f = np.polynomial.polynomial.polyval(hi_t, c[-1])
-    hi_d = np.polynomial.polynomial.polyval(hi_t, c[-1, 1:] * np.arange(1, DEGREE + 1))
-    f = np.where(inside, f, np.where(s < x[0], lo_f + lo_d * (s - x[0]),
-                                     hi_f + hi_d * (s - x[-1])))
     return f
+
+
+def _csv_rows(path: Path) -> list:
+    """The non-empty rows of a CSV file (a UTF-8 byte-order mark, as Excel writes,
+    skipped), at most ``MAX_POINTS + 1``; anything but a regular file refused before
+    it is read (opened without blocking: a FIFO never holds the call)."""
+    try:
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except OSError as err:
+        raise OSError(f"cannot read the friction table {str(path)!r}: "
+                      f"{err.strerror or err}") from None
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):
+        os.close(fd)
+        what = ("a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode)
+                else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode)
+                else "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
+        raise ValueError(f"the friction table {str(path)!r} is {what}; a CSV file "
+                         "is needed")
+    os.set_blocking(fd, True)
+    rows = []
+    try:
+        with io.open(fd, encoding="utf-8-sig", newline="") as fh:
+            for r in csv.reader(fh):
+                if r and any(c.strip() for c in r):
+                    rows.append(r)
+                    if len(rows) > MAX_POINTS + 1:
+                        raise ValueError(f"{str(path)!r} has more than {MAX_POINTS} "
+                                         "rows; a table holds at most that many")
+    except UnicodeDecodeError:
+        raise ValueError(f"{str(path)!r} is not a text CSV file (UTF-8)") from None
+    except csv.Error as err:
+        raise ValueError(f"{str(path)!r} is not a CSV file: {err}") from None
+    return rows

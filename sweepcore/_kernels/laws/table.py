@@ -1,12 +1,12 @@
 """A tabulated friction law: a piecewise quintic on each side of zdot = 0.
 
-The Python side (``sweepcore.laws.table``) fits a measured force-speed table, or a
-sampled function, with a quintic spline (C4: F, F', F'' and F''' continuous, so the
-Hopf speeds, the first Lyapunov coefficient and the equilibrium certificate are all
-defined) and hands the kernels its piecewise-polynomial form: on the piece
-``[x_i, x_{i+1}]`` of a branch, ``F(s) = sum_j c_ij (s - x_i)^j``, j = 0..5. Past the
-outermost speed of a branch the law continues linearly with the end's value and
-slope (C1), as Modelica's friction tables extrapolate.
+The Python side (``sweepcore.laws.table``) represents a measured force-speed table,
+or a sampled function, by a shape-preserving quintic Hermite spline (C2: F, F' and
+F'' continuous, F''' defined on each piece, so the Hopf speeds, the first Lyapunov
+coefficient and the equilibrium certificate are all defined) and hands the kernels
+its piecewise-polynomial form: on the piece ``[x_i, x_{i+1}]`` of a branch,
+``F(s) = sum_j c_ij (s - x_i)^j``, j = 0..5. Past the outermost speed of a branch
+the end force is held (the spline ends there with zero slope and curvature: C2).
 
 Every table is data of the same numba type (``Table``, one float64 array ``d``):
 a new table compiles nothing. One array rather than one per field: the law data is
@@ -17,8 +17,8 @@ law per point, of one array ``benchmarks/laws.py`` gives). ``d`` holds
 * ``d[:HEAD]``: the number of pieces of the branch s >= 0 and of the branch s <= 0,
   the static limits ``(r_pos, r_neg)`` [kN], and 1 for a law odd in s;
 * then each branch (``pack``): its n + 1 breakpoints (from 0 up for s >= 0, up to
-  0 for s <= 0), its (n, 6) coefficients row by row, and on each piece the least F'
-  and the largest |F''|. A law odd in s does not use its branch s <= 0:
+  0 for s <= 0), its (n, 6) coefficients row by row, and on each piece a lower
+  bound of F' and an upper bound of |F''|. A law odd in s does not use its branch s <= 0:
   ``F(s) = -F(-s)`` is evaluated on the positive branch, so that the mirror image
   v -> -v is exact.
 
@@ -90,7 +90,7 @@ def _poly(d, k, t):
 def _value(d, b, n, s, up):
     """``(F, F', F'', F''')`` at s of the branch s >= 0 (``up``) or s <= 0.
 
-    Past the branch's far end (|s| beyond the table) F continues linearly (C1).
+    Past the branch's far end (|s| beyond the table) the end force is held.
     Past its end at zero speed, where only the last stages of a slide go (they may
     overshoot zdot = 0), F continues as its cubic Taylor polynomial there (C3): the
     field of a slide stays smooth and bounded (the quintic of a short first piece
@@ -100,8 +100,7 @@ def _value(d, b, n, s, up):
     if (i >= n) if up else (i < 0):
         j = n - 1 if up else 0
         end = d[b + n] if up else d[b]
-        f, d1, _d2, _d3 = _poly(d, c + 6 * j, end - d[b + j])
-        return f + d1 * (s - end), d1, 0.0, 0.0
+        return _poly(d, c + 6 * j, end - d[b + j])[0], 0.0, 0.0, 0.0
     if (i < 0) if up else (i >= n):
         j = 0 if up else n - 1
         zero = d[b] if up else d[b + n]
@@ -172,8 +171,8 @@ def branch_derivatives(p, lw, zd, s):
 
 @kernel(inline="always")
 def anti_damped(p, lw):
-    """Past the table F continues linearly: its damping at high speed is c plus the
-    slope at each branch's far end."""
+    """Past the table the end force is held: the damping at high speed is c plus the
+    slope at each branch's far end (0: the spline ends flat)."""
     d = lw.d
     n = int(d[0])
     far = _value(d, HEAD, n, d[HEAD + n], True)[1]
@@ -246,7 +245,7 @@ def _sample(d, b, n, k, up):
 def hopf_speeds(p, lw):
     """Roots u of ``c + F'(-u)`` (u with the sign of v) over the branch steady
     sliding uses: 16 samples of each piece (F' is a quartic there), refined by
-    bisection; past the table F' is the end slope (constant: no further root)."""
+    bisection; past the table F' = 0 (the end force held: no further root)."""
     d = lw.d
     up = p[V] < 0.0 or d[4] > 0.0        # the s >= 0 branch (odd: F'(-u) = F'(u))
     b, n = _branch(d, up)
@@ -276,3 +275,77 @@ def hopf_speeds(p, lw):
 def speed_range(p, lw):
     end = lw.d[HEAD + int(lw.d[0])]
     return 1e-9 * end, end
+
+
+# ------------------------------------------------------------ the step at a knot
+CROSS_SAFETY = 0.1    # of the velocity tolerance, the error a knot's crossing may add
+
+
+@kernel
+def _third(d, b, n, j, right):
+    """F''' at knot j of a branch, from the piece on its right (``right``) or left;
+    0 beyond the branch (the end force held past the far end; below zero speed the
+    cubic continuation has the end piece's F''' there, so no jump: same value)."""
+    c = b + n + 1
+    if right:
+        if j >= n:
+            return 0.0
+        return 6.0 * d[c + 6 * j + 3]
+    if j <= 0:
+        return 0.0
+    h = d[b + j] - d[b + j - 1]
+    return _poly(d, c + 6 * (j - 1), h)[3]
+
+
+@kernel
+def _knot_ahead(d, b, n, u, du, up):
+    """``(distance, |jump of F'''|)`` of the next breakpoint of a branch that u
+    reaches moving with sign du (inf, 0 for none). At the far end F''' jumps to 0
+    (the held force); at the zero end it does not (the cubic continuation)."""
+    i = _piece(d, b, n, u)
+    if du > 0.0:
+        j = i + 1
+    elif i >= 0 and u > d[b + min(i, n)]:
+        j = min(i, n)
+    else:
+        j = i - 1
+    if j < 0 or j > n:
+        return np.inf, 0.0
+    zero_end = (j == 0) if up else (j == n)
+    if zero_end:
+        return abs(d[b + j] - u), 0.0
+    return abs(d[b + j] - u), abs(_third(d, b, n, j, True) - _third(d, b, n, j, False))
+
+
+@kernel(inline="always")
+def step_bound(x, zd, s, cf, lw, k, m, v, dz):
+    """The generic bound (``law.step_bound``: the instability's rate, and the
+    layer of the slope's own width), and a knot's: F''' jumps at the breakpoints
+    (C2 pieces), so the fourth time derivative of zdot jumps by ``dF''' zdd^3 / m``
+    there, a local error ``~ dF''' |zdd|^3 h^4 / (24 m)`` the steppers' error
+    estimates (which assume a smooth field) do not weigh. A step either stops
+    short of the next knot (half the time zdd needs to reach it) or crosses it
+    short enough that this error is ``CROSS_SAFETY`` of the velocity tolerance
+    ``dz``."""
+    f1, f2 = branch_derivatives(cf[3], lw, zd, s)
+    lam = -(cf[1] + f1) / m
+    h = np.inf
+    if lam > 0.0:
+        drop = f1 * f1 / abs(f2) if f2 != 0.0 else np.inf
+        h = max(1.0 / lam, m * dz / drop)
+    a = (-k * x - force(lw, cf, zd, s) - cf[1] * (zd + cf[2])) / m
+    if a == 0.0:
+        return h, a
+    d = lw.d
+    if s > 0.0 or (s == 0.0 and zd > 0.0):
+        dist, jump = _knot_ahead(d, HEAD, int(d[0]), zd, a, True)
+    elif d[4] > 0.0:                             # odd: the positive branch at -zd
+        dist, jump = _knot_ahead(d, HEAD, int(d[0]), -zd, -a, True)
+    else:
+        b, n = _branch(d, False)
+        dist, jump = _knot_ahead(d, b, n, zd, a, False)
+    aa = abs(a)
+    if jump > 0.0:
+        cross = (24.0 * CROSS_SAFETY * dz * m / (jump * aa * aa * aa)) ** 0.25
+        h = min(h, max(0.5 * dist / aa, cross))
+    return h, a
