@@ -36,6 +36,7 @@ _WHERE = {
     "slip_cycles": ".cycles",
     "bifurcation_diagram": ".diagram",
     "Grid": ".grid",
+    "compile": ".compiled",
     "check_cf": ".io", "open_result": ".io", "write_netcdf": ".io",
     "Params": ".params",
     "simulate": ".simulate",
@@ -59,43 +60,11 @@ def _law_classes() -> dict:
     return {cls.__name__: cls for cls in OBJECTS}
 
 
-def compile(law=None, method=None, quiet=False):
-    """Compile the kernels ahead of time into the cache (what a first use compiles).
-
-    Parameters
-    ----------
-    law : str, optional
-        A law kind of the kernels' law table (``"polynomial"``: eq. 40,
-        ``"stribeck"``: with the Stribeck term, ``"table"``, ``"leine"``), or
-        ``"all"``; default: every kind.
-    method : str, optional
-        A method (``"exact"``, ``"gps"``, ``"rk4"``, ``"dopri5"``, ``"dop853"``) or
-        ``"all"``; default ``"dop853"`` ("auto" at the default tolerance).
-    quiet : bool
-        No line per kernel (the logger ``"sweepcore.compile"``).
-
-    Returns
-    -------
-    list of (str, float or None)
-        What was compiled and how long it took [s]; None where the cache had it.
-
-    Notes
-    -----
-    Compiled kernels are kept per install location (numba keys its cache on each
-    source file's path and modification time) in ``$SWEEPCORE_CACHE_DIR`` or
-    ``~/.cache/sweepcore``; an attractor kernel of one method and kind takes
-    tens of seconds of CPU.
-    """
-    import logging
-    from . import compiled
-    logger = logging.getLogger("sweepcore.compile")
-    level = logger.level
-    if quiet:
-        logger.setLevel(logging.ERROR)
-    try:
-        return compiled.compile_kernels(law, method)
-    finally:
-        logger.setLevel(level)
+def _law_classes() -> dict:
+    """The friction laws given as objects (law=): every class of the law table
+    (sweepcore.laws.LAWS), by its name: sweepcore.TableLaw, sweepcore.LeineLaw, ..."""
+    from .laws import OBJECTS
+    return {cls.__name__: cls for cls in OBJECTS}
 
 
 def __getattr__(name):

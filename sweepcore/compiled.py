@@ -28,6 +28,7 @@ from numba.core import event
 from ._kernels import codes, entries, layout, stepper
 from ._kernels import laws as _kernel_laws
 from . import law as _law
+from .options import checked_keywords
 
 EPS = np.finfo(np.float64).eps
 
@@ -411,3 +412,41 @@ def compile_kernels(law=None, method=None) -> list:
                 build(entries.entry(name, meth), _arguments(name, lw),
                       compiling(label, meth, kind))
     return done
+
+
+@checked_keywords
+def compile(law=None, method=None, quiet=False):
+    """Compile the kernels ahead of time into the cache (what a first use compiles).
+
+    Parameters
+    ----------
+    law : str, optional
+        A law kind of the kernels' law table (``"polynomial"``: eq. 40,
+        ``"stribeck"``: with the Stribeck term, ``"table"``, ``"leine"``), or
+        ``"all"``; default: every kind.
+    method : str, optional
+        A method (``"exact"``, ``"gps"``, ``"rk4"``, ``"dopri5"``, ``"dop853"``) or
+        ``"all"``; default ``"dop853"`` ("auto" at the default tolerance).
+    quiet : bool
+        No line per kernel (the logger ``"sweepcore.compile"``).
+
+    Returns
+    -------
+    list of (str, float or None)
+        What was compiled and how long it took [s]; None where the cache had it.
+
+    Notes
+    -----
+    Compiled kernels are kept per install location (numba keys its cache on each
+    source file's path and modification time) in ``$SWEEPCORE_CACHE_DIR`` or
+    ``~/.cache/sweepcore``; an attractor kernel of one method and kind takes
+    tens of seconds of CPU.
+    """
+    logger = log
+    level = logger.level
+    if quiet:
+        logger.setLevel(logging.ERROR)
+    try:
+        return compile_kernels(law, method)
+    finally:
+        logger.setLevel(level)
