@@ -77,8 +77,10 @@ def _run(args, study, grid, out, png) -> int:
     from ..sweep import sweep
 
     if not args.quiet:
+        # in the result's order (the sweep puts v last), as `sweepcore info` says it
+        sizes = sorted(zip(grid.dims, grid.shape), key=lambda dn: dn[0] == "v")
         print(f"sweepcore run {args.study}: {grid.size} points "
-              f"({' x '.join(f'{d}: {n}' for d, n in zip(grid.dims, grid.shape))}), "
+              f"({' x '.join(f'{d}: {n}' for d, n in sizes)}), "
               f"method {study.method}, tol {study.tol:g}", flush=True)
     t0 = time.perf_counter()
     ds = sweep(grid, method=study.method, tol=study.tol,
