@@ -102,7 +102,9 @@ class _Version(argparse.Action):
 
 class _Lazy:
     """Choices of an option read from the package only when argparse looks at them
-    (the method and law tables import numba): ``sweepcore --help`` stays quick."""
+    (the method and law tables import numba): ``sweepcore --help`` stays quick. The
+    option needs a metavar (argparse formats the choices of one without it when the
+    option is added)."""
 
     def __init__(self, read):
         self.read = read
@@ -213,8 +215,9 @@ def _simulate_options(p):
                    help="end time [s] (default 60)")
     p.add_argument("--output-dt", dest="output_dt", type=float, default=None,
                    help="sampling interval [s] (default a hundredth of 2 pi/omega)")
-    p.add_argument("--method", default="auto", choices=_Lazy(_methods),
-                   help="stepper (default auto: exact for a piecewise-linear law, "
+    p.add_argument("--method", default="auto", choices=_Lazy(_methods), metavar="METHOD",
+                   help="stepper: %(choices)s (default auto: exact for a "
+                        "piecewise-linear law, "
                         "else dop853 below tol 1e-7, dopri5 above)")
     p.add_argument("--tol", type=float, default=1e-10,
                    help="tolerance of the adaptive steppers (default 1e-10, tighter "
@@ -237,8 +240,8 @@ def _compile_options(p):
                    help="law kind of the kernels' law table: %(choices)s (default "
                         "all; polynomial is eq. 40, stribeck with the Stribeck term)")
     p.add_argument("--method", default="dop853",
-                   choices=_Lazy(lambda: (*_methods()[1:], "all")),
-                   help="stepper, or all; default dop853 (what auto runs at the "
+                   choices=_Lazy(lambda: (*_methods()[1:], "all")), metavar="METHOD",
+                   help="stepper: %(choices)s; default dop853 (what auto runs at the "
                         "default tolerance)")
 
 
