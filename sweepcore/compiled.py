@@ -4,8 +4,10 @@ A call's rows are grouped by the kernels' law kind (``sweepcore._kernels.laws``)
 and by method ("auto" resolved per row, :func:`methods_of`), and each group runs on
 the entry kernel of its method (``sweepcore._kernels.entries``), compiled for that
 (method, law kind) the first time it is used and loaded from numba's cache after
-that. While a kernel compiles, :data:`notice` (set by the command line) is told
-what is being compiled, an estimate of how long it takes, and the seconds elapsed.
+that. Every compilation of a kernel, whichever room calls it first, is announced on
+stderr (:class:`_Announcer`): what compiles, how long it took before and how long it
+took, as warnings of the logger ``sweepcore.compile`` (or to :data:`notice`, which the
+command line sets). :func:`compile` compiles ahead of time.
 """
 from __future__ import annotations
 
@@ -179,6 +181,10 @@ def _prefetch(meth: int, kind: int) -> None:
     if not PREFETCH or (meth, kind) in _prefetched or (os.cpu_count() or 1) < 2:
         return
     _prefetched.add((meth, kind))
+    try:        # a cache it cannot write to would take nothing from a second compiler
+        Path(_cache_dir()).mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return
     from ._kernels import attractor, prefetch
     name = _kernel_laws.LAWS[kind][0]
     try:
