@@ -4,14 +4,17 @@ A call's rows are grouped by the kernels' law kind (``sweepcore._kernels.laws``)
 and by method ("auto" resolved per row, :func:`methods_of`), and each group runs on
 the entry kernel of its method (``sweepcore._kernels.entries``), compiled for that
 (method, law kind) the first time it is used and loaded from numba's cache after
-that. While a kernel compiles, :data:`notice` (set by the command line) is told
-what is being compiled, an estimate of how long it takes, and the seconds elapsed.
+that. Every compilation of a kernel, whichever room calls it first, is announced on
+stderr (:class:`_Announcer`): what compiles, how long it took before and how long it
+took, as warnings of the logger ``sweepcore.compile`` (or to :data:`notice`, which the
+command line sets). :func:`compile` compiles ahead of time.
 """
 from __future__ import annotations
 
 import atexit
 import itertools
 import json
+import logging
 import os
 import subprocess
 import sys
@@ -27,6 +30,7 @@ from numba.core import event
 from ._kernels import codes, entries, layout, stepper
 from ._kernels import laws as _kernel_laws
 from . import law as _law
+from .options import checked_keywords
 
 EPS = np.finfo(np.float64).eps
 
@@ -161,8 +165,9 @@ def trajectory(row: np.ndarray, law, o: np.ndarray, *arrays):
 def options(row: np.ndarray, law, o: np.ndarray):
     """``(option row, a-priori status)`` of one point: "auto" resolved, the default
     dt and GPS shift filled in (``attractor.resolve_options``)."""
-    ((meth, _kind, _rows, lw),) = groups(row[None, :], (law,), o)
-    return entries.entry("options", meth)(row, lw, o)
+    ((meth, kind, _rows, lw),) = groups(row[None, :], (law,), o)
+    with compiling("options", meth, kind):
+        return entries.entry("options", meth)(row, lw, o)
 
 
 # ------------------------------------------------------- a second compiler
@@ -176,6 +181,10 @@ def _prefetch(meth: int, kind: int) -> None:
     if not PREFETCH or (meth, kind) in _prefetched or (os.cpu_count() or 1) < 2:
         return
     _prefetched.add((meth, kind))
+    try:        # a cache it cannot write to would take nothing from a second compiler
+        Path(_cache_dir()).mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return
     from ._kernels import attractor, prefetch
     name = _kernel_laws.LAWS[kind][0]
     try:
@@ -210,14 +219,35 @@ def _cache_dir() -> str:
 
 
 # ------------------------------------------------------- while compiling
-notice = None       # callable(str) told about compilations (the command line: stderr)
+# Every compilation of a sweepcore kernel is announced: a line naming what compiles
+# and how long it took before, and one with the time it took. By default the lines
+# are warnings of the logger "sweepcore.compile" (on stderr where logging is not
+# configured: Python's last-resort handler); silence them with
+# ``logging.getLogger("sweepcore.compile").setLevel(logging.ERROR)``. The command
+# line sets ``notice`` instead (stderr, and a line every TICK s while it lasts).
+log = logging.getLogger("sweepcore.compile")
+notice = None       # callable(str) told instead of the logger (the command line)
 TICK = 5.0          # seconds between the lines of a long compilation
 ESTIMATES = Path(__file__).with_name("compile_estimates.json")
+_PACKAGE = str(Path(__file__).resolve().parent)
 
 
-def _what(entry: str, meth: int, kind: int) -> str:
-    return (f"the {entry} kernel ({codes.METHOD_NAMES[meth]}, "
-            f"{_kernel_laws.LAWS[kind][0]} law)")
+def _say(line: str, tick: bool = False) -> None:
+    if notice is not None:
+        notice(line)
+    else:
+        log.log(logging.INFO if tick else logging.WARNING, line)
+
+
+def _what(entry: str, meth, kind) -> str:
+    of = [codes.METHOD_NAMES[meth]] if meth is not None else []
+    of += [f"{_kernel_laws.LAWS[kind][0]} law"] if kind is not None else []
+    return f"the {entry} kernel" + (f" ({', '.join(of)})" if of else "")
+
+
+def _key(entry: str, meth, kind) -> str:
+    return "/".join([entry] + ([codes.METHOD_NAMES[meth]] if meth is not None else [])
+                    + ([_kernel_laws.LAWS[kind][0]] if kind is not None else []))
 
 
 def _estimate(key: str) -> str:
@@ -251,54 +281,178 @@ def _remember(key: str, seconds: float) -> None:
         pass
 
 
-class compiling:
-    """Context of one entry call: if numba compiles during it, tell :data:`notice`
-    what, how long it took before (estimate) and, every ``TICK`` s, the seconds
-    elapsed; the time is remembered for the next estimate."""
+_calling = threading.local()     # the entry call a thread is in: [(key, what)]
 
-    def __init__(self, entry: str, meth: int, kind: int):
-        self.key = f"{entry}/{codes.METHOD_NAMES[meth]}/{_kernel_laws.LAWS[kind][0]}"
-        self.what = _what(entry, meth, kind)
-        self.started = None
-        self.stop = threading.Event()
+
+class compiling:
+    """Context of one entry call (``entry`` of method code ``meth`` and law kind
+    ``kind``, either None for a kernel of every one): a compilation during it is
+    announced by that name (:class:`_Announcer`), and its time remembered for the
+    next estimate."""
+
+    def __init__(self, entry: str, meth, kind: int):
+        self.name = (_key(entry, meth, kind), _what(entry, meth, kind))
+        self.took = None        # seconds, where it compiled
 
     def __enter__(self):
-        self.listener = _Listener(self)
-        self.ctx = event.install_listener("numba:compile", self.listener)
-        self.ctx.__enter__()
+        if not hasattr(_calling, "stack"):
+            _calling.stack = []
+        _calling.stack.append(self)
         return self
 
     def __exit__(self, *exc):
-        self.ctx.__exit__(*exc)
-        self.stop.set()
-        if self.started is not None:
-            took = time.perf_counter() - self.started
-            _remember(self.key, took)
-            if notice is not None:
-                notice(f"sweepcore: compiled in {took:.1f} s (kept in numba's cache "
-                       "for later runs)")
+        _calling.stack.pop()
         return False
 
-    def begin(self):
-        self.started = time.perf_counter()
-        if notice is None:
-            return
-        notice(f"sweepcore: compiling {self.what}: first use in this install"
-               f"{_estimate(self.key)}")
-        threading.Thread(target=self._tick, daemon=True).start()
 
-    def _tick(self):
-        while not self.stop.wait(TICK):
-            notice(f"sweepcore: ... compiling, {time.perf_counter() - self.started:.0f} s")
+class _Announcer(event.Listener):
+    """numba's compile events, process-wide: the outermost compilation of a
+    sweepcore kernel is announced (numba compiles under one lock: one at a time;
+    the kernels it compiles on the way are nested events)."""
 
-
-class _Listener(event.Listener):
-    def __init__(self, owner: compiling):
-        self.owner = owner
+    def __init__(self):
+        self.depth = 0
+        self.top = False
 
     def on_start(self, ev):
-        if self.owner.started is None:
-            self.owner.begin()
+        self.depth += 1
+        if self.depth == 1:
+            self.top = self._begin(ev.data.get("dispatcher"))
 
     def on_end(self, ev):
-        pass
+        self.depth -= 1
+        if self.depth == 0 and self.top:
+            self._finish()
+
+    def _begin(self, dispatcher) -> bool:
+        owner = (getattr(_calling, "stack", None) or [None])[-1]
+        if owner is not None:
+            self.key, self.what = owner.name
+        else:           # a kernel compiled outside an entry call (derived quantities)
+            fn = getattr(dispatcher, "py_func", None)
+            code = getattr(fn, "__code__", None)
+            if code is None or not code.co_filename.startswith(_PACKAGE):
+                return False            # a user's own numba function
+            self.key, self.what = fn.__name__, f"the {fn.__name__} kernel"
+        self.owner = owner
+        self.started = time.perf_counter()
+        self.stop = threading.Event()
+        _say(f"sweepcore: compiling {self.what}, not in the kernel cache yet"
+             f"{_estimate(self.key)}")
+        threading.Thread(target=self._tick, args=(self.stop, self.started),
+                         daemon=True).start()
+        return True
+
+    def _finish(self):
+        self.stop.set()
+        took = time.perf_counter() - self.started
+        _remember(self.key, took)
+        if self.owner is not None:
+            self.owner.took = (self.owner.took or 0.0) + took
+        _say(f"sweepcore: compiled {self.what} in {took:.1f} s (kept in numba's "
+             "cache for later runs)")
+
+    @staticmethod
+    def _tick(stop, started):
+        while not stop.wait(TICK):
+            _say(f"sweepcore: ... compiling, {time.perf_counter() - started:.0f} s",
+                 tick=True)
+
+
+ANNOUNCER = _Announcer()    # told by sweepcore._kernels, whichever room compiles
+
+
+# ------------------------------------------------------- ahead of time
+# the entry kernels of a (method, kind), by the name their calls announce them
+ENTRIES = {"attractor_rows": "attractor", "slip_cycles_rows": "cycle scan",
+           "trajectory": "trajectory", "options": "options"}
+
+
+def _arguments(name: str, lw) -> tuple:
+    """Arrays of the types the Python rooms call entry ``name`` with (only their
+    types matter: the kernel is compiled for them, not run)."""
+    from ._kernels.cycles import MAX_CYCLES
+    P = np.zeros((1, layout.NP))
+    o = np.zeros(layout.NO)
+    f, i = np.zeros(1), np.zeros(1, np.int64)
+    return {"attractor_rows": (P, lw, o, np.zeros((1, layout.NOBS))),
+            "slip_cycles_rows": (P, lw, o, np.zeros((1, MAX_CYCLES, layout.NOBS)), i),
+            "trajectory": (P[0], lw, o, f, f, f, i, f, i, f, f, np.zeros(layout.NA)),
+            "options": (P[0], lw, o)}[name]
+
+
+def compile_kernels(law=None, method=None) -> list:
+    """Compile the kernels of law kind(s) ``law`` and method(s) ``method`` into the
+    cache ahead of time (what a first use would compile); see
+    :func:`sweepcore.compile`. Returns ``[(what, seconds)]``, seconds None where
+    the cache had it."""
+    from numba import typeof
+    from ._kernels import derived, trajectory as _trajectory
+    from .options import did_you_mean
+    kinds = [row[0] for row in _kernel_laws.LAWS]
+    methods = list(codes.METHOD_CODES)
+    law_list = kinds if law in (None, "all") else [law]
+    meth_list = ["dop853"] if method is None else methods if method == "all" \
+        else [method]
+    for label, given, known in (("law", law_list, kinds), ("method", meth_list, methods)):
+        bad = [g for g in given if not isinstance(g, str) or g not in known]
+        if bad:
+            raise ValueError(f"{label} must be one of {', '.join(known)} or 'all', got "
+                             f"{bad[0]!r}{did_you_mean(str(bad[0]), known)}")
+    done = []
+
+    def build(dispatcher, args, ctx):
+        with ctx:
+            dispatcher.compile(tuple(typeof(a) for a in args))
+        done.append((ctx.name[1], ctx.took))
+
+    build(_trajectory.fresh_acc, (), compiling("accumulator", None, None))
+    for kind_name in law_list:
+        kind = _kernel_laws.KIND_CODES[kind_name]
+        lw = _kernel_laws.SAMPLES[kind_name]
+        build(derived.derived_rows, (np.zeros((1, layout.NP)), lw, 0, np.zeros(1)),
+              compiling("derived quantities", None, kind))
+        for meth_name in meth_list:
+            meth = codes.METHOD_CODES[meth_name]
+            for name, label in ENTRIES.items():
+                build(entries.entry(name, meth), _arguments(name, lw),
+                      compiling(label, meth, kind))
+    return done
+
+
+@checked_keywords
+def compile(law=None, method=None, quiet=False):
+    """Compile the kernels ahead of time into the cache (what a first use compiles).
+
+    Parameters
+    ----------
+    law : str, optional
+        A law kind of the kernels' law table (``"polynomial"``: eq. 40,
+        ``"stribeck"``: with the Stribeck term, ``"table"``, ``"leine"``), or
+        ``"all"``; default: every kind.
+    method : str, optional
+        A method (``"exact"``, ``"gps"``, ``"rk4"``, ``"dopri5"``, ``"dop853"``) or
+        ``"all"``; default ``"dop853"`` ("auto" at the default tolerance).
+    quiet : bool
+        No line per kernel (the logger ``"sweepcore.compile"``).
+
+    Returns
+    -------
+    list of (str, float or None)
+        What was compiled and how long it took [s]; None where the cache had it.
+
+    Notes
+    -----
+    Compiled kernels are kept per install location (numba keys its cache on each
+    source file's path and modification time) in ``$SWEEPCORE_CACHE_DIR`` or
+    ``~/.cache/sweepcore``; an attractor kernel of one method and kind takes
+    tens of seconds of CPU.
+    """
+    logger = log
+    level = logger.level
+    if quiet:
+        logger.setLevel(logging.ERROR)
+    try:
+        return compile_kernels(law, method)
+    finally:
+        logger.setLevel(level)

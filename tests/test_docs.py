@@ -156,3 +156,57 @@ def test_only_a_full_run_rewrites_the_tracked_tables():
     assert summary_targets("smoke", "/tmp/s", "/tmp/s", "none") == (None, False)
     ignored = (ROOT / ".gitignore").read_text()
     assert "benchmarks/results/quick/" in ignored
+
+
+# ------------------------------------------------ what a new user copies from it
+def _readme_blocks(language: str) -> list[str]:
+    text = (ROOT / "README.md").read_text()
+    return re.findall(rf"```{language}\n(.*?)```", text, flags=re.S)
+
+
+# calls run for what they do, not for a value to show
+_ACTIONS = {"print", "savefig", "plot", "to_csv"}
+
+
+def test_readme_python_blocks_print_what_they_show():
+    """Saved to a file and run, a README block shows what its comments promise: no
+    bare expression whose value only an interactive prompt would print."""
+    import ast
+    bare = []
+    for block in _readme_blocks("python"):
+        for node in ast.walk(ast.parse(block)):
+            if not isinstance(node, ast.Expr):
+                continue
+            f = node.value.func if isinstance(node.value, ast.Call) else None
+            name = getattr(f, "id", None) or getattr(f, "attr", None)
+            if name not in _ACTIONS:
+                bare.append(ast.unparse(node)[:60])
+    assert bare == []
+
+
+def test_readme_commands_parse():
+    """Every ``sweepcore`` command the README writes out is a valid command line
+    (``sweepcore simulate --law-table curve.csv`` lacked the slider's --m, --k, --v)."""
+    import shlex
+    from sweepcore.cli import build_parser
+    text = (ROOT / "README.md").read_text()
+    commands = [line.split("#")[0].strip() for block in _readme_blocks("bash")
+                for line in block.splitlines() if line.startswith("sweepcore ")]
+    commands += [c for c in re.findall(r"`(sweepcore [^`]*)`", text)
+                 if "[" not in c and len(c.split()) > 2]     # not a mere name
+    assert any("--law-table" in c for c in commands)
+    parser = build_parser()
+    for command in commands:
+        try:
+            parser.parse_args(shlex.split(command)[1:])
+        except SystemExit:
+            pytest.fail(f"the README's command does not parse: {command}")
+
+
+def test_study_files_state_no_unmeasured_duration():
+    """A study's header says what a run costs only where it was measured: the basins
+    study said "(a few seconds)" and took 189 s from a cold cache."""
+    claims = [f"{p.name}: {line.strip()}" for p in sorted((ROOT / "studies").glob("*.toml"))
+              for line in p.read_text().splitlines()
+              if line.startswith("#") and re.search(r"few seconds|\bseconds\)", line)]
+    assert claims == []

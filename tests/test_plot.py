@@ -316,3 +316,49 @@ def test_hysteresis_variable_must_be_a_scanned_variable(files):
         plot.plot_hysteresis(files["diagram"], variable="nope")
     with pytest.raises(ValueError, match=r"variable='v_star' is not over the scans"):
         plot.plot_hysteresis(files["diagram"], variable="v_star")
+
+
+# ----------------------------------------------------- a measured friction law
+TABLE_SPEED = np.array([0.0, 0.1, 0.25, 0.5, 1.0, 2.0, 4.0])      # cm/s (the README's)
+TABLE_FORCE = np.array([1.0, 0.93, 0.82, 0.68, 0.55, 0.51, 0.50])  # kN
+
+
+@pytest.fixture(scope="module")
+def measured():
+    return sc.TableLaw(TABLE_SPEED, TABLE_FORCE, static=1.1, name="measured")
+
+
+def _legend_labels(fig):
+    return [t.get_text() for legend in fig.legends for t in legend.get_texts()]
+
+
+def test_a_table_law_sweep_is_drawn_against_its_grid_not_its_samples(measured):
+    """A table law's samples lie on ``law_point`` beside the grid: never the axis a
+    picture is drawn against (it was, and a sweep of one speed or over k raised
+    IndexError in plot/lines.py)."""
+    over_k = sweep(Grid(m=1.0, k=[1.0, 2.0], c=0.1, v=0.3, law=measured))
+    fig = sc.plot_result(over_k)
+    assert any("stiffness" in ax.get_xlabel() for ax in fig.axes)
+    with pytest.raises(ValueError, match="single point"):
+        sc.plot_result(sweep(Grid(m=1.0, k=1.0, c=0.1, v=0.3, law=measured)))
+
+
+def test_a_table_law_picture_shows_the_law_and_names_only_what_it_draws(measured):
+    """The friction curve the sweep ran on is drawn (the table's samples, force
+    against speed); v* is named in the legend exactly where its line is drawn (the
+    Hopf speed inside the belt speeds), and the averaging estimate of the paper's
+    cubic law is not drawn for a measured law."""
+    inside = sweep(Grid(m=1.0, k=1.0, c=0.1, v=np.linspace(0.2, 2.0, 6), law=measured))
+    v_star = float(inside["v_star"])
+    assert 0.2 < v_star < 2.0
+    fig = sc.plot_result(inside)
+    table = [line for ax in fig.axes for line in ax.get_lines()
+             if np.array_equal(line.get_xdata(), TABLE_SPEED)]
+    assert table and np.array_equal(table[0].get_ydata(), TABLE_FORCE)
+    named = [t for t in _legend_labels(fig) if "v^*" in t]
+    assert named == [f"Hopf speed $v^*$ = {v_star:.3g}"]
+    drawn = [line for ax in fig.axes for line in ax.get_lines()
+             if np.allclose(line.get_xdata(), v_star)]
+    assert len(drawn) >= 2          # in each panel
+    below = sweep(Grid(m=1.0, k=1.0, c=0.1, v=np.linspace(0.2, 0.6, 4), law=measured))
+    assert not [t for t in _legend_labels(sc.plot_result(below)) if "v^*" in t]

@@ -23,8 +23,10 @@ A kind module defines its data class and at least
 * ``static_limits(p, lw)``: ``(r_pos, r_neg)`` [kN]: sticking holds while
   ``-r_pos <= k x + c v <= r_neg`` (``r_pos >= F(0+)``, ``r_neg >= -F(0-)``);
 * ``slope_bound(p, lw, lo, hi)``: a lower bound of F' on [lo, hi] (the equilibrium
-  certificate), and ``speed_range(p, lw)``: the speeds between which the law's
-  slope changes (the scan for the Hopf speeds).
+  certificate).
+
+``speed_range(p, lw)``, the speeds between which the law's slope changes (the scan
+for the Hopf speeds), is optional: its generic form is 1e-6 ... 1e6 cm/s.
 
 It may define any other function of this module by name (closed forms, exact
 roundings: the analytic family defines them all, which keeps the cubic map bit for

@@ -22,11 +22,18 @@ import os
 import sys
 import traceback
 
-from ..options import did_you_mean
-from .commands import SimulationFailed, UsageError
 from .parser import build_parser, set_threads
 
 __all__ = ["main", "build_parser", "unknown_option", "UsageError"]
+
+
+def __getattr__(name):
+    # the commands (and numba, xarray with them) are imported once a command runs:
+    # `sweepcore --help` answers without them
+    if name in ("UsageError", "SimulationFailed"):
+        from . import commands
+        return getattr(commands, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 # what an interruption leaves, per command (a command says more where it knows:
@@ -35,7 +42,8 @@ INTERRUPTED = {
     "run": "rerun the same command to resume: the finished chunks are kept",
     "basins": "rerun the same command to resume: the finished chunks are kept",
     "boundary": "nothing written", "simulate": "nothing written",
-    "plot": "nothing written", "info": "nothing written", "export": "nothing written"}
+    "plot": "nothing written", "info": "nothing written", "export": "nothing written",
+    "compile": "the kernels compiled so far are kept in the cache"}
 
 
 # --------------------------------------------------------------------- main
@@ -61,6 +69,10 @@ def _notice(line: str) -> None:
     print(line, file=sys.stderr, flush=True)
 
 
+def _silent(line: str) -> None:
+    """--quiet: no compile lines (a damaged or read-only cache still says so)."""
+
+
 def _main(argv) -> int:
     parser = build_parser()
     argv = sys.argv[1:] if argv is None else list(map(str, argv))
@@ -72,8 +84,11 @@ def _main(argv) -> int:
         return 2
     args = parser.parse_args(argv)
     args.argv = argv
+    from . import commands
+    from .commands import SimulationFailed, UsageError
+    args.func = getattr(commands, f"cmd_{args.command}")
     from .. import compiled       # while a kernel compiles, say so on stderr
-    compiled.notice = None if getattr(args, "quiet", False) else _notice
+    compiled.notice = _silent if getattr(args, "quiet", False) else _notice
     if args.threads:
         set_threads(args.threads)
     from ..study import StudyError
@@ -141,6 +156,7 @@ def unknown_option(parser, argv) -> tuple[str, str] | None:
             skip = "=" not in token and (name if name in known else matches[0]) \
                 in takes_value
             continue
+        from ..options import did_you_mean
         hint = did_you_mean(name, [o for o in known if o.startswith("--")], quote="")
         where = f"sweepcore {command}" if command else "sweepcore"
         return command, (f"unknown option {name}{hint} (see {where} --help)")

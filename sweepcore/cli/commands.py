@@ -77,8 +77,10 @@ def _run(args, study, grid, out, png) -> int:
     from ..sweep import sweep
 
     if not args.quiet:
+        # in the result's order (the sweep puts v last), as `sweepcore info` says it
+        sizes = sorted(zip(grid.dims, grid.shape), key=lambda dn: dn[0] == "v")
         print(f"sweepcore run {args.study}: {grid.size} points "
-              f"({' x '.join(f'{d}: {n}' for d, n in zip(grid.dims, grid.shape))}), "
+              f"({' x '.join(f'{d}: {n}' for d, n in sizes)}), "
               f"method {study.method}, tol {study.tol:g}", flush=True)
     t0 = time.perf_counter()
     ds = sweep(grid, method=study.method, tol=study.tol,
@@ -289,6 +291,20 @@ def cmd_info(args) -> int:
         print(describe_basins(ds))
     else:
         print(describe(ds))
+    return 0
+
+
+def cmd_compile(args) -> int:
+    """``sweepcore compile``: the kernels of a law kind and method into the cache
+    ahead of time (a line per kernel on stderr while it compiles)."""
+    import numba
+    from ..compiled import compile_kernels
+    started = time.perf_counter()
+    done = compile_kernels(args.law, args.method)
+    fresh = [took for _what, took in done if took is not None]
+    print(f"sweepcore compile: {len(fresh)} kernel(s) compiled in "
+          f"{time.perf_counter() - started:.1f} s, {len(done) - len(fresh)} already in "
+          f"the cache {numba.config.CACHE_DIR}")
     return 0
 
 

@@ -5,9 +5,6 @@ import argparse
 import os
 from pathlib import Path
 
-from ..labels import version
-from ..options import METHODS
-from . import commands
 
 UNITS_HELP = ("units: force kN, length cm, time s; mass kN s^2/cm, stiffness kN/cm, "
               "alpha1 kN s/cm, alpha2 kN s^3/cm^3")
@@ -84,15 +81,50 @@ def build_parser() -> argparse.ArgumentParser:
                "Exit codes: 0 ok, 1 failure, 2 refused input.")
     _add_global_options(parser, argparse.SUPPRESS)
     parser.set_defaults(threads=None, traceback=False)
-    parser.add_argument("--version", action="version", version=f"sweepcore {version()}")
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="show the version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, (summary, description, add_options) in SUBCOMMANDS.items():
         p = sub.add_parser(name, help=summary, description=description)
         add_options(p)
         # before or after the subcommand alike: `sweepcore run --threads 1 S.toml`
         _add_global_options(p.add_argument_group("global options"), argparse.SUPPRESS)
-        p.set_defaults(func=getattr(commands, f"cmd_{name}"))
     return parser
+
+
+class _Version(argparse.Action):
+    """--version, reading the version only when asked (``labels`` imports xarray)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from ..labels import version
+        parser.exit(message=f"sweepcore {version()}\n")
+
+
+class _Lazy:
+    """Choices of an option read from the package only when argparse looks at them
+    (the method and law tables import numba): ``sweepcore --help`` stays quick. The
+    option needs a metavar (argparse formats the choices of one without it when the
+    option is added)."""
+
+    def __init__(self, read):
+        self.read = read
+
+    def __iter__(self):
+        return iter(self.read())
+
+    def __contains__(self, value):
+        return value in self.read()
+
+    def __len__(self):
+        return len(self.read())
+
+    def __getitem__(self, i):
+        return self.read()[i]
+
+
+def _methods():
+    from ..options import METHODS
+    return METHODS
 
 
 def _add_global_options(p, default) -> None:
@@ -183,8 +215,9 @@ def _simulate_options(p):
                    help="end time [s] (default 60)")
     p.add_argument("--output-dt", dest="output_dt", type=float, default=None,
                    help="sampling interval [s] (default a hundredth of 2 pi/omega)")
-    p.add_argument("--method", default="auto", choices=METHODS,
-                   help="stepper (default auto: exact for a piecewise-linear law, "
+    p.add_argument("--method", default="auto", choices=_Lazy(_methods), metavar="METHOD",
+                   help="stepper: %(choices)s (default auto: exact for a "
+                        "piecewise-linear law, "
                         "else dop853 below tol 1e-7, dopri5 above)")
     p.add_argument("--tol", type=float, default=1e-10,
                    help="tolerance of the adaptive steppers (default 1e-10, tighter "
@@ -195,6 +228,21 @@ def _simulate_options(p):
                    help="fixed step of gps and rk4 [s] (default 2 pi/omega/50)")
     p.add_argument("-o", "--output", metavar="RUN.nc", help="write the run as netCDF")
     p.add_argument("--png", metavar="FIG.png", help="write the picture")
+
+
+def _kinds():
+    from .._kernels.laws import LAWS
+    return (*(row[0] for row in LAWS), "all")
+
+
+def _compile_options(p):
+    p.add_argument("--law", default="all", metavar="KIND", choices=_Lazy(_kinds),
+                   help="law kind of the kernels' law table: %(choices)s (default "
+                        "all; polynomial is eq. 40, stribeck with the Stribeck term)")
+    p.add_argument("--method", default="dop853",
+                   choices=_Lazy(lambda: (*_methods()[1:], "all")), metavar="METHOD",
+                   help="stepper: %(choices)s; default dop853 (what auto runs at the "
+                        "default tolerance)")
 
 
 def _info_options(p):
@@ -231,7 +279,7 @@ def _basins_options(p):
 
 
 # name -> (one-line help, description, the function adding its options); the
-# command's function is commands.cmd_<name>
+# command's function is commands.cmd_<name> (imported when the command runs)
 SUBCOMMANDS = {
     "run": (
         "run the sweep of a TOML study file, write netCDF and its picture",
@@ -257,6 +305,13 @@ SUBCOMMANDS = {
         "Print the dimensions, axes with units, regime and status counts, converged "
         "fraction and the provenance attributes of a result file.",
         _info_options),
+    "compile": (
+        "compile the kernels ahead of time into the cache",
+        "Compile the kernels of a law kind and a method into numba's cache (what the "
+        "first use of that kind and method compiles otherwise: tens of seconds each). "
+        "The cache is per install location, in $SWEEPCORE_CACHE_DIR or "
+        "~/.cache/sweepcore.",
+        _compile_options),
     "export": (
         "write a result file as CSV (one row per point or sample)",
         "Write a result as CSV: a sweep as one row per grid point (the swept "

@@ -34,19 +34,29 @@ def regime_line(ds) -> str:
                                   if c)
 
 
+def _grid_dims(ds) -> tuple:
+    """The sweep's axes, in the grid's order (C order of its points): the dimensions
+    of its per-point variables (not a measured law's samples, ``law_point``)."""
+    for var in ("regime", "status", "amplitude"):
+        if var in ds:
+            return tuple(ds[var].dims)
+    return tuple(ds.dims)
+
+
 def describe(ds) -> str:
     """Multi-line summary of a sweep or simulation Dataset (``sweepcore info``)."""
     if "time" in ds.dims:
         return _describe_simulation(ds)
     lines = []
-    size = int(np.prod([ds.sizes[d] for d in ds.dims])) if ds.dims else 1
-    shape = " x ".join(f"{d}: {n}" for d, n in ds.sizes.items())
+    dims = _grid_dims(ds)
+    size = int(np.prod([ds.sizes[d] for d in dims])) if dims else 1
+    shape = " x ".join(f"{d}: {ds.sizes[d]}" for d in dims)
     lines.append(f"  sweep of {size} points ({shape})")
     for key in ("study_title", "study_file"):
         if ds.attrs.get(key):
             lines.append(f"  {key.replace('_', ' ')}: {ds.attrs[key]}")
     lines.append("  axes:")
-    for d in ds.dims:
+    for d in dims:
         c = ds[d]
         vals = c.values
         spacing = c.attrs.get("spacing", "")
@@ -63,6 +73,10 @@ def describe(ds) -> str:
                                              for n in fixed))
     if "initial_velocity" in ds.attrs:
         lines.append(f"  start: {ds.attrs['initial_velocity']}")
+    for d in ds.dims:
+        if d not in dims:       # the samples of a measured law: data, not an axis
+            names = ", ".join(n for n in ds.data_vars if d in ds[n].dims)
+            lines.append(f"  {d}: {ds.sizes[d]} samples of the law's table ({names})")
     for var in ("regime", "status"):
         if var in ds:
             lines.append(f"  {var} counts:")

@@ -28,6 +28,15 @@ def kind_of(ds: xr.Dataset) -> str:
     return "simulation" if "time" in ds.dims else "sweep"
 
 
+def swept(ds: xr.Dataset) -> list[str]:
+    """The dimensions of more than one value of a sweep's grid, in its order: those
+    of its per-point variables; a measured law's samples (``law_point``) are data
+    of the law, never an axis to draw against."""
+    dims = next((ds[v].dims for v in ("regime", "status", "amplitude") if v in ds),
+                tuple(ds.dims))
+    return [d for d in dims if ds.sizes[d] > 1]
+
+
 def _short(value) -> str:
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."

@@ -10,7 +10,8 @@ from matplotlib.lines import Line2D
 from .. import labels
 from .._kernels import codes
 from ..options import checked_keywords
-from .checks import checked_dimension, checked_names, checked_result, checked_title
+from .checks import (checked_dimension, checked_names, checked_result,
+                     checked_title, swept)
 from .style import (REGIME_COLOURS, axis_scale, flag_axis, fmt, label, regime_codes,
                     sweep_title)
 
@@ -42,20 +43,29 @@ def plot_lines(ds: xr.Dataset, dim: str, variables=None,
     """
     checked_result(ds)
     checked_title(title)
-    swept = [d for d in ds.dims if ds.sizes[d] > 1]
+    dims = swept(ds)
     if not isinstance(dim, str):
         raise TypeError(f"dim must be a dimension name (str), got {dim!r}")
-    checked_dimension("dim", dim, [d for d in swept if ds[d].dtype.kind in "iuf"])
-    checked_dimension("series", series, [d for d in swept if d != dim])
+    checked_dimension("dim", dim, [d for d in dims if ds[d].dtype.kind in "iuf"])
+    checked_dimension("series", series, [d for d in dims if d != dim])
     variables = checked_names("variables", variables, ds, ("amplitude", "mean"))
     if not variables:
         raise ValueError(f"variables: the result holds neither amplitude nor mean; "
                          f"name the panels (has: {', '.join(ds.data_vars)})")
     keep = (dim, series) if series else (dim,)
-    ds = ds.isel({d: 0 for d in ds.dims if d not in keep and ds.sizes[d] > 1})
+    ds = ds.isel({d: 0 for d in dims if d not in keep})
     ds = ds.isel({series: slice(0, len(_MARKERS))}) if series else ds
-    fig = Figure(figsize=(8, 2.9 * len(variables) + 0.8), layout="constrained")
-    axs = np.atleast_1d(fig.subplots(len(variables), 1, sharex=True))
+    # a measured law (its samples on law_point) gets a panel of its own
+    table = "law_speed" in ds and ds["law_speed"].dims == ("law_point",)
+    fig = Figure(figsize=(8, 2.9 * (len(variables) + table) + 0.8), layout="constrained")
+    axs = np.atleast_1d(fig.subplots(len(variables) + table, 1))
+    if table:
+        _friction_panel(axs[-1], ds)
+        axs = axs[:-1]
+    for ax in axs[1:]:
+        ax.sharex(axs[0])
+    for ax in axs[:-1]:
+        ax.tick_params(labelbottom=False)
     x = ds[dim].values
     order = np.argsort(x)
     handles = {}
@@ -117,13 +127,39 @@ def _regime_points(ax, ds, dim, name, x, order, marker, handles):
                                         label=rname.replace("_", " "))
 
 
+def _law_object(ds) -> bool:
+    """Whether the result's law is an object (a table, Leine's ...), not the
+    analytic family: it records the law's name."""
+    return "law" in ds.attrs or "law" in ds.dims
+
+
 def _vstar_line(ax, ds, dim, handles):
+    """v* as a vertical line where it is one value inside the axis' range (a line
+    off the range would name in the legend what the picture does not show)."""
     if dim != "v" or "v_star" not in ds:
         return
     vs = np.unique(ds["v_star"].values)
-    if vs.size == 1 and np.isfinite(vs[0]):
+    v = ds["v"].values
+    if vs.size == 1 and v.min() <= vs[0] <= v.max():
+        what = "Hopf speed" if _law_object(ds) else "analytic"
         handles["v*"] = ax.axvline(vs[0], color="#D55E00", ls=":", lw=1.2,
-                                   label=f"analytic $v^*$ = {vs[0]:.3g}")
+                                   label=f"{what} $v^*$ = {vs[0]:.3g}")
+
+
+def _friction_panel(ax, ds):
+    """The measured law the sweep ran on: its table's samples, force against
+    relative speed, with the Hopf speed v* (where c + F'(-v) = 0)."""
+    s, f = ds["law_speed"].values, ds["law_force"].values
+    ax.plot(s, f, "o-", color="0.35", ms=4, lw=0.8, label="measured table (samples)")
+    vs = np.unique(ds["v_star"].values) if "v_star" in ds else np.array([])
+    if vs.size == 1 and np.isfinite(vs[0]):
+        ax.axvline(vs[0], color="#D55E00", ls=":", lw=1.2)
+    ax.set_xlabel(label(ds["law_speed"], "law_speed"))
+    ax.set_ylabel(label(ds["law_force"], "law_force"))
+    name = ds.attrs.get("law")
+    ax.set_title(f"friction law{f' {name!r}' if name else ''}: the table the sweep ran "
+                 "on", fontsize=9)
+    ax.grid(alpha=0.3)
 
 
 def _small_cycle(ax, ds, dim, handles):
@@ -134,7 +170,7 @@ def _small_cycle(ax, ds, dim, handles):
     2 sqrt(v*^2 - v^2) of the small slip cycle; it reaches the belt speed (and the
     cycle starts to stick) at v = 2 v*/sqrt(5). See docs/studies.md.
     """
-    if dim != "v" or "v_star" not in ds or "omega" not in ds:
+    if dim != "v" or "v_star" not in ds or "omega" not in ds or _law_object(ds):
         return
     vs, om = np.unique(ds["v_star"].values), np.unique(ds["omega"].values)
     onset = np.unique(labels.stick_onset_estimate(ds).values)

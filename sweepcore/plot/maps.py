@@ -15,7 +15,8 @@ from matplotlib.patches import Patch
 from .. import law
 from ..io import check_flag
 from ..options import checked_keywords
-from .checks import checked_dimension, checked_names, checked_result, checked_title
+from .checks import (checked_dimension, checked_names, checked_result,
+                     checked_title, swept)
 from .style import (REGIME_COLOURS, SYMBOLS, axis_scale, flag_axis, fmt, is_geometric,
                     label, pretty_units, regime_codes, sweep_title)
 
@@ -35,7 +36,7 @@ def _plane(ds: xr.Dataset, x: str | None, y: str | None):
     """Choose the map's axes (numeric swept dimensions; v across by default), a
     facet dimension for rows (the first other swept one, at most six values), and
     reduce any further dimensions to their first value (said in ``note``)."""
-    dims = [d for d in ds.dims if ds.sizes[d] > 1]
+    dims = swept(ds)
     numeric = [d for d in dims if ds[d].dtype.kind in "iuf"]
     checked_dimension("x", x, numeric)
     checked_dimension("y", y, numeric)

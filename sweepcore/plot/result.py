@@ -12,7 +12,7 @@ from ..options import checked_keywords
 from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
 from .branches import plot_hysteresis
-from .checks import checked_result
+from .checks import checked_result, swept
 from .lines import plot_lines
 from .maps import plot_map
 from .style import SYMBOLS, flag_axis, fmt, label
@@ -54,7 +54,7 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
                                      for r, s in zip(runs, statuses)],
                               title=ds.attrs.get("title"), equilibria=eqs)
         return plot_trajectory(ds, **kwargs)
-    dims = [d for d in ds.dims if ds.sizes[d] > 1]
+    dims = swept(ds)
     if not dims:
         raise ValueError("the result has a single point: nothing to plot against")
     if "amplitude" not in ds and "regime" not in ds:
