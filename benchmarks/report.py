@@ -132,9 +132,10 @@ def write_readme(outdir, readme, mode, total):
         parts.append(_pybasin(Pb))
     if La:
         parts.append(_laws(La))
-    from benchmarks import boundaries, memory     # their own scripts' results
+    from benchmarks import boundaries, compile_probe, memory   # their own scripts' results
     parts.append(boundaries.stored_section())
     parts.append(memory.stored_section())
+    parts.append(compile_probe.stored_section())
     readme.write_text("\n".join(parts))
 
 
@@ -474,7 +475,9 @@ def _heyoka(Hy):
                      g(e["amp_err_max"]), f"{e['n_regime_mismatch']} "
                      f"(max amp err {g(e['amp_err_max_regime_mismatch'])})",
                      g(e["hardest"]["max_amp_err"]), e["n_unconverged"], g(r["steps"])])
-    out.append(table(["heyoka, scalar", "wall time", "CPU time", "max amp err, every point "
+    mode = Hy["ladder"][0].get("mode", "scalar")
+    mode = f"batch ({Hy['batch_size']} lanes)" if mode == "batch" else mode
+    out.append(table([f"heyoka, {mode}", "wall time", "CPU time", "max amp err, every point "
                       "[cm]", "same regime", "regime mismatches", "hardest points",
                       "unconverged", "Taylor steps"], rows))
     chosen = next(r for r in Hy["ladder"] if r["tol"] == Hy["chosen_tol"])
@@ -488,7 +491,7 @@ def _heyoka(Hy):
     med, rat, runs = Hy["median"], Hy["ratios"], Hy["runs"]
     out.append(fill("heyoka_ratios", tol=f"{Hy['chosen_tol']:g}", n_sc=len(runs["sweepcore"]),
                     n_scalar=len(runs["scalar"]), n_batch=len(runs.get("batch", [])),
-                    compile=f"{max(r['compile_s'] for r in runs['scalar']):.2f}"))
+                    compile=f"{max(r['compile_s'] for v in runs.values() for r in v if 'compile_s' in r):.2f}"))
     rows = [["sweepcore (kernel, 2 threads, tol 1e-8)", s(med["sweepcore"]["wall"]),
              s(med["sweepcore"]["cpu"]), "1", "1"]]
     for mode, label in (("scalar", "heyoka scalar mode"),
