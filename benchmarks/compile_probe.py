@@ -173,17 +173,22 @@ def stored_section(path=None) -> str:
         if "error" in r or not r:
             parts.append(f"{kind}: failed")
             continue
-        parts.append(f"{kind} {s(r['attractor_first_wall_s'])} for the first "
-                     f"`attractor` (then {s(r['attractor_second_wall_s'])}), "
-                     f"{s(r['sweep_first_wall_s'])} for the first `sweep` (then "
-                     f"{s(r['sweep_second_wall_s'])}), {s(r['process_cpu_s'])} CPU "
-                     f"in all")
+        kernels = ", ".join(f"`{k}` {s(v)}" for k, v in sorted(r["compile_seconds"].items()))
+        parts.append(f"**{kind}** {s(r['attractor_first_wall_s'])} wall "
+                     f"({s(r['attractor_first_cpu_s'])} CPU) for the first `attractor`, "
+                     f"{s(r['attractor_second_wall_s'])} the second; the first `sweep` "
+                     f"after it {s(r['sweep_first_wall_s'])}, the second "
+                     f"{s(r['sweep_second_wall_s'])}; kernels compiled: {kernels}; "
+                     f"{s(r['process_cpu_s'])} CPU in all")
     mj = R["main_job"]
-    main = (f"{s(mj['cold']['wall_s'])} cold against {s(mj['warm']['wall_s'])} warm, "
-            f"**{mj['ratio_wall']:.2f}x** (wall)" if "ratio_wall" in mj else "failed")
+    main = (f"{s(mj['cold']['wall_s'])} wall ({s(mj['cold']['cpu_s'])} CPU) cold against "
+            f"{s(mj['warm']['wall_s'])} ({s(mj['warm']['cpu_s'])} CPU) warm: "
+            f"**{mj['ratio_wall']:.2f}x** wall, "
+            f"{mj['cold']['cpu_s'] / mj['warm']['cpu_s']:.2f}x CPU"
+            if "ratio_wall" in mj else "failed")
     m = R["machine"]
     return fill("compile_kinds", date=m["date"], commit=m["git_commit"][:10],
-                load=f"{R['load_before']:.1f}-{R['load_after']:.1f}", kinds="; ".join(parts),
+                load=f"{R['load_before']:.1f}-{R['load_after']:.1f}", kinds=". ".join(parts),
                 main=main)
 
 
