@@ -1,65 +1,199 @@
-"""Fresh-process probe: import, first call (compile or cache load), peak memory.
+"""Compile time, measured in fresh processes.
 
-Run by ``hopf_map.py`` in a new interpreter with ``NUMBA_CACHE_DIR`` pointing at an
-empty directory (cold: every kernel is compiled) and again at the same, now filled,
-directory (warm: the kernels are loaded from numba's cache). Prints one JSON line.
+Two uses:
 
-Peak memory is the process's peak resident set size (VmHWM of /proc/self/status; it
-includes the interpreter, numpy, numba/LLVM), read after the imports, after the first
-call and after one whole map.
+``python benchmarks/compile_probe.py NV NA [map]`` (run by ``hopf_map.py`` in a new
+interpreter with ``NUMBA_CACHE_DIR`` pointing at an empty directory, cold: every
+kernel is compiled, and again at the same, now filled, directory, warm): import,
+first call (compile or cache load), peak memory; prints one JSON line. Peak memory is
+the process's peak resident set size (VmHWM of /proc/self/status; it includes the
+interpreter, numpy, numba/LLVM), read after the imports, after the first call and
+after one whole map.
+
+``python benchmarks/compile_probe.py --kinds`` writes
+``benchmarks/results/compile.json``: what the first use of each law kind costs a user
+with an empty kernel cache. One fresh process per kind (analytic, table, leine), each
+with its own empty ``SWEEPCORE_CACHE_DIR``: ``sweepcore.attractor`` of one slider,
+again (warm), then ``sweepcore.sweep`` of 64 sliders, again (warm); the first call
+less the second is what compiling cost. Then the main job (``sweepcore run
+studies/hopf_map.toml``) from an empty cache and warm, back to back (the same
+measurement as the Hopf-map section's). ``python -m benchmarks.report`` and a full
+run put the paragraph of ``stored_section`` into benchmarks/README.md.
 """
 import json
+import os
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
 
+KINDS = ("analytic", "table", "leine")
+
+# the child of --kinds: the first use of one law kind, in a process of its own
+KIND_CHILD = """
+import json, sys, time
 t0 = time.perf_counter()
-import numpy as np  # noqa: E402
-import numba  # noqa: E402,F401
-t_numba = time.perf_counter() - t0
-from benchmarks import common  # noqa: E402
-t1 = time.perf_counter()
-from sweepcore.options import make_options  # noqa: E402
-from sweepcore._kernels.layout import NOBS  # noqa: E402
-t_import = time.perf_counter() - t1
-rss_import = common.peak_rss_mib()
-
-run = common.kernel()
-nv, na = (int(a) for a in sys.argv[1:3])
-run_map = len(sys.argv) > 3 and sys.argv[3] == "map"
-o = make_options("auto", tol=1e-8)
-P_small = common.rows(*common.map_axes(8, 8))
-out_small = np.empty((P_small.shape[0], NOBS))
-t2 = time.perf_counter()
-run(P_small, o, out_small, True)
-t_first_parallel = time.perf_counter() - t2
-t3 = time.perf_counter()
-run(P_small, o, out_small, False)
-t_first_serial = time.perf_counter() - t3
-t4 = time.perf_counter()
-run(P_small, o, out_small, True)
-t_second = time.perf_counter() - t4
-rss_compiled = common.peak_rss_mib()
-res = {"t_import_numba": t_numba, "t_import_kernels": t_import,
-       "t_first_call_parallel": t_first_parallel, "t_first_call_serial": t_first_serial,
-       "t_second_call_64pts": t_second, "rss_after_import_mib": rss_import,
-       "rss_after_first_call_mib": rss_compiled}
-if run_map:
-    P = common.rows(*common.map_axes(nv, na))
-    out = np.empty((P.shape[0], NOBS))
-    t5 = time.perf_counter()
-    run(P, o, out, True)
-    res["t_map"] = time.perf_counter() - t5
-    res["rss_after_map_mib"] = common.peak_rss_mib()
-    res["map_arrays_mib"] = (P.nbytes + out.nbytes) / 2**20
-    res["n_points"] = P.shape[0]
-    sweep, Grid = common.sweep_api()
-    if sweep is not None:
-        grid = common.map_grid(Grid, *common.map_axes(nv, na))
-        t6 = time.perf_counter()
-        sweep(grid, progress=False)
-        res["t_first_sweep"] = time.perf_counter() - t6
-        res["rss_after_sweep_mib"] = common.peak_rss_mib()
+import numpy as np
+import sweepcore as sc
+t_import = time.perf_counter() - t0
+kind = sys.argv[1]
+if kind == "analytic":
+    law = dict(r_y=1.0, alpha1=0.2, alpha2=0.05)
+elif kind == "table":                   # the README's measured table
+    speed = np.array([0.0, 0.1, 0.25, 0.5, 1.0, 2.0, 4.0])
+    force = np.array([1.0, 0.93, 0.82, 0.68, 0.55, 0.51, 0.50])
+    law = dict(law=sc.TableLaw(speed, force, static=1.1, name="measured"))
+else:
+    law = dict(law=sc.LeineLaw(f_s=1.0, delta=3.0))
+base = dict(m=1.0, k=1.0, c=0.1)
+res = {"kind": kind, "t_import": t_import}
+for label, call in (
+        ("attractor", lambda: sc.attractor(sc.Params(**base, v=0.5, **law))),
+        ("sweep", lambda: sc.sweep(sc.Grid(**base, v=np.linspace(0.2, 3.0, 64), **law),
+                                   progress=False))):
+    for rep in ("first", "second"):
+        c0, w0 = time.process_time(), time.perf_counter()
+        call()
+        res[f"{label}_{rep}_wall_s"] = time.perf_counter() - w0
+        res[f"{label}_{rep}_cpu_s"] = time.process_time() - c0
 print(json.dumps(res))
+"""
+
+
+def probe(nv, na, run_map):
+    """The Hopf-map section's probe (see the module's docstring); one JSON line."""
+    t0 = time.perf_counter()
+    import numpy as np
+    import numba  # noqa: F401
+    t_numba = time.perf_counter() - t0
+    from benchmarks import common
+    t1 = time.perf_counter()
+    from sweepcore.options import make_options
+    from sweepcore._kernels.layout import NOBS
+    t_import = time.perf_counter() - t1
+    rss_import = common.peak_rss_mib()
+
+    run = common.kernel()
+    o = make_options("auto", tol=1e-8)
+    P_small = common.rows(*common.map_axes(8, 8))
+    out_small = np.empty((P_small.shape[0], NOBS))
+    t2 = time.perf_counter()
+    run(P_small, o, out_small, True)
+    t_first_parallel = time.perf_counter() - t2
+    t3 = time.perf_counter()
+    run(P_small, o, out_small, False)
+    t_first_serial = time.perf_counter() - t3
+    t4 = time.perf_counter()
+    run(P_small, o, out_small, True)
+    t_second = time.perf_counter() - t4
+    rss_compiled = common.peak_rss_mib()
+    res = {"t_import_numba": t_numba, "t_import_kernels": t_import,
+           "t_first_call_parallel": t_first_parallel, "t_first_call_serial": t_first_serial,
+           "t_second_call_64pts": t_second, "rss_after_import_mib": rss_import,
+           "rss_after_first_call_mib": rss_compiled}
+    if run_map:
+        P = common.rows(*common.map_axes(nv, na))
+        out = np.empty((P.shape[0], NOBS))
+        t5 = time.perf_counter()
+        run(P, o, out, True)
+        res["t_map"] = time.perf_counter() - t5
+        res["rss_after_map_mib"] = common.peak_rss_mib()
+        res["map_arrays_mib"] = (P.nbytes + out.nbytes) / 2**20
+        res["n_points"] = P.shape[0]
+        sweep, Grid = common.sweep_api()
+        if sweep is not None:
+            grid = common.map_grid(Grid, *common.map_axes(nv, na))
+            t6 = time.perf_counter()
+            sweep(grid, progress=False)
+            res["t_first_sweep"] = time.perf_counter() - t6
+            res["rss_after_sweep_mib"] = common.peak_rss_mib()
+    print(json.dumps(res))
+
+
+def first_use(kind, timeout=3600):
+    """The first use of law ``kind`` in a fresh process with an empty kernel cache:
+    the child's timings, its CPU seconds with its children (the second compiler),
+    and the compile seconds of each kernel it compiled."""
+    import resource
+    with tempfile.TemporaryDirectory(prefix=f"sweepcore-first-{kind}-") as tmp:
+        env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+        env["SWEEPCORE_CACHE_DIR"] = tmp
+        r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        cp = subprocess.run([sys.executable, "-c", KIND_CHILD, kind], env=env, cwd=ROOT,
+                            capture_output=True, text=True, timeout=timeout)
+        wall = time.perf_counter() - t0
+        r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+        if cp.returncode != 0:
+            return {"kind": kind, "error": cp.stderr[-2000:]}
+        res = json.loads(cp.stdout.strip().splitlines()[-1])
+        seconds = {}
+        for f in Path(tmp).glob("numba-*/sweepcore_compile_seconds.json"):
+            seconds.update(json.loads(f.read_text()))
+    res.update(process_wall_s=wall, process_cpu_s=(r1.ru_utime - r0.ru_utime)
+               + (r1.ru_stime - r0.ru_stime), compile_seconds=seconds)
+    for label in ("attractor", "sweep"):
+        res[f"{label}_compile_s"] = res[f"{label}_first_wall_s"] - res[f"{label}_second_wall_s"]
+    return res
+
+
+def kinds(path=None):
+    """Every kind's first use, then the main job cold and warm; saved to ``path``."""
+    from benchmarks import common, hopf_map
+    res = {"machine": common.machine(), "load_before": common.load(), "kinds": {}}
+    for kind in KINDS:
+        r = res["kinds"][kind] = first_use(kind)
+        common.log(f"first use of the {kind} law: " + (
+            r["error"] if "error" in r else
+            f"attractor {r['attractor_first_wall_s']:.1f} s (then "
+            f"{r['attractor_second_wall_s']:.3f} s), sweep {r['sweep_first_wall_s']:.1f} s "
+            f"(then {r['sweep_second_wall_s']:.3f} s), process {r['process_cpu_s']:.1f} CPU-s"))
+    res["main_job"] = hopf_map.main_job()
+    res["load_after"] = common.load()
+    path = Path(path or common.RESULTS / "compile.json")
+    common.save_json(res, path)
+    common.log(f"written {path}")
+    return res
+
+
+def stored_section(path=None) -> str:
+    """The benchmarks/README.md paragraph of the stored ``results/compile.json``."""
+    path = Path(path or ROOT / "benchmarks" / "results" / "compile.json")
+    if not path.is_file():
+        return ""
+    R = json.loads(path.read_text())
+    from benchmarks.report import fill, s
+    parts = []
+    for kind in KINDS:
+        r = R["kinds"].get(kind, {})
+        if "error" in r or not r:
+            parts.append(f"{kind}: failed")
+            continue
+        kernels = ", ".join(f"`{k}` {s(v)}" for k, v in sorted(r["compile_seconds"].items()))
+        parts.append(f"**{kind}** {s(r['attractor_first_wall_s'])} wall "
+                     f"({s(r['attractor_first_cpu_s'])} CPU) for the first `attractor`, "
+                     f"{s(r['attractor_second_wall_s'])} the second; the first `sweep` "
+                     f"after it {s(r['sweep_first_wall_s'])}, the second "
+                     f"{s(r['sweep_second_wall_s'])}; kernels compiled: {kernels}; "
+                     f"{s(r['process_cpu_s'])} CPU in all")
+    mj = R["main_job"]
+    main = (f"{s(mj['cold']['wall_s'])} wall ({s(mj['cold']['cpu_s'])} CPU) cold against "
+            f"{s(mj['warm']['wall_s'])} ({s(mj['warm']['cpu_s'])} CPU) warm: "
+            f"**{mj['ratio_wall']:.2f}x** wall, "
+            f"{mj['cold']['cpu_s'] / mj['warm']['cpu_s']:.2f}x CPU"
+            if "ratio_wall" in mj else "failed")
+    m = R["machine"]
+    return fill("compile_kinds", date=m["date"], commit=m["git_commit"][:10],
+                load=f"{R['load_before']:.1f}-{R['load_after']:.1f}", kinds=". ".join(parts),
+                main=main)
+
+
+if __name__ == "__main__":
+    if sys.argv[1:2] == ["--kinds"]:
+        kinds()
+    else:
+        probe(int(sys.argv[1]), int(sys.argv[2]), len(sys.argv) > 3 and sys.argv[3] == "map")

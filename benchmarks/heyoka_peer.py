@@ -7,26 +7,44 @@ once in SIMD lanes. This peer computes what sweepcore's map computes, each point
 attractor from a start stuck on the belt, for the paper's law (eq. 40, r_k = r_y,
 c = 0), with everything the library offers and everything the physics gives away:
 
-* the sliding field as one heyoka system, the sign of the relative speed
+* the sliding field as a heyoka system, the sign of the relative speed
   ``z = x' - v`` a runtime parameter ``s`` (one compiled integrator for every point
   and both slide directions; ``z*z*z``, since heyoka's ``pow(z, 3)`` has NaN
-  derivatives at z = 0) and the integral of x a third state (the mean);
+  derivatives at z = 0);
 * a terminal event at ``s z = 0`` with direction (the slide ends where z returns to
   0, never where it leaves 0), then the stick in closed form (x moves with the belt
   to the breakaway point r_y/k) or a reversal (s flips when |k x| >= r_y);
 * a start stuck on the belt means every stick ends at the same breakaway point: the
-  first stick closes a stick-slip cycle, exact in one period (amplitude from the
-  extremes of x, events at x' = 0, mean from the integral);
+  first stick closes a stick-slip cycle, exact in one period;
 * otherwise the attractor is the fixed point of the return map on the section
-  x' = 0 (maxima of x), found by Aitken extrapolation of successive returns over a
-  lag that grows with their count (lag n // 3: the first third, the transient, is
-  never used), accepted when three successive extrapolations, their spread times
-  the lag, agree to ``xtol``; then one period from the extrapolated point gives
-  amplitude, mean and period (a plain "successive returns agree" test stops far
-  too early next to v*, where the returns creep);
-* equilibria by decay: the extrapolated fixed point within ``eps_eq`` of the
-  analytic x_eq (eq. 43), or no extremum of x for ``at_rest`` = 20 s (the
-  oscillation has decayed below what events resolve).
+  x' = 0 (maxima of x), found by Aitken extrapolation of the returns over a lag that
+  grows with their count (the first third, the transient, is never used), accepted
+  when three successive extrapolations, their spread times the lag, agree to
+  ``xtol``; then one period from the extrapolated point gives amplitude, mean and
+  period (a plain "successive returns agree" test stops far too early next to v*,
+  where the returns creep);
+* equilibria by decay: a section point (or the extrapolated fixed point, or the last
+  three extrapolations) within ``eps_eq`` of the analytic x_eq (eq. 43), or no
+  maximum of x for ``at_rest`` = 20 s while the section is on.
+
+Two integrators, so that heyoka's error control (relative to the largest state
+component) sees the state the job measures:
+
+* the *measure* integrator, (x, z, int x) with terminal events at the slide's end
+  and at both extrema of x, for what needs every extremum: the first two returns of
+  a point (a stick-slip cycle is over by then), one period through the fixed point,
+  and a slide that sticks after a long transient. The running integral of x (the
+  mean's quadrature) is added to a sum and reset to 0 at every extremum, so it never
+  exceeds about x times half a period;
+* the *lane* integrator, (x, z) and a clock c in [-1, 0], in batch mode (or
+  scalar), for the transient's section returns. The section event is compiled with
+  a per-lane switch ``on``, ``on x' + 1 - on`` (rootless when off), and the clock's
+  zero is a timer event that turns it on again: once the returns of a point
+  outnumber ``2 keep``, every other one is dropped and only every K-th return (K
+  doubling) is sampled, the section off for K - 1/2 periods in between, so Python
+  handles O(keep log N) events of a point that needs N returns. Each terminal event
+  stops every lane of the batch (heyoka's rule); the lane whose point is done is
+  refilled with the next point at once.
 
 Units: kN, cm, s (the package's). Written from heyoka.py's documented API; shares no
 code with sweepcore (the workers import neither sweepcore nor numba).
@@ -42,41 +60,138 @@ import numpy as np
 # the worker processes import neither sweepcore nor numba
 EQUILIBRIUM, SLIP_CYCLE, STICK_SLIP, UNCONVERGED = 0, 1, 2, 6
 COLUMNS = ("amplitude", "mean", "period", "regime", "steps", "t_end", "returns")
-STOP, XMAX, XMIN = 0, 1, 2            # event indices (the section integrator has 0, 1)
-TIME_LIMIT, FAILED, NO_EVENT = -1, -2, -3   # a batch lane stopped by another's event
+STOP, XMAX, XMIN = 0, 1, 2            # events of the measure integrator
+SECTION, TIMER = 1, 2                 # the lane integrator's (STOP is 0 in both)
+TIME_LIMIT, FAILED, NO_EVENT = -1, -2, -3   # NO_EVENT: a lane stopped by another's event
+FAR = 1e15                            # s: a propagation ends on an event, never here
+ONE_PERIOD, REDO = "one period", "redo"
 
 
-def system():
-    """The sliding field: state (x, z, int x), parameters (s, k/m, r_y/m, v,
-    alpha1/m, alpha2/m); z = x' - v [cm/s], eq. (40) with sgn(z) = s frozen."""
+def field():
+    """The sliding field: state (x, z), parameters (s, k/m, r_y/m, v, alpha1/m,
+    alpha2/m); z = x' - v [cm/s], eq. (40) with sgn(z) = s frozen."""
     import heyoka as hy
-    x, z, q = hy.make_vars("x", "z", "q")
+    x, z = hy.make_vars("x", "z")
     s, km, rm, v, a1, a2 = (hy.par[i] for i in range(6))
-    return [(x, z + v), (z, -km * x - rm * s + a1 * z - a2 * z * z * z), (q, x)], (s, z, v)
+    return x, [(x, z + v), (z, -km * x - rm * s + a1 * z - a2 * z * z * z)], s * z, z + v
 
 
-def integrators(tol, batch=None):
-    """(full, section): Taylor integrators at ``tol`` with the events [slide ends,
-    maximum of x, minimum of x] and [slide ends, maximum of x]; ``batch`` lanes
-    (heyoka's batch mode) or scalar."""
+def measure_integrator(tol):
+    """Scalar Taylor integrator of (x, z, int x) at ``tol`` with the terminal events
+    [slide ends, maximum of x, minimum of x]."""
     import heyoka as hy
-    sys, (s, z, v) = system()
+    x, sys, sz, xdot = field()
+    q = hy.make_vars("q")
+    neg, pos = hy.event_direction.negative, hy.event_direction.positive
+    events = [hy.t_event(sz, direction=neg),         # z back to 0 from the slide's side
+              hy.t_event(xdot, direction=neg),       # x' = 0 falling: a maximum of x
+              hy.t_event(xdot, direction=pos)]
+    return hy.taylor_adaptive(sys + [(q, x)], [0.0, 0.0, 0.0], tol=tol, t_events=events,
+                              pars=[-1.0, 10.0, 2.0, 1.0, 0.2, 0.01], compact_mode=False)
+
+
+def lane_integrator(tol, batch=None):
+    """Taylor integrator of (x, z, c) at ``tol``, ``batch`` lanes (None: scalar), with
+    the terminal events [slide ends, maximum of x if par[6] = 1, c = 0].
+
+    c is a clock that runs from -1 to 0 at the rate par[7] [1/s]. The section's
+    switch and the clock are both of the state's size: heyoka's step control heeds
+    the event functions, and an event of ``time`` (which grows to 1e5 s) or a large
+    constant added to x' (to move its root away) loosens the tolerance on x, x' as an
+    unreset integral does (measured: a decaying oscillation of 1e-5 cm next to v*
+    held at 4e-5 cm).
+    """
+    import heyoka as hy
+    _x, sys, sz, xdot = field()
+    c = hy.make_vars("c")
+    on, rate = hy.par[6], hy.par[7]
     neg, pos = hy.event_direction.negative, hy.event_direction.positive
     ev = hy.t_event if batch is None else hy.t_event_batch
-    stop = ev(s * z, direction=neg)              # z back to 0 from the slide's side
-    xmax = ev(z + v, direction=neg)              # x' = 0 falling: a maximum of x
-    xmin = ev(z + v, direction=pos)
-    pars = [-1.0, 10.0, 2.0, 1.0, 0.2, 0.01]
-    out = []
-    for events in ([stop, xmax, xmin], [stop, xmax]):
-        if batch is None:
-            out.append(hy.taylor_adaptive(sys, [0.0, 0.0, 0.0], tol=tol, t_events=events,
-                                          pars=pars, compact_mode=False))
-        else:
-            out.append(hy.taylor_adaptive_batch(
-                sys, np.zeros((3, batch)), tol=tol, t_events=events,
-                pars=np.repeat(np.array(pars)[:, None], batch, axis=1), compact_mode=False))
-    return tuple(out)
+    events = [ev(sz, direction=neg), ev(on * xdot + (1.0 - on), direction=neg),
+              ev(c, direction=pos)]
+    sys = sys + [(c, rate)]
+    pars = [-1.0, 10.0, 2.0, 1.0, 0.2, 0.01, 0.0, 0.0]
+    if batch is None:
+        return Scalar(hy.taylor_adaptive(sys, [0.0, 0.0, -1.0], tol=tol, t_events=events,
+                                         pars=pars, compact_mode=False))
+    return Batch(hy.taylor_adaptive_batch(
+        sys, np.repeat([[0.0], [0.0], [-1.0]], batch, axis=1), tol=tol, t_events=events,
+        pars=np.repeat(np.array(pars)[:, None], batch, axis=1), compact_mode=False))
+
+
+class Batch:
+    """The lane integrator in batch mode: what the driver asks of it."""
+
+    def __init__(self, ta):
+        self.ta, self.lanes = ta, ta.batch_size
+
+    def propagate(self, t):
+        """Propagate every lane towards t [s] until a terminal event in any lane;
+        (outcome code, steps) of each lane."""
+        self.ta.propagate_until(t)
+        return [(int(r[0]), r[3]) for r in self.ta.propagate_res]
+
+    def time(self, j):
+        return float(self.ta.time[j])
+
+    def x(self, j):
+        return float(self.ta.state[0, j])
+
+    def get(self, j):
+        """(time, state, pars) of lane j."""
+        ta = self.ta
+        return float(ta.time[j]), ta.state[:, j].copy(), ta.pars[:, j].copy()
+
+    def put(self, j, t, state, pars):
+        ta = self.ta
+        times = np.array(ta.time, dtype=float)
+        times[j] = t
+        ta.set_time(times)
+        ta.state[:, j] = state
+        ta.pars[:, j] = pars
+        ta.reset_cooldowns(j)
+
+    def par(self, j, i, value):
+        self.ta.pars[i, j] = value
+
+    def wind(self, j, rate):
+        """Restart lane j's clock at -1, to reach 0 after 1/rate seconds."""
+        self.ta.state[2, j] = -1.0
+        self.ta.pars[7, j] = rate
+
+
+class Scalar(Batch):
+    """The lane integrator in scalar mode, seen as one lane."""
+
+    def __init__(self, ta):
+        self.ta, self.lanes = ta, 1
+
+    def propagate(self, t):
+        oc, _h0, _h1, n = self.ta.propagate_until(t)[:4]
+        return [(int(oc), n)]
+
+    def time(self, j):
+        return self.ta.time
+
+    def x(self, j):
+        return float(self.ta.state[0])
+
+    def get(self, j):
+        return self.ta.time, self.ta.state.copy(), self.ta.pars.copy()
+
+    def put(self, j, t, state, pars):
+        ta = self.ta
+        ta.time = t
+        ta.state[:] = state
+        ta.pars[:] = pars
+        ta.reset_cooldowns()
+
+    def par(self, j, i, value):
+        self.ta.pars[i] = value
+
+    def wind(self, j, rate):
+        self.ta.state[2] = -1.0
+        self.ta.pars[7] = rate
 
 
 def aitken(seq, lag):
@@ -88,101 +203,94 @@ def aitken(seq, lag):
     return c if den == 0.0 else c - d1 * d1 / den
 
 
-class Extrapolation:
-    """Successive returns to the section and their Aitken limits over a growing lag
-    (lag n // 3 at the n-th return: the first third, the transient, is never used);
-    converged when the last three limits, their spread multiplied by the lag, agree
-    to ``xtol`` [cm]: next to v* the returns converge algebraically for long (the
-    cubic term of the law outweighs q), and the limit drifts by a little each
-    return for many returns; over a lag the drift is what is left."""
+class Returns:
+    """Returns to the section, every K-th one kept, and their Aitken limits.
 
-    def __init__(self, xtol):
-        self.xtol = xtol
-        self.x = []
-        self.l0 = self.l1 = self.l2 = math.nan      # the last three limits
-        self.n_limits = 0
+    The kept returns are equally spaced, K returns apart: when they reach ``2 keep``
+    every other one is dropped and K doubles. Aitken's limit over a lag of a third of
+    the kept returns (the first third, the transient, is never used); converged when
+    the last three limits, their spread multiplied by the lag, agree to ``xtol``
+    [cm]: next to v* the returns converge algebraically for long (the cubic term of
+    the law outweighs q), and the limit drifts by a little each return for many
+    returns; over a lag the drift is what is left. A sampled return that is not the
+    K-th (the period changed) restarts the record.
+    """
 
-    def add(self, x):
-        xs = self.x
-        xs.append(x)
-        n = len(xs) - 1
+    def __init__(self, xtol, keep):
+        self.xtol, self.keep = xtol, keep
+        self.x, self.t = [], []
+        self.K, self.period, self.count = 1, math.nan, 0
+        self.limits = []
+
+    def add(self, t, x):
+        """Record a return at time t [s], x [cm]; True when converged."""
+        if self.t:
+            n = max(1, round((t - self.t[-1]) / self.period)) if self.K > 1 else 1
+            if n != self.K:
+                self.x, self.t, self.limits = [], [], []
+            else:
+                self.period = (t - self.t[-1]) / self.K
+            self.count += n
+        else:
+            self.count += 1
+        self.x.append(x)
+        self.t.append(t)
+        if len(self.x) >= 2 * self.keep:            # keep the last one and every other
+            self.x, self.t = self.x[1::2], self.t[1::2]
+            self.K *= 2
+            self.limits = []
+        n = len(self.x) - 1
         if n < 2:
             return False
         lag = n // 3 or 1
-        self.l2, self.l1 = self.l1, self.l0
-        self.l0 = aitken(xs, lag)
-        self.n_limits += 1
-        return (self.n_limits >= 3 and lag * (max(self.l0, self.l1, self.l2)
-                                              - min(self.l0, self.l1, self.l2)) <= self.xtol)
+        self.limits = self.limits[-2:] + [aitken(self.x, lag)]
+        return len(self.limits) == 3 and lag * (max(self.limits) - min(self.limits)) \
+            <= self.xtol
 
     @property
     def limit(self):
-        return self.l0 if self.n_limits else (self.x[-1] if self.x else math.nan)
+        return self.limits[-1] if self.limits else (self.x[-1] if self.x else math.nan)
 
 
 class Track:
-    """One point from its breakaway: what each event of its slide means.
+    """One point from its breakaway: its parameters, its section returns, the sign of
+    its slide and, once known, its result (a tuple of observables, ``ONE_PERIOD``:
+    the slip cycle through ``ret.limit``, or ``REDO``: it stuck after its extremes
+    stopped being tracked)."""
 
-    The drivers (scalar, batch) advance the integrator to the next terminal event
-    and hand it here; ``s`` is the sign the slide goes on with, ``result`` is set
-    when the attractor is known (``ONE_PERIOD``: the slip cycle through
-    ``ex.limit``; ``REDO``: it stuck after its extremes stopped being tracked).
-    """
-
-    def __init__(self, peer, k, r_y, v, alpha1, alpha2, x0):
+    def __init__(self, peer, m, k, r_y, v, alpha1, alpha2, x0):
         self.peer, self.k, self.r_y, self.v = peer, k, r_y, v
+        self.pars = [-1.0, k / m, r_y / m, v, alpha1 / m, alpha2 / m]
         self.xs, self.x_eq = r_y / k, (r_y - alpha1 * v + alpha2 * v ** 3) / k
         self.t_b = (self.xs - x0) / v                # breakaway at the end of the stick
-        self.s = -1.0
-        self.xmax = self.xmin = self.xs
-        self.ex = Extrapolation(peer.xtol)
-        self.last = self.t_b
-        self.tracking = True                         # extremes tracked (full integrator)
-        self.result = None
-        self.steps = 0
+        self.ret = Returns(peer.xtol, peer.keep)
+        self.s, self.last, self.result, self.steps = -1.0, self.t_b, None, 0
+        self.section_on = True
 
-    def event(self, ev, t, x, q, n_full):
-        """Take event ``ev`` at time t [s], x [cm], int x [cm s]."""
-        peer = self.peer
-        if ev == FAILED or t - self.t_b > peer.t_max:
-            self.result = (math.nan, math.nan, math.nan, UNCONVERGED)
-        elif ev == TIME_LIMIT:                       # no extremum for at_rest seconds
+    def section(self, t, x):
+        """A sampled maximum of x at time t [s]: the equilibrium (this point, or the
+        last three extrapolated limits, within ``eps_eq`` of x_eq: next to v* the
+        limits reach x_eq long before they agree to ``xtol``), the slip cycle, or
+        nothing yet."""
+        self.last = t
+        done = self.ret.add(t, x)
+        eps, lims = self.peer.eps_eq, self.ret.limits
+        near = len(lims) == 3 and max(abs(l - self.x_eq) for l in lims) <= eps
+        if x - self.x_eq <= eps or near or (done and self.ret.limit - self.x_eq <= eps):
             self.result = (0.0, self.x_eq, math.nan, EQUILIBRIUM)
-        elif ev == STOP:
-            self.last = t
-            if abs(self.k * x) < self.r_y:           # sticks: back to breakaway
-                if not self.tracking:
-                    self.result = REDO
-                    return
-                self.xmin = min(self.xmin, x)
-                t_stick = (self.xs - x) / self.v
-                T = t - self.t_b + t_stick
-                self.result = (0.5 * (self.xmax - self.xmin),
-                               (q + 0.5 * (x + self.xs) * t_stick) / T, T, STICK_SLIP)
-            else:
-                self.s = -self.s                     # slide-slide reversal
-        elif ev == XMIN:
-            self.last = t
-            self.xmin = min(self.xmin, x)
-        else:                                        # a maximum of x: the section
-            self.last = t
-            self.xmax = max(self.xmax, x)
-            done = self.ex.add(x)
-            if len(self.ex.x) >= n_full:
-                self.tracking = False
-            if x - self.x_eq <= peer.eps_eq or (done and self.ex.limit - self.x_eq
-                                                <= peer.eps_eq):
-                self.result = (0.0, self.x_eq, math.nan, EQUILIBRIUM)
-            elif done:
-                self.result = ONE_PERIOD
+        elif done:
+            self.result = ONE_PERIOD
 
+    def failed(self):
+        self.result = (math.nan, math.nan, math.nan, UNCONVERGED)
 
-ONE_PERIOD, REDO = "one period", "redo"
+    def at_rest(self):
+        self.result = (0.0, self.x_eq, math.nan, EQUILIBRIUM)
 
 
 class Peer:
-    """Attractors of the paper's slider by heyoka, one point at a time (scalar mode),
-    or many in the lanes of a batch integrator (``batch_size``).
+    """Attractors of the paper's slider by heyoka, the transients in the lanes of a
+    batch integrator (``batch_size``) or on a scalar one (None).
 
     Parameters
     ----------
@@ -191,233 +299,249 @@ class Peer:
     xtol : float
         agreement of successive Aitken limits of the section returns [cm].
     eps_eq : float
-        an extrapolated section point within this of x_eq is the equilibrium [cm].
+        a section point within this of x_eq is the equilibrium [cm].
     at_rest : float
-        no extremum of x for this long means the slider is at rest [s].
+        no maximum of x for this long, the section on, means the slider is at rest [s].
     t_max : float
         simulated time after which a point is left unconverged [s].
+    keep : int
+        returns kept per point before every other one is dropped (K doubles).
+    k_lanes : int
+        in batch mode, a point goes to the lanes once every K-th return is sampled,
+        K >= k_lanes (sooner, the lanes' events are too frequent for them to pay).
     batch_size : int or None
-        lanes of heyoka's batch mode for the section returns (None: scalar mode).
+        lanes of heyoka's batch mode for the transients (None: scalar mode).
     """
 
-    def __init__(self, tol, xtol=1e-8, eps_eq=1e-6, at_rest=20.0, t_max=2e6,
-                 batch_size=None):
+    def __init__(self, tol, xtol=1e-7, eps_eq=1e-6, at_rest=20.0, t_max=2e6, keep=8,
+                 k_lanes=16, batch_size=None):
         import heyoka as hy
-        self.tol, self.xtol, self.eps_eq, self.at_rest, self.t_max = \
-            tol, xtol, eps_eq, at_rest, t_max
-        self.batch_size = batch_size
-        self._outcomes = {int(hy.taylor_outcome.time_limit): TIME_LIMIT,
-                          int(hy.taylor_outcome.success): NO_EVENT}
+        self.tol, self.xtol, self.eps_eq, self.at_rest, self.t_max, self.keep = \
+            tol, xtol, eps_eq, at_rest, t_max, keep
+        self.batch_size, self.k_lanes = batch_size, k_lanes
+        self._codes = {int(hy.taylor_outcome.time_limit): TIME_LIMIT,
+                       int(hy.taylor_outcome.success): NO_EVENT}
         t0 = time.perf_counter()
-        self.full, self.section = integrators(tol)
-        self.lanes = self._lane_integrator(tol, batch_size) if batch_size else None
+        self.measure = measure_integrator(tol)
+        self.scalar = lane_integrator(tol)
+        self.lanes = lane_integrator(tol, batch_size) if batch_size else self.scalar
         self.compile_s = time.perf_counter() - t0
 
     def _code(self, oc):
-        """Event index of a propagation's outcome (heyoka writes -1 - index for a
-        terminal event), TIME_LIMIT, NO_EVENT or FAILED (a non-finite state)."""
-        code = int(oc)
-        if -4 < code < 0:
-            return -code - 1
-        return self._outcomes.get(code, FAILED)
+        """Event index of an outcome (heyoka writes -1 - index for a terminal event),
+        TIME_LIMIT, NO_EVENT or FAILED (a non-finite state)."""
+        if -4 < oc < 0:
+            return -oc - 1
+        return self._codes.get(oc, FAILED)
 
-    def _next(self, ta, t_limit, tr):
-        """Propagate ta to its next terminal event (or t_limit) for track tr."""
-        t_start = ta.time
-        while True:
-            oc, _h0, _h1, n = ta.propagate_until(t_limit)[:4]
-            tr.steps += n
-            ev = self._code(oc)
-            if n == 0 and ev >= 0 and ta.time == t_start:     # the event it started on
-                continue
-            return ev
-
-    @staticmethod
-    def _set(ta, t, state, pars):
-        ta.time = t
-        ta.state[:] = state
-        ta.pars[:] = pars
+    # ------------------------------------------------ the measure integrator
+    def _measure(self, tr, t0, state, s, n_returns):
+        """Every extremum of track tr from (t0, state, s) on the measure integrator,
+        until its result or ``n_returns`` maxima of x; (t, (x, z), s) where it left
+        off, or None. A stick sets the stick-slip cycle's result."""
+        ta = self.measure
+        ta.time = t0
+        ta.state[:] = [state[0], state[1], 0.0]
+        ta.pars[:] = tr.pars
+        ta.pars[0] = s
         ta.reset_cooldowns()
-
-    @staticmethod
-    def _pars(tr, m, alpha1, alpha2):
-        return [tr.s, tr.k / m, tr.r_y / m, tr.v, alpha1 / m, alpha2 / m]
-
-    def _slide(self, tr, pars, n_full, t0, state, ta):
-        """Run track tr on the scalar integrator ta until it has a result (or, in
-        batch mode, until it leaves the full integrator)."""
-        self._set(ta, t0, state, pars)
+        xmax = xmin = state[0]
+        total, n = 0.0, 0                  # int x [cm s] before the last reset
         while tr.result is None:
-            ev = self._next(ta, tr.last + self.at_rest, tr)
-            tr.event(ev, ta.time, ta.state[0], ta.state[2], n_full)
-            ta.pars[0] = tr.s
-            if not tr.tracking and ta is self.full and tr.result is None:
-                if self.batch_size:
-                    return ta.time, ta.state.copy()
-                self._set(self.section, ta.time, ta.state, ta.pars)
-                ta = self.section
+            oc, _h0, _h1, steps = ta.propagate_until(tr.last + self.at_rest)[:4]
+            tr.steps += steps
+            ev, t, x = self._code(int(oc)), ta.time, ta.state[0]
+            total += ta.state[2]
+            ta.state[2] = 0.0              # the integral's scale stays the state's
+            if ev == FAILED or t - tr.t_b > self.t_max:
+                tr.failed()
+            elif ev == TIME_LIMIT:
+                tr.at_rest()
+            elif ev == STOP:
+                tr.last = t
+                if abs(tr.k * x) < tr.r_y:           # sticks: back to breakaway
+                    if not math.isinf(n_returns):
+                        tr.result = REDO
+                        break
+                    xmin = min(xmin, x)
+                    t_stick = (tr.xs - x) / tr.v
+                    T = t - tr.t_b + t_stick
+                    tr.result = (0.5 * (xmax - xmin), (total + 0.5 * (x + tr.xs) * t_stick)
+                                 / T, T, STICK_SLIP)
+                else:
+                    ta.pars[0] = -ta.pars[0]         # slide-slide reversal
+            elif ev == XMIN:
+                tr.last = t
+                xmin = min(xmin, x)
+            elif ev == XMAX:
+                xmax = max(xmax, x)
+                tr.section(t, x)
+                n += 1
+                if n >= n_returns and tr.result is None:
+                    return t, ta.state[:2].copy(), float(ta.pars[0])
         return None
 
-    def _finish(self, tr, pars, m, alpha1, alpha2):
-        """The observables of a track with a result (one period, or a redo)."""
-        if tr.result is REDO:
-            tr.tracking, tr.result = True, None
-            tr.xmax = tr.xmin = tr.xs
-            tr.ex = Extrapolation(self.xtol)
-            tr.s, tr.last = -1.0, tr.t_b
-            pars[0] = -1.0
-            self._slide(tr, pars, math.inf, tr.t_b, [tr.xs, 0.0, 0.0], self.full)
-        if tr.result is ONE_PERIOD:
-            tr.result = self._one_period(tr, tr.ex.limit, pars)
-        return tr.result + (tr.steps, tr.last, len(tr.ex.x))
+    def _start(self, tr):
+        """The first two returns of track tr from its breakaway (a stick-slip cycle
+        is over by then)."""
+        return self._measure(tr, tr.t_b, (tr.xs, 0.0), -1.0, 2)
 
-    def _one_period(self, tr, x_star, pars):
+    def _finish(self, tr):
+        """The observables of a track with a result (a redo, one period)."""
+        if tr.result is REDO:
+            tr.result, tr.last, tr.s = None, tr.t_b, -1.0
+            tr.ret = Returns(self.xtol, self.keep)
+            self._measure(tr, tr.t_b, (tr.xs, 0.0), -1.0, math.inf)
+        if tr.result is ONE_PERIOD:
+            tr.result = self._one_period(tr, tr.ret.limit)
+        return tr.result + (tr.steps, tr.last, tr.ret.count)
+
+    def _one_period(self, tr, x_star):
         """Amplitude, mean and period of the slip cycle through the section point
         (x_star, x' = 0): one period with every extremum."""
-        ta, pars = self.full, list(pars)
-        pars[0] = -1.0
-        self._set(ta, 0.0, [x_star, -tr.v, 0.0], pars)
-        xmin = x_star
+        ta = self.measure
+        ta.time = 0.0
+        ta.state[:] = [x_star, -tr.v, 0.0]
+        ta.pars[:] = tr.pars
+        ta.reset_cooldowns()
+        xmin, total = x_star, 0.0
         while True:
-            ev = self._next(ta, 10.0 * self.at_rest, tr)
+            oc, _h0, _h1, steps = ta.propagate_until(10.0 * self.at_rest)[:4]
+            tr.steps += steps
+            ev = self._code(int(oc))
+            total += ta.state[2]
+            ta.state[2] = 0.0
             if ev == XMIN:
                 xmin = min(xmin, ta.state[0])
             elif ev == STOP:
                 ta.pars[0] = -ta.pars[0]
+            elif ev == XMAX and ta.time == 0.0:     # the point it started on
+                continue
             elif ev == XMAX:
                 T = ta.time
-                return 0.5 * (max(x_star, ta.state[0]) - xmin), ta.state[2] / T, T, SLIP_CYCLE
+                return 0.5 * (max(x_star, ta.state[0]) - xmin), total / T, T, SLIP_CYCLE
             else:
                 return math.nan, math.nan, math.nan, UNCONVERGED
 
-    def point(self, m, k, r_y, v, alpha1, alpha2, x0=0.0):
-        """The attractor of one slider started stuck at x0 (xdot0 = v > 0), scalar mode.
+    # ------------------------------------------------ the lanes
+    def _lane_event(self, la, j, tr, ev):
+        """Take the terminal event ``ev`` of lane j (track tr); True when done."""
+        t = la.time(j)
+        if ev == FAILED or ev == TIME_LIMIT or t - tr.t_b > self.t_max:
+            tr.failed()
+        elif ev == STOP:
+            tr.last = t
+            if abs(tr.k * la.x(j)) < tr.r_y:
+                tr.result = REDO                    # stuck after the first returns
+            else:
+                tr.s = -tr.s
+                la.par(j, 0, tr.s)
+        elif ev == SECTION:
+            if t == tr.ret.t[-1]:
+                return False                        # the return it was loaded at
+            tr.section(t, la.x(j))
+            ret = tr.ret
+            if tr.result is None and ret.K > 1:     # off until the K-th return is near
+                tr.section_on = False
+                la.par(j, 6, 0.0)
+                la.wind(j, 1.0 / ((ret.K - 0.5) * ret.period))
+            elif tr.result is None:
+                la.wind(j, 1.0 / self.at_rest)
+        elif ev == TIMER:
+            if tr.section_on:                       # no maximum for at_rest seconds
+                tr.at_rest()
+            else:
+                tr.section_on = True
+                la.par(j, 6, 1.0)
+                la.wind(j, 1.0 / self.at_rest)
+        return tr.result is not None
+
+    def _run_lanes(self, la, waiting, out):
+        """The transients of the waiting tracks [(index, track, t, state, pars)] on the
+        lanes of ``la``, each lane refilled as its point is done; the last tracks (a
+        quarter of the lanes or fewer) go on alone on the scalar integrator, where
+        they would otherwise leave the other lanes idle."""
+        B = la.lanes
+        queue = list(reversed(waiting))
+        lane = [None] * B
+
+        def fill(j):
+            if not queue:                           # parked: a harmonic oscillator
+                lane[j] = None                      # whose events never fire
+                la.put(j, la.time(j), [0.3, -1.0, -1.0],
+                       [-1.0, 10.0, 2.0, 1.0, 0.0, 0.0, 0.0, 0.0])
+                return
+            i, tr, t, state, pars = queue.pop()
+            lane[j] = (i, tr)
+            la.put(j, t, state, pars)
+
+        for j in range(B):
+            fill(j)
+        while True:
+            active = [j for j in range(B) if lane[j] is not None]
+            if not queue and len(active) <= B // 4:
+                for i, tr, t, state, pars in [lane[j] + la.get(j) for j in active]:
+                    self._run_one(i, tr, t, state, pars, out)
+                return
+            for j, res in enumerate(la.propagate(FAR)):
+                if lane[j] is not None and self._lane_step(la, j, lane[j][1], res):
+                    out[lane[j][0]] = self._finish(lane[j][1])
+                    fill(j)
+
+    def _run_one(self, i, tr, t, state, pars, out, sparse=False):
+        """Track tr (row i) alone on the scalar lane integrator from (t, state, pars)
+        until its result, or with ``sparse`` until its section is sampled (the
+        lanes' work); None, or (i, tr, t, state, pars) where it left off."""
+        la = self.scalar
+        la.put(0, t, state, pars)
+        while not self._lane_step(la, 0, tr, la.propagate(FAR)[0]):
+            if sparse and tr.ret.K >= self.k_lanes:
+                return (i, tr) + la.get(0)
+        out[i] = self._finish(tr)
+        return None
+
+    def _lane_step(self, la, j, tr, res):
+        """Count the steps of lane j's propagation and take its event; True when its
+        track is done."""
+        oc, steps = res
+        tr.steps += steps
+        ev = self._code(oc)
+        return ev != NO_EVENT and self._lane_event(la, j, tr, ev)
+
+    def points(self, P):
+        """Attractors of the rows of P (m, k, r_y, v, alpha1, alpha2), each started
+        stuck on the belt at x = 0: the first two returns on the measure integrator,
+        every return on the scalar lane integrator until they are sampled, then (in
+        batch mode) the transient in the lanes, where events are rare enough that
+        heyoka's rule (one lane's terminal event stops all) costs little.
 
         Returns
         -------
-        tuple
+        array (n, 7)
             the columns of ``COLUMNS``: amplitude [cm], mean [cm], period [s], regime
             code, Taylor steps, simulated time [s], section returns
         """
-        tr = Track(self, k, r_y, v, alpha1, alpha2, x0)
-        pars = self._pars(tr, m, alpha1, alpha2)
-        self._slide(tr, pars, 2, tr.t_b, [tr.xs, 0.0, 0.0], self.full)
-        return self._finish(tr, pars, m, alpha1, alpha2)
-
-    def points(self, P):
-        """Attractors of the rows of P (m, k, r_y, v, alpha1, alpha2): scalar mode, or
-        in batch mode the first two returns of each point scalar (a stick-slip cycle
-        is over by then) and the section returns in the lanes."""
         out = np.full((len(P), len(COLUMNS)), np.nan)
-        if not self.batch_size:
-            for i, p in enumerate(P):
-                out[i] = self.point(*p)
-            return out
-        waiting = []                        # (index, track, pars, time, state)
+        waiting = []
         for i, p in enumerate(P):
-            m, k, r_y, v, a1, a2 = p
-            tr = Track(self, k, r_y, v, a1, a2, 0.0)
-            pars = self._pars(tr, m, a1, a2)
-            left = self._slide(tr, pars, 2, tr.t_b, [tr.xs, 0.0, 0.0], self.full)
+            tr = Track(self, *p, 0.0)
+            left = self._start(tr)
             if left is None:
-                out[i] = self._finish(tr, pars, m, a1, a2)
-            else:
-                waiting.append((i, tr, pars, p) + left)
-        self._lanes(waiting, out)
+                out[i] = self._finish(tr)
+                continue
+            t, state, tr.s = left
+            pars = [tr.s] + tr.pars[1:] + [1.0, 1.0 / self.at_rest]
+            left = self._run_one(i, tr, t, [state[0], state[1], -1.0], pars, out,
+                                 sparse=self.lanes is not self.scalar)
+            if left is not None:
+                waiting.append(left)
+        if waiting:
+            self._run_lanes(self.lanes, waiting, out)
         return out
 
-    def _to_scalar(self, lane, out):
-        """Finish the tracks left in the lanes on the scalar section integrator."""
-        ta = self.lanes
-        for j, L in enumerate(lane):
-            if L is None:
-                continue
-            i, tr, pars, p = L
-            if tr.result is None:
-                pars = list(pars)
-                pars[0] = tr.s
-                self._slide(tr, pars, 0, ta.time[j], ta.state[:, j].copy(), self.section)
-            out[i] = self._finish(tr, pars, p[0], p[4], p[5])
-
-    def _lane_integrator(self, tol, B):
-        """The batch integrator of the section returns: the slide's end a terminal
-        event, the maxima of x a non-terminal one whose callback records (lane,
-        time, x) from heyoka's dense output, so that no lane stops the others."""
-        import heyoka as hy
-        sys, (s, z, v) = system()
-        hits = self._hits = []
-        at = np.empty(B)
-
-        def on_max(ta, t, _d_sgn, j):
-            at[:] = ta.time
-            at[j] = t
-            hits.append((j, t, ta.update_d_output(at)[0, j]))
-
-        neg = hy.event_direction.negative
-        return hy.taylor_adaptive_batch(
-            sys, np.zeros((3, B)), tol=tol, pars=np.ones((6, B)), compact_mode=False,
-            t_events=[hy.t_event_batch(s * z, direction=neg)],
-            nt_events=[hy.nt_event_batch(z + v, on_max, direction=neg)])
-
-    def _lanes(self, waiting, out, horizon=4.0):
-        """The section returns of the waiting tracks, batch_size at a time; every
-        lane is propagated ``horizon`` seconds a call, its returns taken from the
-        callback's record."""
-        ta, B, hits = self.lanes, self.batch_size, self._hits
-        queue = list(reversed(waiting))
-        lane = [None] * B
-        t_load = np.zeros(B)
-        t_lim = np.array(ta.time, dtype=float)
-
-        def load(j):
-            i, tr, pars, p, t0, state = queue.pop()
-            lane[j] = (i, tr, pars, p)
-            times = np.array(ta.time, dtype=float)
-            times[j] = t_load[j] = t0
-            ta.set_time(times)
-            ta.state[:, j] = state
-            ta.pars[:, j] = pars
-            ta.pars[0, j] = tr.s
-            ta.reset_cooldowns(j)
-            t_lim[j] = t0 + horizon
-
-        def next_point(j):
-            if queue:
-                load(j)
-            else:
-                lane[j] = None
-                t_lim[j] = ta.time[j]
-
-        for j in range(B):
-            next_point(j)
-        while any(L is not None for L in lane):
-            if not queue and sum(L is not None for L in lane) <= B // 4:
-                self._to_scalar(lane, out)          # the tail: lanes would idle
-                return
-            hits.clear()
-            ta.propagate_until(t_lim)
-            now = ta.time
-            for j, t, x in hits:
-                L = lane[j]
-                if L is not None and L[1].result is None and t > t_load[j]:
-                    L[1].event(XMAX, t, x, math.nan, 0)
-            for j, (oc, _h0, _h1, n) in enumerate(ta.propagate_res):
-                if lane[j] is None:
-                    continue
-                i, tr, pars, p = lane[j]
-                tr.steps += n
-                if tr.result is None:
-                    ev = self._code(oc)
-                    if ev == STOP:
-                        tr.event(STOP, now[j], ta.state[0, j], math.nan, 0)
-                        ta.pars[0, j] = tr.s
-                    elif ev == FAILED or now[j] - tr.last >= self.at_rest:
-                        tr.event(ev if ev == FAILED else TIME_LIMIT, now[j], math.nan,
-                                 math.nan, 0)
-                    t_lim[j] = now[j] + horizon
-                if tr.result is not None:
-                    out[i] = self._finish(tr, pars, p[0], p[4], p[5])
-                    next_point(j)
+    def point(self, m, k, r_y, v, alpha1, alpha2):
+        """The attractor of one slider started stuck at x = 0: the row of ``points``."""
+        return self.points(np.array([[m, k, r_y, v, alpha1, alpha2]]))[0]
 
 
 _PEERS = {}

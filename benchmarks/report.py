@@ -132,9 +132,10 @@ def write_readme(outdir, readme, mode, total):
         parts.append(_pybasin(Pb))
     if La:
         parts.append(_laws(La))
-    from benchmarks import boundaries, memory     # their own scripts' results
+    from benchmarks import boundaries, compile_probe, memory   # their own scripts' results
     parts.append(boundaries.stored_section())
     parts.append(memory.stored_section())
+    parts.append(compile_probe.stored_section())
     readme.write_text("\n".join(parts))
 
 
@@ -466,7 +467,8 @@ def _heyoka(Hy):
     out = [fill("heyoka_head", nv=Hy["grid"]["nv"], na=Hy["grid"]["na"],
                 version=Hy["heyoka"], processes=Hy["processes"],
                 map_converged=hard["map_converged"], hard_resolved=hard["hardest_resolved"],
-                no_ref=last["n_without_reference"])]
+                no_ref=last["n_without_reference"], date=Hy["machine"]["date"][:16],
+                cpu_model=Hy["machine"]["cpu_model"], load=_load_range(Hy))]
     rows = []
     for r in Hy["ladder"]:
         e = r["errors"]
@@ -474,7 +476,9 @@ def _heyoka(Hy):
                      g(e["amp_err_max"]), f"{e['n_regime_mismatch']} "
                      f"(max amp err {g(e['amp_err_max_regime_mismatch'])})",
                      g(e["hardest"]["max_amp_err"]), e["n_unconverged"], g(r["steps"])])
-    out.append(table(["heyoka, scalar", "wall time", "CPU time", "max amp err, every point "
+    mode = Hy["ladder"][0].get("mode", "scalar")
+    mode = f"batch ({Hy['batch_size']} lanes)" if mode == "batch" else mode
+    out.append(table([f"heyoka, {mode}", "wall time", "CPU time", "max amp err, every point "
                       "[cm]", "same regime", "regime mismatches", "hardest points",
                       "unconverged", "Taylor steps"], rows))
     chosen = next(r for r in Hy["ladder"] if r["tol"] == Hy["chosen_tol"])
@@ -488,11 +492,11 @@ def _heyoka(Hy):
     med, rat, runs = Hy["median"], Hy["ratios"], Hy["runs"]
     out.append(fill("heyoka_ratios", tol=f"{Hy['chosen_tol']:g}", n_sc=len(runs["sweepcore"]),
                     n_scalar=len(runs["scalar"]), n_batch=len(runs.get("batch", [])),
-                    compile=f"{max(r['compile_s'] for r in runs['scalar']):.2f}"))
+                    compile=f"{max(r['compile_s'] for v in runs.values() for r in v if 'compile_s' in r):.2f}"))
     rows = [["sweepcore (kernel, 2 threads, tol 1e-8)", s(med["sweepcore"]["wall"]),
              s(med["sweepcore"]["cpu"]), "1", "1"]]
-    for mode, label in (("scalar", "heyoka scalar mode"),
-                        ("batch", f"heyoka batch mode ({Hy['batch_size']} lanes)")):
+    for mode, label in (("batch", f"heyoka batch mode ({Hy['batch_size']} lanes)"),
+                        ("scalar", "heyoka scalar mode")):
         if mode in med:
             rows.append([f"{label}, {Hy['processes']} processes", s(med[mode]["wall"]),
                          s(med[mode]["cpu"]), f"**{g(rat[mode + '_wall'])}x**",
@@ -709,6 +713,11 @@ def compile_estimates(outdir, path=None) -> bool:
     return True
 
 
+def _load_range(R):
+    """The 1-minute load before and after a section's run, as "a-b"."""
+    return f"{R['load_before']:.1f}-{R['load_after']:.1f}"
+
+
 def _heyoka_rows(Hy):
     """The README's rows of the heyoka section (none when it did not run)."""
     if not Hy or "skipped" in Hy:
@@ -720,7 +729,7 @@ def _heyoka_rows(Hy):
     modes = "; ".join(
         f"{label} {_cpu_wall(med[mode])}: **{g(rat[mode + '_cpu'])}x** CPU, "
         f"{g(rat[mode + '_wall'])}x wall" for mode, label in
-        (("scalar", "scalar mode"), ("batch", f"batch mode ({Hy['batch_size']} lanes)"))
+        (("batch", f"batch mode ({Hy['batch_size']} lanes)"), ("scalar", "scalar mode"))
         if mode in med)
     return [[f"heyoka.py {Hy['heyoka']} (Taylor method compiled by LLVM, events by root "
              f"finding), same map, written for the job (`benchmarks/heyoka_peer.py`), "
@@ -729,7 +738,8 @@ def _heyoka_rows(Hy):
              ("" if Hy["chosen_meets_target"] else " (none met it: the tightest)"),
              f"{modes}; sweepcore in the same run {_cpu_wall(med['sweepcore'])}; heyoka's "
              f"max amplitude error {g(e['amp_err_max_all'])} cm on every point with a "
-             f"reference"]]
+             f"reference (run of {Hy['machine']['date'][:10]}, {Hy['machine']['cpu_model']}, "
+             f"load {_load_range(Hy)} on 2 cores)"]]
 
 
 def _pybasin_rows(Pb):
