@@ -216,3 +216,31 @@ def test_excitation_columns_read_by_excitation_modules_only():
     offenders = [str(f.relative_to(root)) for f in root.rglob("*.py")
                  if str(f.relative_to(root)) not in allowed and pattern.search(f.read_text())]
     assert offenders == []
+
+
+# a Stribeck law on a slow belt under a moderate load: no period up to 16 forcing
+# periods, a positive Lyapunov exponent (found by a sweep over Omega and F0)
+CHAOTIC = dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.5, c=0.02, v=0.3, F0=0.7, Omega=1.1)
+
+
+def test_aperiodic_response_carries_its_exponent_not_a_cycle():
+    """No period up to the limit: regime aperiodic, a Lyapunov exponent above three
+    of its errors, and no multiplicity, period or per-period counts."""
+    res = sc.attractor(sc.Params(**CHAOTIC), x0=0.0, xdot0=0.0)
+    assert res.regime == "aperiodic" and res.status == "ok"
+    assert res.lyapunov > 3.0 * res.lyapunov_error > 0.0
+    assert math.isnan(res.multiplicity) and math.isnan(res.period)
+    assert math.isnan(res.sticks_per_period) and math.isnan(res.floquet)
+    assert res.amplitude > 0.0
+
+
+@pytest.mark.slow
+def test_aperiodic_exponent_against_the_reference():
+    """The exponent against the reference's two-trajectory estimate (200 periods):
+    within three of the combined errors."""
+    from reference_forced import Forced, forced_steady
+    res = sc.attractor(sc.Params(**CHAOTIC), x0=0.0, xdot0=0.0)
+    ref = forced_steady(Forced(**CHAOTIC), x0=0.0, xd0=0.0)
+    assert ref["status"] == "aperiodic"
+    err = math.hypot(res.lyapunov_error, ref["lyapunov_error"])
+    assert abs(res.lyapunov - ref["lyapunov"]) <= 3.0 * err

@@ -41,6 +41,7 @@ from .layout import (A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX
                      OB_XDOT_MAX, S_ARMED, S_MODE, S_N, S_T, S_X, S_ZD, V, X0, XD0)
 
 TRY = 1.0             # states within this (in L) after n periods: try Newton on P^n
+MEASURE_AT = 1e-4     # Newton's last step [L] below which its next run measures
 RTOL_FLOOR = 1e-13    # the tightest integration tolerance used
 LYAP_PERIODS = 256    # periods of the Lyapunov estimate
 LYAP_BLOCKS = 8
@@ -95,15 +96,18 @@ def _dist(a, b, lx, lv):
 
 
 @kernel
-def _image(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work):
+def _image(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, measure):
     """P^n of the state u into ``work``, with its Jacobian in ``vw[0]`` (row by
-    row); the steps spent are added to u's count. Returns the status."""
+    row), and with ``measure`` the observables on line in ``acc`` (reset first);
+    the steps spent are added to u's count. Returns the status."""
     work[:] = u
     vw[0, 0] = 1.0
     vw[0, 1] = 0.0
     vw[0, 2] = 0.0
     vw[0, 3] = 1.0
-    status = run_periods(work, p, lw, fa, fb, om, o, acc, ws, vw, T, n, False, True)
+    if measure:
+        fresh(acc)
+    status = run_periods(work, p, lw, fa, fb, om, o, acc, ws, vw, T, n, measure, True)
     u[S_N] = work[S_N]
     return status
 
@@ -124,20 +128,25 @@ def _multipliers(j11, j12, j21, j22):
 
 
 @kernel
-def newton(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, tol):
-    """Fixed point of P^n near u (u moved to it): ``(ok, mu1, mu2, status)``, the
-    moduli of P^n's multipliers there (larger first)."""
+def newton(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, tol, out):
+    """Fixed point of P^n near u (u moved to it): ``(ok, mu1, mu2, measured,
+    status)``, the moduli of P^n's multipliers there (larger first). Once Newton's
+    steps are below ``MEASURE_AT`` the next run measures the observables on line
+    (into ``out``): when that run ends the search (its start within 1e-2 tol of the
+    fixed point), ``measured`` says so and no run is spent on measuring."""
     lx = o[O_LX]
     lv = o[O_LV]
     stuck = u[S_MODE] == codes.STICK
     mu1 = np.nan
     mu2 = np.nan
+    last = np.inf
     for _it in range(16):
-        status = _image(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work)
+        on = last <= MEASURE_AT
+        status = _image(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, on)
         if status != codes.OK:
-            return False, mu1, mu2, status
+            return False, mu1, mu2, False, status
         if work[S_MODE] != u[S_MODE]:
-            return False, mu1, mu2, codes.OK
+            return False, mu1, mu2, False, codes.OK
         j11, j12, j21, j22 = vw[0, 0], vw[0, 1], vw[0, 2], vw[0, 3]
         rx = work[S_X] - u[S_X]
         if stuck:
@@ -153,20 +162,22 @@ def newton(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, tol):
             dd = a11 * a22 - j12 * j21
             dx = (-rx * a22 + rz * j12) / dd if dd != 0.0 else 0.0
             dz = (-rz * a11 + rx * j21) / dd if dd != 0.0 else 0.0
-        if max(abs(rx) / lx, abs(rz) / lv) <= 1e-2 * tol:
-            return True, mu1, mu2, codes.OK       # a fixed point (a neutral one too)
         step = max(abs(dx) / lx, abs(dz) / lv)
+        if max(abs(rx) / lx, abs(rz) / lv) <= 1e-2 * tol or step <= 1e-2 * tol:
+            # a fixed point (a neutral one too): u itself, within 1e-2 tol
+            if on:
+                _observables(acc, n * T, out)
+            return True, mu1, mu2, on, codes.OK
         if not step > 0.0 or step > 10.0 * TRY:  # singular, or a jump away
-            return False, mu1, mu2, codes.OK
+            return False, mu1, mu2, False, codes.OK
         u[S_X] += dx
         if not stuck:
             u[S_ZD] += dz
             if u[S_ZD] == 0.0 or (u[S_ZD] > 0.0) != (u[S_MODE] > 0.0):
-                return False, mu1, mu2, codes.OK
+                return False, mu1, mu2, False, codes.OK
             u[S_ARMED] = 1.0
-        if step <= 1e-2 * tol:
-            return True, mu1, mu2, codes.OK
-    return False, mu1, mu2, codes.OK
+        last = step
+    return False, mu1, mu2, False, codes.OK
 
 
 @kernel
@@ -288,12 +299,14 @@ def forced_point(meth, p, lw, ex, o_in, out):
             if not d <= TRY or cooldown[n] > j:
                 continue
             u = st.copy()
-            ok, mu1, mu2, status = newton(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T,
-                                          work, tol)
+            ok, mu1, mu2, measured, status = newton(u, n, p, lw, fa, fb, om, o, acc, ws,
+                                                    vw, T, work, tol, out)
             st[S_N] = u[S_N]
             if status == codes.OK and ok:
-                n, ok, mu1, status = _least_period(u, n, p, lw, fa, fb, om, o, acc, ws,
-                                                   vw, T, work, tol, mu1)
+                m, ok, mu1, status = _least_period(u, n, p, lw, fa, fb, om, o, acc, ws,
+                                                   vw, T, work, tol, mu1, out)
+                measured = measured and m == n
+                n = m
                 st[S_N] = u[S_N]
             if status != codes.OK:
                 break
@@ -305,12 +318,13 @@ def forced_point(meth, p, lw, ex, o_in, out):
                 need = n * o[O_RTOL] / (1.0 - mu1)
                 if need > tol and o[O_RTOL] > RTOL_FLOOR:
                     o[O_RTOL] = max(RTOL_FLOOR, 0.5 * o[O_RTOL] * tol / need)
-                    ok, mu1, mu2, status = newton(u, n, p, lw, fa, fb, om, o, acc, ws,
-                                                  vw, T, work, tol)
+                    ok, mu1, mu2, measured, status = newton(u, n, p, lw, fa, fb, om, o,
+                                                            acc, ws, vw, T, work, tol, out)
                     st[S_N] = u[S_N]
                     if status != codes.OK:
                         break
-                _answer(u, n, j, mu1, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out, tol)
+                _answer(u, n, j, mu1, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out, tol,
+                        measured)
                 if not ok:
                     out[OB_STATUS] = codes.UNRESOLVED
                 return
@@ -318,7 +332,7 @@ def forced_point(meth, p, lw, ex, o_in, out):
                 # a multiplier 1 and no isolated fixed point: a neutral family (at
                 # Omega/omega = 1/(2 n), c = 0), whose member the start picks
                 _answer(u if ok else st.copy(), n, j, mu1, p, lw, fa, fb, om, o, acc, ws,
-                        vw, T, work, out, tol)
+                        vw, T, work, out, tol, False)
                 if out[OB_REGIME] != codes.R_STUCK:   # stuck throughout: exact
                     out[OB_REGIME] = codes.R_NEUTRAL
                     out[OB_STATUS] = codes.UNRESOLVED
@@ -360,7 +374,7 @@ def _failure(out, status, grows):
 
 
 @kernel
-def _least_period(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, tol, mu1):
+def _least_period(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, tol, mu1, out):
     """The least period m of the fixed point u of P^n (m divides n): the response
     is a fixed point of P^m when P^m(u) returns to u within the accuracy asked.
     Returns ``(m, ok, mu1, status)``, re-solved on P^m where m < n (P^n's
@@ -369,21 +383,25 @@ def _least_period(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, tol, mu1):
     for m in range(1, n):
         if n % m != 0:
             continue
-        status = _image(u, m, p, lw, fa, fb, om, o, acc, ws, vw, T, work)
+        status = _image(u, m, p, lw, fa, fb, om, o, acc, ws, vw, T, work, False)
         if status != codes.OK:
             return n, False, mu1, status
         if _dist(work, u, o[O_LX], o[O_LV]) <= max(1e2 * tol, 1e4 * o[O_RTOL]):
-            ok, mu, _mu2, status = newton(u, m, p, lw, fa, fb, om, o, acc, ws, vw, T,
-                                          work, tol)
+            ok, mu, _mu2, _measured, status = newton(u, m, p, lw, fa, fb, om, o, acc, ws,
+                                                     vw, T, work, tol, out)
             return m, ok, mu, status
     return n, True, mu1, codes.OK
 
 
 @kernel
-def _answer(u, n, j, mu1, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out, tol):
-    """Measure the response of the fixed point u of P^n. Its error estimate, the
-    integration error of n periods amplified by 1/(1 - mu1), must be within tol."""
-    status, gap = measure(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out)
+def _answer(u, n, j, mu1, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out, tol,
+            measured):
+    """The response of the fixed point u of P^n, measured by a run of n periods
+    (unless Newton's last run ``measured`` it). Its error estimate, the integration
+    error of n periods amplified by 1/(1 - mu1), must be within tol."""
+    status, gap = codes.OK, 0.0
+    if not measured:
+        status, gap = measure(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out)
     out[OB_NSTEPS] = u[S_N]
     if status != codes.OK:
         _failure(out, status, False)

@@ -42,6 +42,15 @@ for _i in _WEIGHTED:
     _E5[_i - 1] = getattr(dop853, f"E5_{_i}")
     _E3[_i - 1] = getattr(dop853, f"E3_{_i}")
 C_, A_, B_, E5_, E3_ = _C, _A, _B, _E5, _E3
+# the tableau's nonzero entries by stage (a stage sums only over them)
+NZ_N = np.array([np.count_nonzero(_A[i]) for i in range(STAGES)], np.int64)
+NZ_J = np.zeros((STAGES, STAGES), np.int64)
+NZ_A = np.zeros((STAGES, STAGES))
+for _i in range(STAGES):
+    _js = np.flatnonzero(_A[_i])
+    NZ_J[_i, :_js.size] = _js
+    NZ_A[_i, :_js.size] = _A[_i, _js]
+W_I = np.array([i - 1 for i in _WEIGHTED], np.int64)    # the weighted stages
 
 
 @kernel(inline="always")
@@ -86,11 +95,11 @@ def forced_step(x, zd, t, h, s, p, lw, cf, fa, fb, om, o, ws, V, vout, want_q, w
     for i in range(STAGES):
         sx = 0.0
         sz = 0.0
-        for j in range(i):
-            aij = A_[i, j]
-            if aij != 0.0:
-                sx += aij * ws[0, j]
-                sz += aij * ws[1, j]
+        for q in range(NZ_N[i]):
+            j = NZ_J[i, q]
+            aij = NZ_A[i, q]
+            sx += aij * ws[0, j]
+            sz += aij * ws[1, j]
         xi = x + h * sx
         zi = zd + h * sz
         ws[2, i] = xi
@@ -103,11 +112,11 @@ def forced_step(x, zd, t, h, s, p, lw, cf, fa, fb, om, o, ws, V, vout, want_q, w
             for c in range(2):             # the two columns of the Jacobian
                 px = 0.0
                 pz = 0.0
-                for j in range(i):
-                    aij = A_[i, j]
-                    if aij != 0.0:
-                        px += aij * ws[4 + 2 * c, j]
-                        pz += aij * ws[5 + 2 * c, j]
+                for q in range(NZ_N[i]):
+                    j = NZ_J[i, q]
+                    aij = NZ_A[i, q]
+                    px += aij * ws[4 + 2 * c, j]
+                    pz += aij * ws[5 + 2 * c, j]
                 vx = V[c] + h * px
                 vz = V[2 + c] + h * pz
                 ws[4 + 2 * c, i] = vz
@@ -119,24 +128,22 @@ def forced_step(x, zd, t, h, s, p, lw, cf, fa, fb, om, o, ws, V, vout, want_q, w
     e3x = 0.0
     e3z = 0.0
     qx = 0.0
-    for i in range(STAGES):
-        if B_[i] != 0.0 or E5_[i] != 0.0:
-            bx += B_[i] * ws[0, i]
-            bz += B_[i] * ws[1, i]
-            e5x += E5_[i] * ws[0, i]
-            e5z += E5_[i] * ws[1, i]
-            e3x += E3_[i] * ws[0, i]
-            e3z += E3_[i] * ws[1, i]
-            if want_q:
-                qx += B_[i] * ws[2, i]
+    for i in W_I:
+        bx += B_[i] * ws[0, i]
+        bz += B_[i] * ws[1, i]
+        e5x += E5_[i] * ws[0, i]
+        e5z += E5_[i] * ws[1, i]
+        e3x += E3_[i] * ws[0, i]
+        e3z += E3_[i] * ws[1, i]
+        if want_q:
+            qx += B_[i] * ws[2, i]
     if want_v:
         for c in range(2):
             px = 0.0
             pz = 0.0
-            for i in range(STAGES):
-                if B_[i] != 0.0:
-                    px += B_[i] * ws[4 + 2 * c, i]
-                    pz += B_[i] * ws[5 + 2 * c, i]
+            for i in W_I:
+                px += B_[i] * ws[4 + 2 * c, i]
+                pz += B_[i] * ws[5 + 2 * c, i]
             vout[c] = V[c] + h * px
             vout[2 + c] = V[2 + c] + h * pz
     x1 = x + h * bx
