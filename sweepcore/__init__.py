@@ -7,10 +7,11 @@ Public API::
     Params, simulate, attractor, Attractor, Grid, sweep, estimate, SweepTooLarge,
     hopf_boundary,
     locate_boundaries, continue_boundary, bifurcation_diagram, slip_cycles,
-    basin_stability,
+    basin_stability, frequency_response, stroboscopic_diagram,
     open_result, write_netcdf, check_cf,
     plot_result, plot_map, plot_lines, plot_trajectory, plot_cases, plot_friction,
-    plot_diagram, plot_hysteresis, plot_boundaries, plot_basins
+    plot_diagram, plot_hysteresis, plot_boundaries, plot_basins, plot_forced_map,
+    plot_frequency_response, plot_stroboscopic
 
 The plotting functions are those of :mod:`sweepcore.plot` (each returns a
 matplotlib Figure; ``sweepcore.plot.save`` writes one as PNG). They are imported
@@ -28,6 +29,7 @@ from .labels import version as _version
 from .laws import OBJECTS as _LAW_CLASSES
 from .params import Params
 from .simulate import simulate
+from .response_curves import frequency_response, stroboscopic_diagram
 from .sizing import SweepTooLarge, estimate
 from .sweep import sweep
 
@@ -39,12 +41,13 @@ globals().update({cls.__name__: cls for cls in _LAW_CLASSES})
 
 PLOTS = ("plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
          "plot_friction", "plot_diagram", "plot_hysteresis", "plot_boundaries",
-         "plot_basins")
+         "plot_basins", "plot_forced_map", "plot_frequency_response", "plot_stroboscopic")
 
 __all__ = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "estimate",
            "SweepTooLarge",
            "hopf_boundary", "locate_boundaries", "continue_boundary",
-           "bifurcation_diagram", "slip_cycles", "basin_stability",
+           "bifurcation_diagram", "slip_cycles", "basin_stability", "frequency_response",
+           "stroboscopic_diagram",
            "open_result", "write_netcdf", "check_cf", *PLOTS, *LAWS,
            "__version__"]
 

@@ -34,6 +34,27 @@ def regime_line(ds) -> str:
                                   if c)
 
 
+def forced_lines(ds) -> list[str]:
+    """Counts of a forced response map's classes (Hong & Liu's: zero-duration stops
+    and finite sticks per response period), e.g. ``stops per period: 0 120, 2 80``;
+    none for an unforced result."""
+    lines = []
+    for var, what in (("stops_per_period", "zero-duration stops per period"),
+                      ("sticks_per_period", "finite sticks per period")):
+        if var not in ds or "time" in ds.dims:
+            continue
+        counts = Counter(np.asarray(ds[var].values).ravel().tolist())
+        lines.append(f"{what}: " + ", ".join(
+            f"{'none measured' if n < 0 else n} {c}" for n, c in sorted(counts.items())))
+    if "multiplicity" in ds and "time" not in ds.dims:
+        m = np.asarray(ds["multiplicity"].values).ravel()
+        counts = Counter(int(n) for n in m[np.isfinite(m)])
+        if counts:
+            lines.append("multiplicity (response period / forcing period): " + ", ".join(
+                f"{n} {c}" for n, c in sorted(counts.items())))
+    return lines
+
+
 def describe(ds) -> str:
     """Multi-line summary of a sweep or simulation Dataset (``sweepcore info``)."""
     if "time" in ds.dims:
@@ -72,6 +93,7 @@ def describe(ds) -> str:
     if "converged" in ds:
         n = int(np.asarray(ds["converged"].values).sum())
         lines.append(f"  converged: {n} of {size} ({100 * n / size:.6g} %)")
+    lines.extend(f"  {line}" for line in forced_lines(ds))
     for var in ("amplitude", "mean", "period"):
         if var in ds:
             vals = ds[var].values
@@ -208,6 +230,11 @@ def _run_lines(ds) -> list[str]:
 def simulation_summary(ds, p) -> str:
     """Summary of a fresh simulation with the slider's analytic quantities."""
     law = "" if p.law is None else f"  {p.law.describe()}\n"
+    if p.forced:        # the excitation and its frequency ratio beta = Omega/omega
+        law += (f"  excitation: F0 = {p.F0:.6g} kN, Omega = {p.Omega:.6g} rad s-1 "
+                f"(Omega/omega = {p.Omega / p.omega:.6g}, period "
+                f"{2 * np.pi / p.Omega:.6g} s), phi = {p.phi:.6g} rad, "
+                f"Y0 = {p.Y0:.6g} cm\n")
     return (_describe_simulation(ds) + "\n" + law +
             f"  analytic: omega = {p.omega:.6g} s-1, q = {p.q:.6g} s-1 (eq. 46), "
             f"v* = {p.v_star:.6g} cm s-1 ({p.criticality} Hopf point), "
