@@ -29,6 +29,8 @@ DIRECTIONS = {"up": ("up",), "down": ("down",), "both": ("up", "down")}
 # relative difference of the two sweeps' amplitudes that marks two coexisting
 # responses: far above the 1e-6 accuracy contract of an ok response
 COEXIST_REL = 1e-4
+# forcing periods a start is settled for at most (settled_state)
+SETTLE_CAP = 4000
 
 
 def _checked(params, name: str, values) -> np.ndarray:
@@ -48,18 +50,27 @@ def _checked(params, name: str, values) -> np.ndarray:
 
 
 def settled_state(params: Params, response, x0: float, xdot0) -> tuple[float, float]:
-    """The state (x [cm], xdot [cm/s]) at t = (j + n) T on the trajectory from
-    (x0, xdot0) once it has settled on ``response`` (its ``t_settle``, a whole number
-    of forcing periods T, plus one response period): a point of the stroboscopic
-    cycle, at forcing phase 0."""
+    """The state (x [cm], xdot [cm/s]) at a whole number of forcing periods T on the
+    trajectory from (x0, xdot0) once it has settled on ``response``: a point of the
+    stroboscopic cycle, at forcing phase 0.
+
+    The search finds the response by Newton before the trajectory has settled on it,
+    so the run goes on past ``t_settle`` for the periods the response's largest
+    multiplier ``floquet`` needs to shrink the remaining distance by 1e-9
+    (ln 1e-9 / ln floquet response periods; one where a stick makes it 0; at most
+    ``SETTLE_CAP`` forcing periods)."""
     from .simulate import simulate
     T = 2.0 * math.pi / params.Omega
     # an aperiodic response: any state on it after the settling time will do
     period = response.period if math.isfinite(response.period) else T
     if not math.isfinite(response.t_settle):
         return math.nan, math.nan
-    n = max(1, int(round((response.t_settle + period) / T)))
-    ds = simulate(params, t_end=n * T, x0=x0, xdot0=xdot0, output_dt=T, tol=1e-10)
+    mu = response.floquet
+    more = 1 if mu == 0.0 else (math.ceil(math.log(1e-9) / math.log(mu))
+                                if 0.0 < mu < 1.0 else SETTLE_CAP)
+    n = int(round(response.t_settle / T)) + min(more * round(period / T), SETTLE_CAP)
+    ds = simulate(params, t_end=max(n, 1) * T, x0=x0, xdot0=xdot0, output_dt=T,
+                  tol=1e-10)
     if ds.attrs["status"] != "ok":
         return math.nan, math.nan
     return float(ds.x.values[-1]), float(ds.xdot.values[-1])
@@ -110,8 +121,8 @@ def frequency_response(params: Params, Omega, direction: str = "both",
         ``sweepcore.variables.FORCED_OBSERVABLES`` with its units, ``regime``,
         ``status``, ``converged``, the start of each point (``start_x`` [cm],
         ``start_xdot`` [cm/s]) and, with both directions, ``coexisting`` over Omega
-        (both sweeps ok with amplitudes more than 1e-4 apart, relative: two steady
-        responses at that frequency).
+        (both sweeps ok and periodic, with amplitudes more than 1e-4 apart,
+        relative: two steady responses at that frequency).
     """
     if direction not in DIRECTIONS:
         raise ValueError(f"direction must be one of {tuple(DIRECTIONS)}, got "
@@ -145,8 +156,12 @@ def frequency_response(params: Params, Omega, direction: str = "both",
         vals = np.array([[codes[getattr(r, name)] for r in rows] for rows in scans],
                         np.int8)
         data[name] = (dims, vals, labels.flag_attrs(meta))
-    data["converged"] = (dims, np.array([[r.converged for r in rows] for rows in scans]),
-                         {"long_name": "status is ok: within tol of the steady response"})
+    data["converged"] = (dims, np.array([[r.converged for r in rows] for rows in scans],
+                                        np.int8),
+                         {"units": "1", "long_name": "status is ok: within tol of the "
+                                                    "steady response",
+                          "flag_values": np.array([0, 1], np.int8),
+                          "flag_meanings": "not_converged converged"})
     st = np.array(starts, float)
     data["start_x"] = (dims, st[..., 0], labels.attrs("cm", "start position of the point",
                                                       "the previous point's settled "
@@ -167,10 +182,11 @@ def frequency_response(params: Params, Omega, direction: str = "both",
     ds = xr.Dataset(data, coords)
     if direction == "both":
         a = ds.amplitude.values
-        ok = (ds.status.values == 0).all(axis=0)
+        # periodic responses only: an aperiodic one's amplitude is a sample's
+        ok = ((ds.status.values == 0) & np.isfinite(ds.multiplicity.values)).all(axis=0)
         scale = np.maximum(np.abs(a).max(axis=0), 1e-300)
         ds["coexisting"] = ("Omega", ok & (np.abs(a[0] - a[1]) > COEXIST_REL * scale), {
-            "long_name": "two steady responses coexist (the sweeps' amplitudes differ "
+            "units": "1", "long_name": "two steady responses coexist (the sweeps' amplitudes differ "
                          "by more than 1e-4, relative)"})
     ds.attrs.update({
         **labels.provenance(
@@ -250,7 +266,7 @@ def stroboscopic_diagram(params: Params, name: str, values, periods: int = 32,
         {name: xr.Variable(name, values, {"units": UNITS[name],
                                           "long_name": LONG_NAMES[name]}),
          "sample": xr.Variable("sample", np.arange(periods), {
-             "units": "1", "long_name": "forcing period j (counted back from the last)"})})
+             "units": "1", "long_name": "forcing period j, counted from the first kept one"})})
     ds.attrs.update({
         **labels.provenance(
             f"Stroboscopic bifurcation diagram of the forced friction oscillator along "

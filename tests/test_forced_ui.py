@@ -117,7 +117,8 @@ def test_simulate_flags_drive_the_slider(tmp_path, monkeypatch, capsys):
          "run.nc", "--png", "run.png"], tmp_path, monkeypatch, capsys)
     assert code == 0, out.err
     assert "excitation: F0 = 1.5 kN, Omega = 2.5 rad s-1" in out.out
-    ds = xr.open_dataset(tmp_path / "run.nc")
+    ds = xr.open_dataset(tmp_path / "run.nc", decode_times=False,
+                         decode_timedelta=False)
     t = ds.time.values
     expect = 1.5 * np.cos(2.5 * t + 0.4) + 2.0 * 0.2 * np.cos(2.5 * t)
     np.testing.assert_allclose(ds.external_force.values, expect, rtol=0, atol=1e-12)
@@ -264,3 +265,26 @@ def test_continuous_motion_boundary_only_in_den_hartogs_case(monkeypatch):
     assert continuous_motion_boundary(_fake_map(c=0.1), Om) is None
     fig = plot_forced_map(_fake_map())
     assert len(fig.axes[0].lines) == 1          # the boundary over the first panel
+
+
+# ------------------------------------------------------------------ docs
+def test_every_forced_variable_is_documented():
+    """docs/variables.md lists every variable of a forced sweep, simulation,
+    frequency-response curve and stroboscopic diagram with the units the files
+    carry (a new variable fails here until it is documented)."""
+    from test_docs import DOC, _sections, _unit_rows
+    units = {}
+    for heading, body in _sections(DOC.read_text()).items():
+        if not heading.endswith("codes"):
+            for name, u in _unit_rows(body).items():
+                units.setdefault(name, set()).add(u)
+    results = [
+        sc.sweep(sc.Grid(m=1.0, k=1.0, r_y=0.3, v=0.0, F0=1.0, Omega=[2.0, 2.5]),
+                 progress=False),
+        sc.simulate(DH, 3.0),
+        sc.frequency_response(DH, [2.0, 2.5], xdot0=0.0),
+        sc.stroboscopic_diagram(DH, "Omega", [2.0, 2.5], periods=2, transient=2)]
+    for ds in results:
+        for name, var in ds.variables.items():
+            assert name in units, f"{name} is not in docs/variables.md"
+            assert var.attrs["units"] in units[name], (name, var.attrs["units"])
