@@ -49,6 +49,14 @@ def _checked(params, name: str, values) -> np.ndarray:
     return np.sort(values)
 
 
+def _fixed(params: Params, along: str) -> dict:
+    """The slider's parameters and excitation but ``along``, as scalar coordinates
+    with units."""
+    values = {**params.values(), **params.excitation_values()}
+    return {n: xr.Variable((), float(v), {"units": UNITS[n], "long_name": LONG_NAMES[n]})
+            for n, v in values.items() if v is not None and n not in ("law", along)}
+
+
 def settled_state(params: Params, response, x0: float, xdot0) -> tuple[float, float]:
     """The state (x [cm], xdot [cm/s]) at a whole number of forcing periods T on the
     trajectory from (x0, xdot0) once it has settled on ``response``: a point of the
@@ -93,6 +101,20 @@ def _follow(params, values, start, tol, method, options):
     return rows, starts
 
 
+def coexisting(ds: xr.Dataset) -> np.ndarray:
+    """Over Omega: whether the up and down sweeps found two different steady
+    responses, both ok: of different regimes or multiplicities, or both periodic
+    with amplitudes more than ``COEXIST_REL`` apart (relative). Two aperiodic
+    responses are not told apart: their amplitudes are samples'."""
+    ok = (ds.status.values == 0).all(axis=0)
+    reg, mult, a = ds.regime.values, ds.multiplicity.values, ds.amplitude.values
+    periodic = np.isfinite(mult).all(axis=0)
+    scale = np.maximum(np.abs(a).max(axis=0), 1e-300)
+    differ = (reg[0] != reg[1]) | (periodic & ((mult[0] != mult[1]) | (
+        np.abs(a[0] - a[1]) > COEXIST_REL * scale)))
+    return ok & differ
+
+
 def frequency_response(params: Params, Omega, direction: str = "both",
                        x0: float = 0.0, xdot0: float | None = None, tol: float = 1e-8,
                        method: str = "auto", **options) -> xr.Dataset:
@@ -121,8 +143,7 @@ def frequency_response(params: Params, Omega, direction: str = "both",
         ``sweepcore.variables.FORCED_OBSERVABLES`` with its units, ``regime``,
         ``status``, ``converged``, the start of each point (``start_x`` [cm],
         ``start_xdot`` [cm/s]) and, with both directions, ``coexisting`` over Omega
-        (both sweeps ok and periodic, with amplitudes more than 1e-4 apart,
-        relative: two steady responses at that frequency).
+        (:func:`coexisting`: two steady responses at that frequency).
     """
     if direction not in DIRECTIONS:
         raise ValueError(f"direction must be one of {tuple(DIRECTIONS)}, got "
@@ -168,12 +189,7 @@ def frequency_response(params: Params, Omega, direction: str = "both",
                                                       "state (x at t = j T)"))
     data["start_xdot"] = (dims, st[..., 1], labels.attrs(
         "cm s-1", "start velocity of the point", "NaN: stuck on the belt (xdot0 = v)"))
-    coords = {n: xr.Variable((), float(v), {"units": UNITS[n], "long_name": LONG_NAMES[n]})
-              for n, v in params.values().items() if v is not None and n != "law"
-              and n != "Omega"}
-    coords.update({n: xr.Variable((), float(getattr(params, n)),
-                                  {"units": UNITS[n], "long_name": LONG_NAMES[n]})
-                   for n in excitations.KEYWORDS if n != "Omega"})
+    coords = _fixed(params, "Omega")
     coords["Omega"] = xr.Variable("Omega", values, {"units": UNITS["Omega"],
                                                     "long_name": LONG_NAMES["Omega"]})
     coords["sweep"] = xr.Variable("sweep", np.array(DIRECTIONS[direction]), {
@@ -181,13 +197,9 @@ def frequency_response(params: Params, Omega, direction: str = "both",
                                    "its neighbour's response)"})
     ds = xr.Dataset(data, coords)
     if direction == "both":
-        a = ds.amplitude.values
-        # periodic responses only: an aperiodic one's amplitude is a sample's
-        ok = ((ds.status.values == 0) & np.isfinite(ds.multiplicity.values)).all(axis=0)
-        scale = np.maximum(np.abs(a).max(axis=0), 1e-300)
-        ds["coexisting"] = ("Omega", ok & (np.abs(a[0] - a[1]) > COEXIST_REL * scale), {
-            "units": "1", "long_name": "two steady responses coexist (the sweeps' amplitudes differ "
-                         "by more than 1e-4, relative)"})
+        ds["coexisting"] = ("Omega", coexisting(ds), {
+            "units": "1", "long_name": "two steady responses coexist (the sweeps "
+                                       "found different ones)"})
     ds.attrs.update({
         **labels.provenance(
             "Frequency-response curve of the forced friction oscillator",
@@ -263,7 +275,8 @@ def stroboscopic_diagram(params: Params, name: str, values, periods: int = 32,
          "xdot": (dims, vs, labels.attrs("cm s-1", "velocity at t = j T")),
          "status": ((name,), np.array([st[s] for s in status], np.int8),
                     labels.flag_attrs(variables.STATUS))},
-        {name: xr.Variable(name, values, {"units": UNITS[name],
+        {**_fixed(params, name),
+         name: xr.Variable(name, values, {"units": UNITS[name],
                                           "long_name": LONG_NAMES[name]}),
          "sample": xr.Variable("sample", np.arange(periods), {
              "units": "1", "long_name": "forcing period j, counted from the first kept one"})})

@@ -1,0 +1,103 @@
+"""Frequency-response curves and a stroboscopic diagram of the forced slider, and a
+coarse preview of studies/forced_map.toml.
+
+    python studies/forced_response.py [--out out/] [--map N]
+
+Writes ``forced_response.{nc,png}``: amplitude and mean against the excitation
+frequency, swept up and down (each point started from its neighbour's response), for
+the damped slider on a belt with a Stribeck law (steady sliding and stick-slip
+coexist there without the load); ``forced_strobe.{nc,png}``: x at t = j T against
+Omega for the same slider under a stronger load (locked and beating responses);
+with ``--map N``, ``forced_map_N.{nc,png}``: the map of studies/forced_map.toml on
+an N x N grid of the same ranges. Prints the wall time of each.
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+
+# the bSTAB friction case (studies/bstab_hysteresis.toml) at a belt speed between
+# its subcritical Hopf point and its fold, under a weak load; started next to
+# steady sliding (x = F(v)/k, sliding a little slower than the belt)
+HYSTERESIS = dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.5, c=0.1, v=1.4, F0=0.05,
+                  Omega=1.0)
+HYSTERESIS_START = dict(x0=0.53, xdot0=1.3)
+HYSTERESIS_OMEGA = np.linspace(0.6, 1.0, 5)
+# the same slider under a stronger load, started stuck on the belt: the load locks
+# the stick-slip cycle near omega (one dot a value), elsewhere the two frequencies
+# beat (a cloud: an aperiodic response)
+STROBE = {**HYSTERESIS, "F0": 0.3}
+STROBE_OMEGA = np.linspace(0.5, 1.5, 41)
+
+
+def response_curve(out: Path) -> None:
+    import sweepcore as sc
+    from sweepcore.plot import plot_frequency_response, save
+    ds = sc.frequency_response(sc.Params(**HYSTERESIS), HYSTERESIS_OMEGA,
+                               **HYSTERESIS_START)
+    sc.write_netcdf(ds, out / "forced_response.nc")
+    save(plot_frequency_response(ds, ("amplitude", "mean", "sticks_per_period")),
+         out / "forced_response.png")
+    band = ds.Omega.values[ds.coexisting.values]
+    print(f"forced_response: coexisting responses at Omega = {band} rad/s")
+
+
+def strobe(out: Path) -> None:
+    import sweepcore as sc
+    from sweepcore.plot import plot_stroboscopic, save
+    ds = sc.stroboscopic_diagram(sc.Params(**STROBE), "Omega", STROBE_OMEGA, periods=32,
+                                 transient=300)
+    sc.write_netcdf(ds, out / "forced_strobe.nc")
+    save(plot_stroboscopic(ds), out / "forced_strobe.png")
+
+
+def preview_map(out: Path, n: int) -> None:
+    """studies/forced_map.toml on an n x n grid of the same ranges."""
+    import sweepcore as sc
+    from sweepcore.cli.commands import label_with_study
+    from sweepcore.plot import plot_result, save
+    from sweepcore.study import load_study
+    study = load_study(HERE / "forced_map.toml")
+    kw = study.grid_kwargs()
+    kw["F0"] = np.linspace(kw["F0"][0], kw["F0"][-1], n)
+    kw["Omega"] = np.geomspace(kw["Omega"][0], kw["Omega"][-1], n)
+    ds = sc.sweep(sc.Grid(**kw), progress=False, **study.options)
+    ds = label_with_study(ds, dataclasses.replace(study, title=study.title
+                                                  + f" ({n} x {n} preview)"),
+                          f"python studies/forced_response.py --map {n}")
+    sc.write_netcdf(ds, out / f"forced_map_{n}.nc")
+    save(plot_result(ds, **study.plot), out / f"forced_map_{n}.png")
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path("out"),
+                        help="output directory (default out/)")
+    parser.add_argument("--map", type=int, metavar="N", default=None,
+                        help="also the N x N preview of studies/forced_map.toml")
+    parser.add_argument("--only", choices=("response", "strobe", "map"), default=None,
+                        help="one part only")
+    args = parser.parse_args(argv)
+    args.out.mkdir(parents=True, exist_ok=True)
+    parts = {"response": lambda: response_curve(args.out),
+             "strobe": lambda: strobe(args.out)}
+    if args.map:
+        parts["map"] = lambda: preview_map(args.out, args.map)
+    for name, run in parts.items():
+        if args.only and name != args.only:
+            continue
+        t0 = time.perf_counter()
+        run()
+        print(f"{name}: {time.perf_counter() - t0:.1f} s", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
