@@ -288,3 +288,21 @@ def test_every_forced_variable_is_documented():
         for name, var in ds.variables.items():
             assert name in units, f"{name} is not in docs/variables.md"
             assert var.attrs["units"] in units[name], (name, var.attrs["units"])
+
+
+def test_coexistence_is_two_different_ok_responses():
+    """Built here: different regimes, multiplicities or periodic amplitudes mark two
+    responses; two aperiodic samples, agreeing ones, or a point not ok do not."""
+    from sweepcore.response_curves import coexisting
+    nan = np.nan
+    ds = xr.Dataset({
+        "regime": (("sweep", "Omega"), np.array([[1, 1, 8, 1, 8, 1],
+                                                 [1, 1, 1, 1, 8, 2]])),
+        "multiplicity": (("sweep", "Omega"), np.array([[1, 1, nan, 1, nan, 1],
+                                                       [1, 1, 1, 2, nan, 1.0]])),
+        "amplitude": (("sweep", "Omega"), np.array([[1.0, 1.0, 2.0, 1.0, 2.0, 1.0],
+                                                    [1.0 + 1e-9, 1.5, 1.0, 1.0, 2.5,
+                                                     3.0]])),
+        "status": (("sweep", "Omega"), np.array([[0, 0, 0, 0, 0, 9],
+                                                 [0, 0, 0, 0, 0, 0]]))})
+    assert coexisting(ds).tolist() == [False, True, True, True, False, False]
