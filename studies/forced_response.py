@@ -3,10 +3,9 @@ coarse preview of studies/forced_map.toml.
 
     python studies/forced_response.py [--out out/] [--map N]
 
-Writes ``forced_response.{nc,png}``: amplitude and mean against the excitation
-frequency, swept up and down (each point started from its neighbour's response), for
-the damped slider on a belt with a Stribeck law (steady sliding and stick-slip
-coexist there without the load); ``forced_strobe.{nc,png}``: x at t = j T against
+Writes ``forced_response.{nc,png}``: amplitude, mean and sticks per cycle against
+the excitation frequency, swept up and down (each point started from its
+neighbour's response), for a damped slider on a belt with a Stribeck law; ``forced_strobe.{nc,png}``: x at t = j T against
 Omega for the same slider under a stronger load (locked and beating responses);
 with ``--map N``, ``forced_map_N.{nc,png}``: the map of studies/forced_map.toml on
 an N x N grid of the same ranges. Prints the wall time of each.
@@ -23,30 +22,40 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 
+# a damped slider on a belt (v = 1) with a steep Stribeck drop (static 1, kinetic
+# 0.5, v_s = 0.1) under a load F0 = 0.15: the response slides without sticking
+# away from resonance and sticks once a cycle where the linear response's velocity
+# amplitude would exceed the belt speed; started sliding slower than the belt
+RESPONSE = dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.1, c=0.1, v=1.0, F0=0.15,
+                Omega=1.0)
+RESPONSE_START = dict(x0=0.5, xdot0=0.9)
+RESPONSE_OMEGA = np.linspace(0.7, 1.3, 31)
 # the bSTAB friction case (studies/bstab_hysteresis.toml) at a belt speed between
-# its subcritical Hopf point and its fold, under a weak load; started next to
-# steady sliding (x = F(v)/k, sliding a little slower than the belt)
-HYSTERESIS = dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.5, c=0.1, v=1.4, F0=0.05,
-                  Omega=1.0)
-HYSTERESIS_START = dict(x0=0.53, xdot0=1.3)
-HYSTERESIS_OMEGA = np.linspace(0.6, 1.0, 5)
+# its subcritical Hopf point and its fold, where stick-slip and steady sliding
+# coexist without a load
+BSTAB = dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.5, c=0.1, v=1.4, Omega=1.0)
 # the same slider under a stronger load, started stuck on the belt: the load locks
 # the stick-slip cycle near omega (one dot a value), elsewhere the two frequencies
 # beat (a cloud: an aperiodic response)
-STROBE = {**HYSTERESIS, "F0": 0.3}
+STROBE = {**BSTAB, "F0": 0.3}
 STROBE_OMEGA = np.linspace(0.5, 1.5, 41)
 
 
 def response_curve(out: Path) -> None:
     import sweepcore as sc
     from sweepcore.plot import plot_frequency_response, save
-    ds = sc.frequency_response(sc.Params(**HYSTERESIS), HYSTERESIS_OMEGA,
-                               **HYSTERESIS_START)
+    ds = sc.frequency_response(sc.Params(**RESPONSE), RESPONSE_OMEGA, **RESPONSE_START)
     sc.write_netcdf(ds, out / "forced_response.nc")
     save(plot_frequency_response(ds, ("amplitude", "mean", "sticks_per_period")),
          out / "forced_response.png")
-    band = ds.Omega.values[ds.coexisting.values]
-    print(f"forced_response: coexisting responses at Omega = {band} rad/s")
+    band = ds.Omega.values[ds.coexisting.values.astype(bool)]
+    stick = ds.Omega.values[(ds.sticks_per_period > 0).any("sweep").values]
+    gap = float(abs(ds.amplitude.sel(sweep="up") - ds.amplitude.sel(sweep="down")).max()
+                / ds.amplitude.max())
+    print(f"forced_response: statuses {sorted(set(ds.status.values.ravel().tolist()))}; "
+          f"sticks at Omega in [{stick.min():.3g}, {stick.max():.3g}] rad/s; "
+          f"largest |A_up - A_down| / max A = {gap:.2g}; coexisting responses at "
+          f"Omega = {band} rad/s")
 
 
 def strobe(out: Path) -> None:
