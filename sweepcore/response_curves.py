@@ -171,6 +171,10 @@ def frequency_response(params: Params, Omega, direction: str = "both",
     data = {}
     for name, (_c, *meta) in variables.FORCED_OBSERVABLES.items():
         vals = np.array([[getattr(r, name) for r in rows] for rows in scans], float)
+        if name in variables.INTEGER:       # counts, stored as a sweep stores them
+            fill = variables.INTEGER[name]
+            vals = np.where(np.isfinite(vals), vals, -1 if fill is None else fill)
+            vals = vals.astype(np.int64)
         data[name] = (dims, vals, labels.attrs(*meta))
     for name, meta in (("regime", variables.REGIME), ("status", variables.STATUS)):
         codes = {v: k for k, v in zip(meta["flag_values"], meta["flag_meanings"].split())}

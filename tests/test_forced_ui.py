@@ -11,7 +11,9 @@ What is proven:
   excitation without --Omega is refused (exit 2) naming Omega;
 * ``sweepcore run`` on a forced study writes the map and its picture, ``info``
   counts its stops per period as the file holds them, ``plot`` draws it;
-* frequency-response curves: on Den Hartog's oscillator (one response at each
+* frequency-response curves: across the critical load of a belt with Coulomb
+  friction the curve jumps from the linear amplitude (closed form, 1e-7) to a
+  sticking response, in both sweeps; on Den Hartog's oscillator (one response at each
   frequency) the up and down sweeps agree and both equal Den Hartog's closed-form
   amplitude to 1e-7 relative; the start handed to the next point is a fixed point
   of the stroboscopic map (one more period returns to it within 1e-6 of the
@@ -184,6 +186,28 @@ def test_frequency_response_sweeps_agree_on_den_hartog():
     assert ds.start_x.sel(sweep="down", Omega=2.6) == ds.start_x.sel(sweep="down",
                                                                      Omega=2.6)
     assert abs(float(ds.start_x.sel(sweep="down", Omega=2.6))) <= expect[-1] * (1 + 1e-6)
+
+
+def test_frequency_response_jumps_at_the_critical_load():
+    """A belt (v = 1), Coulomb friction, damping: where F0 < F0_crit(Omega) =
+    v |k - m Omega^2 + i c Omega| / Omega the slider never reaches the belt and both
+    sweeps find the linear amplitude F0 / |k - m Omega^2 + i c Omega| (1e-7
+    relative); where F0 > F0_crit it sticks (the jump of the curve), in both."""
+    m, k, c, v, F0 = 1.0, 1.0, 0.1, 1.0, 0.15
+    p = sc.Params(m=m, k=k, r_y=1.0, v=v, c=c, F0=F0, Omega=1.0)
+    Om = np.array([0.8, 0.9, 0.97, 1.0])
+    ds = sc.frequency_response(p, Om, x0=1.0, xdot0=0.9)
+    assert (ds.status.values == 0).all() and not ds.coexisting.values.any()
+    for w in Om:
+        crit = v * math.hypot(k - m * w * w, c * w) / w
+        for s in ("up", "down"):
+            pt = ds.sel(sweep=s, Omega=w)
+            if F0 < crit:
+                assert int(pt.sticks_per_period) == 0
+                assert float(pt.amplitude) == pytest.approx(
+                    F0 / math.hypot(k - m * w * w, c * w), rel=1e-7)
+            else:
+                assert int(pt.sticks_per_period) >= 1
 
 
 def test_settled_state_is_on_the_stroboscopic_cycle():
