@@ -201,14 +201,21 @@ def initial_forced(st, x0, xd0, p, lw, fa, fb, om, o):
     st[S_H] = 0.05 / max(math.sqrt(p[K] / p[M]), om)
 
 
+@kernel(inline="always")
+def _at(x, zd, t, tau, s, p, lw, cf, fa, fb, om, o, ws, vw):
+    """The re-stepped state at t + tau (dense output is the stepper itself)."""
+    return forced_step(x, zd, t, tau, s, p, lw, cf, fa, fb, om, o, ws, vw[0], vw[1],
+                       False, False)
+
+
 @kernel
-def _polish(which, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, lo, hi, st):
+def _polish(which, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, lo, hi, st):
     """Root in [lo, hi] of a function of the re-stepped state at t + tau: which 0:
     s zdot (falling through 0), 1: xdot, 2: zdot'. Bisection on the sign at lo,
     with secant steps (regula falsi, Illinois). Returns (tau, x, zd)."""
-    x1, z1, _q, _e = forced_step(x, zd, t, lo, s, p, lw, cf, fa, fb, om, o, ws, False)
+    x1, z1, _q, _e = _at(x, zd, t, lo, s, p, lw, cf, fa, fb, om, o, ws, vw)
     flo = _value(which, x1, z1, t + lo, s, p, lw, cf, fa, fb, om)
-    x2, z2, _q, _e = forced_step(x, zd, t, hi, s, p, lw, cf, fa, fb, om, o, ws, False)
+    x2, z2, _q, _e = _at(x, zd, t, hi, s, p, lw, cf, fa, fb, om, o, ws, vw)
     fhi = _value(which, x2, z2, t + hi, s, p, lw, cf, fa, fb, om)
     st[S_N] += 2.0
     if flo == 0.0:
@@ -222,7 +229,7 @@ def _polish(which, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, lo, hi, st):
         tau = (lo * fhi - hi * flo) / (fhi - flo)
         if not lo < tau < hi:
             tau = 0.5 * (lo + hi)
-        xm, zm, _q, _e = forced_step(x, zd, t, tau, s, p, lw, cf, fa, fb, om, o, ws, False)
+        xm, zm, _q, _e = _at(x, zd, t, tau, s, p, lw, cf, fa, fb, om, o, ws, vw)
         st[S_N] += 1.0
         fm = _value(which, xm, zm, t + tau, s, p, lw, cf, fa, fb, om)
         if fm == 0.0:
@@ -237,7 +244,7 @@ def _polish(which, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, lo, hi, st):
             if side == 1:
                 flo *= 0.5
             side = 1
-    x2, z2, _q, _e = forced_step(x, zd, t, hi, s, p, lw, cf, fa, fb, om, o, ws, False)
+    x2, z2, _q, _e = _at(x, zd, t, hi, s, p, lw, cf, fa, fb, om, o, ws, vw)
     st[S_N] += 1.0
     return hi, x2, z2
 
@@ -252,21 +259,21 @@ def _value(which, x, zd, t, s, p, lw, cf, fa, fb, om):
 
 
 @kernel
-def _extrema(x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, hk, z1, a0, a1, acc, st):
+def _extrema(x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, hk, z1, a0, a1, acc, st):
     """Note the extrema of x (x' = 0) and of x' (x'' = 0) inside [0, hk] of the step
     from (x, zd) at t; z1, a1: zdot and zdot' at hk."""
     v = p[V]
     xd0 = zd + v
     if xd0 != 0.0 and (xd0 > 0.0) != (z1 + v > 0.0):
-        _h, xx, zx = _polish(1, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, 0.0, hk, st)
+        _h, xx, zx = _polish(1, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, 0.0, hk, st)
         _note(acc, xx, zx + v)
     if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
-        _h, xv, zv = _polish(2, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, 0.0, hk, st)
+        _h, xv, zv = _polish(2, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, 0.0, hk, st)
         _note(acc, xv, zv + v)
 
 
 @kernel
-def slide_forced(st, p, lw, fa, fb, om, o, acc, ws, t_stop, measure):
+def slide_forced(st, p, lw, fa, fb, om, o, acc, ws, vw, t_stop, measure, track):
     """Integrate the slide until zdot = 0 (then the stop rules) or t_stop."""
     v = p[V]
     s = st[S_MODE]
@@ -296,7 +303,8 @@ def slide_forced(st, p, lw, fa, fb, om, o, acc, ws, t_stop, measure):
                 return codes.EV_STOP_TIME, codes.STEP_UNDERFLOW
             st[S_T] = t_stop
             return codes.EV_STOP_TIME, codes.OK
-        x1, z1, qx, err = forced_step(x, zd, t, h, s, p, lw, cf, fa, fb, om, o, ws, measure)
+        x1, z1, qx, err = forced_step(x, zd, t, h, s, p, lw, cf, fa, fb, om, o, ws, vw[0],
+                                      vw[1], measure, track)
         st[S_N] += 1.0
         if not (err <= 1.0):
             st[S_H] = h * (0.2 if not (err < 1e300) else max(0.2, 0.9 * err ** -0.125))
@@ -313,27 +321,30 @@ def slide_forced(st, p, lw, fa, fb, om, o, acc, ws, t_stop, measure):
         st[S_ARMED] = 1.0 if armed else 0.0
         h_ev = -1.0
         if kind == 1:
-            tau, xe, ze = _polish(0, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, ta * h,
+            tau, xe, ze = _polish(0, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, ta * h,
                                   tb * h, st)
             if s * ze <= 0.0 or abs(ze) <= gtol:
                 h_ev = tau
         if kind == 2 or (kind == 1 and h_ev < 0.0 and s * a0 < 0.0 < s * a1):
             lo = 0.5 * (ta + tc) * h if kind == 2 else 0.0
             hi = 0.5 * (tc + tb) * h if kind == 2 else h
-            tau, xc, zc = _polish(2, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, lo, hi, st)
+            tau, xc, zc = _polish(2, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, lo, hi,
+                                  st)
             if s * zc <= gtol:
                 if s * zc < 0.0:        # a double crossing: the first root
                     tau, xc, zc = _polish(0, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws,
-                                          0.0, tau, st)
+                                          vw, 0.0, tau, st)
                 h_ev = tau
         if h_ev < 0.0 and armed and 0.0 < g1 <= gtol and g1 < g0:
             h_ev = h                     # the step ends on a touch
         if h_ev >= 0.0:
-            return _finish(st, p, lw, fa, fb, om, o, acc, ws, cf, x, zd, t, s, h_ev, a0,
-                           ftol, measure)
+            return _finish(st, p, lw, fa, fb, om, o, acc, ws, vw, cf, x, zd, t, s, h_ev,
+                           a0, ftol, measure, track)
         if measure:
             acc[A_IX] += qx
-            _extrema(x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, h, z1, a0, a1, acc, st)
+            _extrema(x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, h, z1, a0, a1, acc, st)
+        if track:
+            vw[0, :] = vw[1, :]
         acc[A_DT] += h
         st[S_T] = t + h if not last else t_stop
         st[S_X] = x1
@@ -344,18 +355,33 @@ def slide_forced(st, p, lw, fa, fb, om, o, acc, ws, t_stop, measure):
 
 
 @kernel
-def _finish(st, p, lw, fa, fb, om, o, acc, ws, cf, x, zd, t, s, h_ev, a0, ftol, measure):
-    """Take the partial step to the zdot = 0 event at h_ev and apply the stop rules."""
+def _finish(st, p, lw, fa, fb, om, o, acc, ws, vw, cf, x, zd, t, s, h_ev, a0, ftol, measure,
+            track):
+    """Take the partial step to the zdot = 0 event at h_ev and apply the stop rules;
+    with ``track``, the variational state passes the switch through its saltation
+    matrix: a stick forgets the velocity (its row is zeroed), a stop scales it by
+    the ratio of the accelerations after and before (``zdot'+ / zdot'-``)."""
     v = p[V]
-    xe, ze, qx, _e = forced_step(x, zd, t, h_ev, s, p, lw, cf, fa, fb, om, o, ws, measure)
+    xe, ze, qx, _e = forced_step(x, zd, t, h_ev, s, p, lw, cf, fa, fb, om, o, ws, vw[0],
+                                 vw[1], measure, track)
     st[S_N] += 1.0
+    ae = forced_accel(xe, 0.0, t + h_ev, s, p, lw, cf, fa, fb, om)
     if measure:
         acc[A_IX] += qx
-        ae = forced_accel(xe, 0.0, t + h_ev, s, p, lw, cf, fa, fb, om)
-        _extrema(x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, h_ev, 0.0, a0, ae, acc, st)
+        _extrema(x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, h_ev, 0.0, a0, ae, acc, st)
     acc[A_DT] += h_ev
     st[S_T] = t + h_ev
     new, ev = classify_forced(xe, st[S_T], s, p, lw, fa, fb, om, ftol)
+    if track:
+        vw[0, :] = vw[1, :]
+        if new == codes.STICK:
+            ratio = 0.0
+        else:
+            after = forced_accel(xe, 0.0, st[S_T], new, p, lw, constants(p, lw, new), fa,
+                                 fb, om)
+            ratio = after / ae if ae != 0.0 else 1.0
+        vw[0, 2] *= ratio
+        vw[0, 3] *= ratio
     st[S_X] = xe
     st[S_ZD] = 0.0
     st[S_MODE] = new
@@ -369,8 +395,11 @@ def _finish(st, p, lw, fa, fb, om, o, acc, ws, cf, x, zd, t, s, h_ev, a0, ftol, 
 
 
 @kernel
-def advance_forced(st, p, lw, fa, fb, om, o, acc, ws, t_stop, measure):
-    """Advance to the next event or to t_stop; returns (event, status)."""
+def advance_forced(st, p, lw, fa, fb, om, o, acc, ws, vw, t_stop, measure, track):
+    """Advance to the next event or to t_stop; returns (event, status). ``vw[0]``: the
+    variational state (advanced when ``track``; a stick leaves it as it is: x moves
+    with the belt whatever its start, and the release at the band's edge starts with
+    the stick's own velocity and acceleration, so its saltation is the identity)."""
     if st[S_MODE] == codes.STICK:
         return stick_forced(st, p, lw, fa, fb, om, acc, t_stop)
-    return slide_forced(st, p, lw, fa, fb, om, o, acc, ws, t_stop, measure)
+    return slide_forced(st, p, lw, fa, fb, om, o, acc, ws, vw, t_stop, measure, track)

@@ -10,8 +10,9 @@ Wanner's error estimator (the coefficients of ``dop853.py``, read from it, so th
 one copy of them), written as loops over the tableau: a stage sees its own time
 ``t + c_i h``. As in ``stepper.py``'s contract the state at ``t + theta h`` is the step
 itself over ``theta h`` (events are located on re-steps), and the quadrature of x is
-the step's own, at the method's order. ``ws`` is a (4, 12) work array (stage slopes
-of x and zdot, stage states), taken once per point so the loop allocates nothing.
+the step's own, at the method's order. ``ws`` is an (8, 12) work array (stage slopes
+of x and zdot, stage states, and the variational equations' stage slopes), taken
+once per point so the loop allocates nothing.
 """
 import math
 
@@ -21,8 +22,9 @@ from . import dop853
 from .dop853 import FLOOR_GAIN
 from .dopri5 import EPS
 from .jit import kernel
-from .law import zdd_of
-from .layout import K, M, O_LV, O_LX, O_RTOL, V
+from .law import field_slope, zdd_of
+from .layout import K, M, O_LV, O_LX, O_RTOL
+from .layout import V as V_
 
 STAGES = 12
 _C = np.zeros(STAGES)
@@ -50,11 +52,15 @@ def load(fa, fb, om, t):
 
 
 @kernel
-def forced_step(x, zd, t, h, s, p, lw, cf, fa, fb, om, o, ws, want_q):
+def forced_step(x, zd, t, h, s, p, lw, cf, fa, fb, om, o, ws, V, vout, want_q, want_v):
     """One step from (x, zd) at time t [s] over h [s] of the slide with sign s:
     ``(x1, zd1, q_x, err)`` (q_x the step's quadrature of x [cm s], 0 unless
-    ``want_q``; err the error scaled by the tolerance, <= 1 accept)."""
-    v = p[V]
+    ``want_q``; err the error scaled by the tolerance, <= 1 accept). With ``want_v``
+    the variational equations ride along: ``V`` (4: the Jacobian of the state
+    (x, zdot) with respect to a start, row by row) is advanced by the same stages
+    into ``vout``, with ``d zdot'/d x = -k/m`` and ``d zdot'/d zdot = -(c + F')/m``
+    (the slide's branch of F')."""
+    v = p[V_]
     k = p[K]
     im = 1.0 / p[M]
     for i in range(STAGES):
@@ -71,6 +77,20 @@ def forced_step(x, zd, t, h, s, p, lw, cf, fa, fb, om, o, ws, want_q):
         ws[3, i] = zi
         ws[0, i] = zi + v
         ws[1, i] = zdd_of(xi, zi, s, cf, lw, k, im) + load(fa, fb, om, t + C_[i] * h) * im
+        if want_v:
+            g = field_slope(lw, cf, zi) * im
+            for c in range(2):             # the two columns of the Jacobian
+                px = 0.0
+                pz = 0.0
+                for j in range(i):
+                    aij = A_[i, j]
+                    if aij != 0.0:
+                        px += aij * ws[4 + 2 * c, j]
+                        pz += aij * ws[5 + 2 * c, j]
+                vx = V[c] + h * px
+                vz = V[2 + c] + h * pz
+                ws[4 + 2 * c, i] = vz
+                ws[5 + 2 * c, i] = -k * im * vx + g * vz
     bx = 0.0
     bz = 0.0
     e5x = 0.0
@@ -87,7 +107,17 @@ def forced_step(x, zd, t, h, s, p, lw, cf, fa, fb, om, o, ws, want_q):
             e3x += E3_[i] * ws[0, i]
             e3z += E3_[i] * ws[1, i]
             if want_q:
-                qx += B_[i] * (x if i == 0 else ws[2, i])
+                qx += B_[i] * ws[2, i]
+    if want_v:
+        for c in range(2):
+            px = 0.0
+            pz = 0.0
+            for i in range(STAGES):
+                if B_[i] != 0.0:
+                    px += B_[i] * ws[4 + 2 * c, i]
+                    pz += B_[i] * ws[5 + 2 * c, i]
+            vout[c] = V[c] + h * px
+            vout[2 + c] = V[2 + c] + h * pz
     x1 = x + h * bx
     z1 = zd + h * bz
     floor_z = FLOOR_GAIN * EPS * h * k * im * abs(x)

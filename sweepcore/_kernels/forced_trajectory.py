@@ -18,7 +18,8 @@ def run_forced_trajectory(p, lw, ex, o_in, t_samples, out_x, out_zd, out_mode, e
     fa, fb, om = coefficients(ex, p)
     _T = forcing_period(ex, p)
     o = forced_options(p, lw, fa, fb, om, o_in)
-    ws = np.empty((4, 12))
+    ws = np.empty((8, 12))
+    vw = np.zeros((2, 4))
     st = np.zeros(NS)
     initial_forced(st, p[X0], p[XD0], p, lw, fa, fb, om, o)
     n_ev = 0
@@ -27,7 +28,7 @@ def run_forced_trajectory(p, lw, ex, o_in, t_samples, out_x, out_zd, out_mode, e
     for i in range(t_samples.shape[0]):
         ts = t_samples[i]
         while st[S_T] < ts and status == codes.OK:
-            ev, status = advance_forced(st, p, lw, fa, fb, om, o, acc, ws, ts, True)
+            ev, status = advance_forced(st, p, lw, fa, fb, om, o, acc, ws, vw, ts, True, False)
             if ev == codes.EV_SLIP or ev == codes.EV_STICK or \
                     ev == codes.EV_NORMAL_STOP or ev == codes.EV_ABNORMAL_STOP:
                 if n_ev < cap:
