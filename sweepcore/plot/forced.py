@@ -73,9 +73,10 @@ def continuous_motion_boundary(ds: xr.Dataset, Omega: np.ndarray):
         r_b = theory.continuous_motion_boundary
     except (ImportError, AttributeError):   # the closed forms are not installed
         return None
-    def scalar(n, default=0.0):
-        return float(ds[n]) if n in ds.coords and ds[n].ndim == 0 else \
-            (default if n not in ds.coords else None)
+    def scalar(n, default=0.0):     # a fixed parameter (a swept one: None)
+        if n not in ds:
+            return default
+        return float(ds[n]) if ds[n].ndim == 0 else None
     v, c, y0 = scalar("v"), scalar("c"), scalar("Y0")
     a1, a2 = scalar("alpha1"), scalar("alpha2")
     r_y, r_k = scalar("r_y", None), scalar("r_k", None)
@@ -117,8 +118,11 @@ def plot_forced_map(ds: xr.Dataset, x: str = "Omega", y: str = "F0",
     axs = np.atleast_1d(fig.subplots(rows, cols)).ravel()
     for ax in axs[len(variables):]:
         ax.set_visible(False)
-    boundary = continuous_motion_boundary(ds, ds[x].values) if (x, y) == \
-        ("Omega", "F0") else None
+    # the boundary on a fine grid of the map's frequencies (a smooth curve)
+    fine = (np.geomspace if xlog else np.linspace)(ds[x].values.min(),
+                                                   ds[x].values.max(), 400)
+    boundary = continuous_motion_boundary(ds, fine) if (x, y) == ("Omega", "F0") \
+        else None
     for ax, name in zip(axs, variables):
         if name not in ds:
             raise ValueError(f"{name!r} is not a variable of the map")
@@ -137,8 +141,8 @@ def plot_forced_map(ds: xr.Dataset, x: str = "Omega", y: str = "F0",
             ax.set_title(ds[name].attrs.get("long_name", name) + " (ok points)",
                          fontsize=10)
         if boundary is not None:
-            ax.plot(ds[x].values, boundary, "k--", lw=1.2,
-                    label="continuous motion below: F0 = r / r_b(Omega/omega)")
+            ax.plot(fine, boundary, "k--", lw=1.2,
+                    label="F0 = r / r_b(Omega/omega): no stick above (Den Hartog)")
             if name not in CLASS_VARIABLES:
                 ax.legend(loc="lower right", fontsize=7)
         ax.set_xscale("log" if xlog else "linear")
