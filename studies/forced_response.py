@@ -50,12 +50,15 @@ def response_curve(out: Path) -> None:
          out / "forced_response.png")
     band = ds.Omega.values[ds.coexisting.values.astype(bool)]
     stick = ds.Omega.values[(ds.sticks_per_period > 0).any("sweep").values]
-    gap = float(abs(ds.amplitude.sel(sweep="up") - ds.amplitude.sel(sweep="down")).max()
-                / ds.amplitude.max())
-    print(f"forced_response: statuses {sorted(set(ds.status.values.ravel().tolist()))}; "
-          f"sticks at Omega in [{stick.min():.3g}, {stick.max():.3g}] rad/s; "
-          f"largest |A_up - A_down| / max A = {gap:.2g}; coexisting responses at "
-          f"Omega = {band} rad/s")
+    both = (ds.status == 0).all("sweep")
+    gap = float(abs(ds.amplitude.sel(sweep="up") - ds.amplitude.sel(sweep="down"))
+                .where(both).max() / ds.amplitude.max())
+    bad = {f"{w:g}": [str(x) for x in ds.status.sel(Omega=w).values]
+           for w in ds.Omega.values[~both.values]}
+    print(f"forced_response: status codes (up, down) not ok at Omega {bad}; sticks at "
+          f"Omega in [{stick.min():.3g}, {stick.max():.3g}] rad/s; largest "
+          f"|A_up - A_down| / max A where both are ok = {gap:.2g}; coexisting "
+          f"responses at Omega = {band} rad/s")
 
 
 def strobe(out: Path) -> None:
