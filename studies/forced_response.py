@@ -1,14 +1,16 @@
 """Frequency-response curves and a stroboscopic diagram of the forced slider, and a
 coarse preview of studies/forced_map.toml.
 
-    python studies/forced_response.py [--out out/] [--map N]
+    python studies/forced_response.py [--out out/] [--map N] [--only PART]
+    python studies/forced_response.py --check out/forced_map.nc
 
 Writes ``forced_response.{nc,png}``: amplitude, mean and sticks per cycle against
 the excitation frequency, swept up and down (each point started from its
 neighbour's response), for a damped slider on a belt with a Stribeck law; ``forced_strobe.{nc,png}``: x at t = j T against
 Omega for the same slider under a stronger load (locked and beating responses);
 with ``--map N``, ``forced_map_N.{nc,png}``: the map of studies/forced_map.toml on
-an N x N grid of the same ranges. Prints the wall time of each.
+an N x N grid of the same ranges. Prints the wall time of each. ``--check`` compares
+a forced_map result with Den Hartog's continuous-motion boundary.
 """
 from __future__ import annotations
 
@@ -88,6 +90,34 @@ def preview_map(out: Path, n: int) -> None:
     save(plot_result(ds, **study.plot), out / f"forced_map_{n}.png")
 
 
+def boundary_check(path: Path) -> None:
+    """How the map's measured edge between no stick and sticking agrees with Den
+    Hartog's continuous-motion boundary F0 = r_y / r_b(Omega/omega): in every column
+    where the boundary is inside the map, the ok cells above it with a stick and
+    those between r_y and it without one, and the largest distance of such a cell
+    from the boundary in grid cells."""
+    import sweepcore as sc
+    from sweepcore.excitations import theory
+    ds = sc.open_result(path)
+    F0, r = ds.F0.values, float(ds.r_y)
+    step = float(np.min(np.diff(F0)))
+    omega = float(ds.omega)
+    worst, columns, wrong = 0.0, 0, 0
+    for j, w in enumerate(ds.Omega.values):
+        fb = r / float(theory.continuous_motion_boundary(w / omega))
+        if not F0[0] < fb < F0[-1]:
+            continue
+        columns += 1
+        sticks = ds.sticks_per_period.isel(Omega=j).values
+        ok = (ds.status.isel(Omega=j).values == 0) & (F0 > r)
+        bad = F0[ok & (((F0 > fb) & (sticks != 0)) | ((F0 < fb) & (sticks == 0)))]
+        wrong += bad.size
+        if bad.size:
+            worst = max(worst, float(np.max(np.abs(bad - fb))) / step)
+    print(f"boundary check of {path}: {columns} columns cross r_b; {wrong} ok cells on "
+          f"the wrong side of it (farthest {worst:.3g} cells)")
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=Path("out"),
@@ -96,7 +126,13 @@ def main(argv=None) -> int:
                         help="also the N x N preview of studies/forced_map.toml")
     parser.add_argument("--only", choices=("response", "strobe", "map"), default=None,
                         help="one part only")
+    parser.add_argument("--check", type=Path, metavar="MAP.nc", default=None,
+                        help="only compare a forced_map result with Den Hartog's "
+                             "continuous-motion boundary")
     args = parser.parse_args(argv)
+    if args.check:
+        boundary_check(args.check)
+        return 0
     args.out.mkdir(parents=True, exist_ok=True)
     parts = {"response": lambda: response_curve(args.out),
              "strobe": lambda: strobe(args.out)}
