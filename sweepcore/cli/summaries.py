@@ -3,6 +3,7 @@ simulations, boundaries and diagrams, and the lines ``run``, ``simulate`` and
 ``boundary`` print when they finish."""
 from __future__ import annotations
 
+import math
 from collections import Counter
 
 import numpy as np
@@ -174,6 +175,18 @@ def _onset_lines(ds, vs) -> list[str]:
     return lines
 
 
+def _excitation_line(ds) -> list[str]:
+    """A forced run's excitation and its frequency ratio beta = Omega/omega (none
+    for an unforced run)."""
+    if "external_force" not in ds:
+        return []
+    F0, Om, phi, Y0 = (parameter(ds, n) for n in ("F0", "Omega", "phi", "Y0"))
+    omega = math.sqrt(parameter(ds, "k") / parameter(ds, "m"))
+    return [f"  excitation: F0 = {F0:.6g} kN, Omega = {Om:.6g} rad s-1 (Omega/omega = "
+            f"{Om / omega:.6g}, period {2 * math.pi / Om:.6g} s), phi = {phi:.6g} rad, "
+            f"Y0 = {Y0:.6g} cm"]
+
+
 def _describe_simulation(ds) -> str:
     a = ds.attrs
     t = ds.time.values
@@ -181,6 +194,7 @@ def _describe_simulation(ds) -> str:
              "  slider: " + ", ".join(f"{n} = {value:.6g}{_units(ds[n])}"
                                       if n in ds.coords else f"{n} = {value:.6g}"
                                       for n, value in slider_parameters(ds)),
+             *_excitation_line(ds),
              f"  start: x0 = {parameter(ds, 'x0'):.6g} cm, "
              f"xdot0 = {parameter(ds, 'xdot0'):.6g} cm s-1",
              *_run_lines(ds)]
@@ -230,11 +244,6 @@ def _run_lines(ds) -> list[str]:
 def simulation_summary(ds, p) -> str:
     """Summary of a fresh simulation with the slider's analytic quantities."""
     law = "" if p.law is None else f"  {p.law.describe()}\n"
-    if p.forced:        # the excitation and its frequency ratio beta = Omega/omega
-        law += (f"  excitation: F0 = {p.F0:.6g} kN, Omega = {p.Omega:.6g} rad s-1 "
-                f"(Omega/omega = {p.Omega / p.omega:.6g}, period "
-                f"{2 * np.pi / p.Omega:.6g} s), phi = {p.phi:.6g} rad, "
-                f"Y0 = {p.Y0:.6g} cm\n")
     return (_describe_simulation(ds) + "\n" + law +
             f"  analytic: omega = {p.omega:.6g} s-1, q = {p.q:.6g} s-1 (eq. 46), "
             f"v* = {p.v_star:.6g} cm s-1 ({p.criticality} Hopf point), "
