@@ -7,10 +7,11 @@ Public API::
     Params, simulate, attractor, Attractor, Grid, sweep, estimate, SweepTooLarge,
     hopf_boundary,
     locate_boundaries, continue_boundary, bifurcation_diagram, slip_cycles,
-    basin_stability,
+    basin_stability, frequency_response, stroboscopic_diagram,
     open_result, write_netcdf, check_cf, compile,
     plot_result, plot_map, plot_lines, plot_trajectory, plot_cases, plot_friction,
-    plot_diagram, plot_hysteresis, plot_boundaries, plot_basins,
+    plot_diagram, plot_hysteresis, plot_boundaries, plot_basins, plot_forced_map,
+    plot_frequency_response, plot_stroboscopic,
     TableLaw, LeineLaw (every law class of ``sweepcore.laws.LAWS``)
 
 Every name is imported on first use (PEP 562): ``import sweepcore`` imports
@@ -42,22 +43,17 @@ _WHERE = {
     "simulate": ".simulate",
     "SweepTooLarge": ".sizing", "estimate": ".sizing",
     "sweep": ".sweep",
+    "frequency_response": ".response_curves", "stroboscopic_diagram": ".response_curves",
 }
 PLOTS = ("plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
          "plot_friction", "plot_diagram", "plot_hysteresis", "plot_boundaries",
-         "plot_basins")
+         "plot_basins", "plot_forced_map", "plot_frequency_response", "plot_stroboscopic")
 _NAMES = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "estimate",
           "SweepTooLarge",
           "hopf_boundary", "locate_boundaries", "continue_boundary",
-          "bifurcation_diagram", "slip_cycles", "basin_stability",
+          "bifurcation_diagram", "slip_cycles", "basin_stability", "frequency_response",
+          "stroboscopic_diagram",
           "open_result", "write_netcdf", "check_cf", "compile", *PLOTS]
-
-
-def _law_classes() -> dict:
-    """The friction laws given as objects (law=): every class of the law table
-    (sweepcore.laws.LAWS), by its name: sweepcore.TableLaw, sweepcore.LeineLaw, ..."""
-    from .laws import OBJECTS
-    return {cls.__name__: cls for cls in OBJECTS}
 
 
 def _law_classes() -> dict:

@@ -33,10 +33,12 @@ from pathlib import Path
 
 import numpy as np
 
-from .options import METHODS, did_you_mean
+from . import excitations
+from .options import MAX_PERIODS_SOUGHT, METHODS, did_you_mean
 from .params import LONG_NAMES, RULES, UNITS, check_real
 from .study_basins import basins_table
 from .study_boundary import boundary_table
+from .study_excitation import excitation_table
 from .study_law import law_table
 
 if sys.version_info >= (3, 11):
@@ -44,17 +46,18 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-# axis name -> check_real keywords (the Params / initial-state rules)
-AXIS_RULES = RULES
+# axis name -> check_real keywords (the Params / initial-state rules); the
+# excitation's keywords are axes of [excitation] (sweepcore.study_excitation)
+AXIS_RULES = {n: r for n, r in RULES.items() if n not in excitations.KEYWORDS}
 REQUIRED_AXES = ("m", "k", "r_y", "v")      # r_y: unless [law] gives the law
 SPACINGS = ("linear", "geometric")
 RANGE_KEYS = ("start", "stop", "num", "spacing")
 MAX_POINTS = 50_000_000
 
-TOP_KEYS = ("title", "description", "axes", "law", "solver", "output", "plot",
-            "boundary", "basins")
+TOP_KEYS = ("title", "description", "axes", "excitation", "law", "solver", "output",
+            "plot", "boundary", "basins")
 SOLVER_KEYS = ("method", "tol", "chunks", "dt", "max_steps", "max_periods", "gps_a",
-               "graze")
+               "graze", "periods")
 OUTPUT_KEYS = ("path", "png")
 PLOT_KEYS = ("variables", "x", "y")
 
@@ -103,8 +106,9 @@ class Study:
     Attributes
     ----------
     axes : dict of str -> Axis
-        In file order; unlisted optional axes (alpha1, alpha2, x0) are 0 and an
-        unlisted xdot0 means "start stuck on the belt" (xdot0 = v).
+        In file order, ``[axes]`` then ``[excitation]``; unlisted optional axes
+        (alpha1, alpha2, x0) are 0 and an unlisted xdot0 means "start stuck on the
+        belt" (xdot0 = v).
     solver : dict
         ``method``, ``tol`` and any further options of ``sweep`` (``dt``,
         ``max_steps``, ``max_periods``, ``gps_a``, ``graze``); ``chunks`` apart.
@@ -263,9 +267,9 @@ def _describe(val) -> str:
         else kind
 
 
-def _axis(ck: _Checker, name: str, val) -> Axis:
-    kp = ("axes", name)
-    rule = AXIS_RULES[name]
+def _axis(ck: _Checker, name: str, val, table: str = "axes") -> Axis:
+    kp = (table, name)
+    rule = RULES[name]
     if isinstance(val, dict):
         ck.known(val, RANGE_KEYS, kp)
         for req in ("start", "stop", "num"):
@@ -301,6 +305,10 @@ def _axes(ck: _Checker, doc: dict) -> dict:
     if "axes" not in doc:
         ck.fail((), "missing [axes] table (it needs at least m, k, r_y and v)")
     table = ck.table(doc, "axes")
+    for key in table:
+        if key in excitations.KEYWORDS:
+            ck.fail(("axes", key), f"{key} is a key of the excitation: move it to an "
+                                   "[excitation] table")
     ck.known(table, tuple(AXIS_RULES), ("axes",))
     for name in REQUIRED_AXES:
         if name == "r_y" and "law" in doc:
@@ -310,8 +318,10 @@ def _axes(ck: _Checker, doc: dict) -> dict:
                 f"missing axis {name!r} ({LONG_NAMES[name]} [{UNITS[name]}]); "
                 f"[axes] needs {', '.join(REQUIRED_AXES)}", key=f"axes.{name}",
                 line=key_line(ck.text, ("axes",)), path=ck.path)
-    # sized from the raw table first: no axis is built for a grid refused anyway
-    size = math.prod(_raw_size(val) for val in table.values())
+    # sized from the raw tables first: no axis is built for a grid refused anyway
+    given = doc.get("excitation")
+    extra = list(given.values()) if isinstance(given, dict) else []
+    size = math.prod(_raw_size(val) for val in [*table.values(), *extra])
     if size > MAX_POINTS:
         ck.fail(("axes",), f"the grid has {size} points, more than {MAX_POINTS}; "
                            "split the study")
@@ -338,6 +348,10 @@ def _solver(ck: _Checker, doc: dict) -> dict:
             out["chunks"] = ck.integer(kp, val, minimum=1)
         elif key == "max_steps":
             out["options"][key] = ck.integer(kp, val, minimum=1)
+        elif key == "periods":      # a forced response's largest multiplicity
+            out["options"][key] = ck.integer(kp, val, minimum=1)
+            if val > MAX_PERIODS_SOUGHT:
+                ck.fail(kp, f"must be an integer in [1, {MAX_PERIODS_SOUGHT}], got {val}")
         elif key in ("tol", "graze"):
             x = ck.real(kp, val, positive=True)
             if not x < 1.0:
@@ -378,7 +392,8 @@ def sweep_variables() -> list[str]:
     from . import variables
     from .boundary import BOUNDARY_VARIABLES
 
-    return [*variables.OBSERVABLES, "regime", "status", "converged",
+    forced = [n for n in variables.FORCED_OBSERVABLES if n not in variables.OBSERVABLES]
+    return [*variables.OBSERVABLES, *forced, "regime", "status", "converged",
             *variables.ANALYTIC, *BOUNDARY_VARIABLES]
 
 
@@ -431,6 +446,7 @@ def parse_study(text: str, path: str | Path | None = None) -> Study:
     description = ck.string(("description",), doc.get("description", ""))
     axes = _axes(ck, doc)
     law = law_table(ck, doc, axes, path)
+    axes = {**axes, **excitation_table(ck, doc, _axis)}
     solver = _solver(ck, doc)
     output = _output(ck, doc)
     plot = _plot(ck, doc, axes)
@@ -442,9 +458,11 @@ def parse_study(text: str, path: str | Path | None = None) -> Study:
                   output_path=output["path"], png=output["png"], plot=plot,
                   boundary=boundary, basins=basins, law=law)
     if study.method != "auto":
+        from .forced import check_method as check_forced
         from .options import check_method
         try:
-            check_method(study.method, study.grid())
+            grid = study.grid()
+            check_forced(study.method) if grid.forced else check_method(study.method, grid)
         except ValueError as err:
             ck.fail(("solver", "method"), f"{err}; use 'auto'")
     return study

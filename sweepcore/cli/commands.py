@@ -13,7 +13,8 @@ from ..labels import run_statuses, timestamp, version
 from ..options import did_you_mean
 from .tables import csv_tables, units_table
 from .summaries import (basin_lines, boundary_lines, describe, describe_basins,
-                        describe_boundaries, regime_line, simulation_summary)
+                        describe_boundaries, forced_lines, regime_line,
+                        simulation_summary)
 
 
 class UsageError(ValueError):
@@ -87,7 +88,7 @@ def _run(args, study, grid, out, png) -> int:
                chunks=args.chunks or study.chunks, scheduler=args.scheduler, path=out,
                progress=False if args.quiet else None, **study.options)
     return _finish(ds, study, args, out, png, t0, grid.size,
-                   lambda d: [regime_line(d)], study.plot)
+                   lambda d: [regime_line(d), *forced_lines(d)], study.plot)
 
 
 def _finish(ds, study, args, out, png, t0, n, summary, plot=None, attrs=None) -> int:
@@ -232,14 +233,17 @@ def cmd_simulate(args) -> int:
 def _simulated_params(args):
     """The slider of ``sweepcore simulate``: the analytic law's options, or the law
     of ``--law-table`` (then no analytic option may be given)."""
+    from ..excitations import KEYWORDS
     from ..params import Params
+    forcing = {n: getattr(args, n) for n in KEYWORDS}    # --F0 --Omega --phi --Y0
     if args.law_table is None:
         if args.static is not None or args.smoothing is not None:
             raise UsageError("--static and --smoothing go with --law-table")
         if args.r_y is None:
             raise UsageError("give --r-y (the analytic law) or --law-table FILE.csv")
         return Params(m=args.m, k=args.k, r_y=args.r_y, v=args.v, alpha1=args.alpha1,
-                      alpha2=args.alpha2, c=args.c, r_k=args.r_k, v_s=args.v_s)
+                      alpha2=args.alpha2, c=args.c, r_k=args.r_k, v_s=args.v_s,
+                      **forcing)
     given = [f"--{n.replace('_', '-')}" for n in ("r_y", "r_k", "v_s")
              if getattr(args, n) is not None]
     given += [f"--{n}" for n in ("alpha1", "alpha2") if getattr(args, n) != 0.0]
@@ -247,7 +251,7 @@ def _simulated_params(args):
         raise UsageError(f"--law-table gives the friction law: drop {', '.join(given)}")
     from ..laws import TableLaw
     law = TableLaw.from_csv(args.law_table, static=args.static, smoothing=args.smoothing)
-    return Params(m=args.m, k=args.k, v=args.v, c=args.c, law=law)
+    return Params(m=args.m, k=args.k, v=args.v, c=args.c, law=law, **forcing)
 
 
 class SimulationFailed(RuntimeError):

@@ -207,6 +207,18 @@ def _simulate_options(p):
     law.add_argument("--smoothing", type=float, default=None,
                      help="noise of the forces [kN]: a smoothing fit (default: "
                           "interpolate)")
+    forced = p.add_argument_group(
+        "a harmonic excitation (m x'' + c (x' - y') + k (x - y) + r_a = "
+        "F0 cos(Omega t + phi), y = Y0 cos(Omega t))")
+    forced.add_argument("--F0", type=float, default=0.0,
+                        help="load amplitude [kN] (default 0: none)")
+    forced.add_argument("--Omega", type=float, default=None,
+                        help="excitation frequency [rad/s], > 0 (needed with --F0 or "
+                             "--Y0)")
+    forced.add_argument("--phi", type=float, default=0.0,
+                        help="phase of the load [rad] (default 0)")
+    forced.add_argument("--Y0", type=float, default=0.0,
+                        help="amplitude of the anchor's motion [cm] (default 0: none)")
     p.add_argument("--x0", type=float, default=0.0, help="initial position [cm] "
                                                          "(default 0)")
     p.add_argument("--xdot0", type=float, default=None,

@@ -3,6 +3,7 @@ simulations, boundaries and diagrams, and the lines ``run``, ``simulate`` and
 ``boundary`` print when they finish."""
 from __future__ import annotations
 
+import math
 from collections import Counter
 
 import numpy as np
@@ -41,6 +42,27 @@ def _grid_dims(ds) -> tuple:
         if var in ds:
             return tuple(ds[var].dims)
     return tuple(ds.dims)
+
+
+def forced_lines(ds) -> list[str]:
+    """Counts of a forced response map's classes (Hong & Liu's: zero-duration stops
+    and finite sticks per response period), e.g. ``stops per period: 0 120, 2 80``;
+    none for an unforced result."""
+    lines = []
+    for var, what in (("stops_per_period", "zero-duration stops per period"),
+                      ("sticks_per_period", "finite sticks per period")):
+        if var not in ds or "time" in ds.dims:
+            continue
+        counts = Counter(np.asarray(ds[var].values).ravel().tolist())
+        lines.append(f"{what}: " + ", ".join(
+            f"{'none measured' if n < 0 else n} {c}" for n, c in sorted(counts.items())))
+    if "multiplicity" in ds and "time" not in ds.dims:
+        m = np.asarray(ds["multiplicity"].values).ravel()
+        counts = Counter(int(n) for n in m[np.isfinite(m)])
+        if counts:
+            lines.append("multiplicity (response period / forcing period): " + ", ".join(
+                f"{n} {c}" for n, c in sorted(counts.items())))
+    return lines
 
 
 def describe(ds) -> str:
@@ -86,6 +108,7 @@ def describe(ds) -> str:
     if "converged" in ds:
         n = int(np.asarray(ds["converged"].values).sum())
         lines.append(f"  converged: {n} of {size} ({100 * n / size:.6g} %)")
+    lines.extend(f"  {line}" for line in forced_lines(ds))
     for var in ("amplitude", "mean", "period"):
         if var in ds:
             vals = ds[var].values
@@ -166,6 +189,18 @@ def _onset_lines(ds, vs) -> list[str]:
     return lines
 
 
+def _excitation_line(ds) -> list[str]:
+    """A forced run's excitation and its frequency ratio beta = Omega/omega (none
+    for an unforced run)."""
+    if "external_force" not in ds:
+        return []
+    F0, Om, phi, Y0 = (parameter(ds, n) for n in ("F0", "Omega", "phi", "Y0"))
+    omega = math.sqrt(parameter(ds, "k") / parameter(ds, "m"))
+    return [f"  excitation: F0 = {F0:.6g} kN, Omega = {Om:.6g} rad s-1 (Omega/omega = "
+            f"{Om / omega:.6g}, period {2 * math.pi / Om:.6g} s), phi = {phi:.6g} rad, "
+            f"Y0 = {Y0:.6g} cm"]
+
+
 def _describe_simulation(ds) -> str:
     a = ds.attrs
     t = ds.time.values
@@ -173,6 +208,7 @@ def _describe_simulation(ds) -> str:
              "  slider: " + ", ".join(f"{n} = {value:.6g}{_units(ds[n])}"
                                       if n in ds.coords else f"{n} = {value:.6g}"
                                       for n, value in slider_parameters(ds)),
+             *_excitation_line(ds),
              f"  start: x0 = {parameter(ds, 'x0'):.6g} cm, "
              f"xdot0 = {parameter(ds, 'xdot0'):.6g} cm s-1",
              *_run_lines(ds)]

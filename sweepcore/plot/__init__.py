@@ -16,6 +16,10 @@ atomically. :func:`plot_result` picks the natural picture of any result:
   boundaries of :mod:`sweepcore.boundary` when they can be computed; a third swept
   axis of at most six values gives one row of maps per value;
 * basin fractions (:func:`sweepcore.basin_stability`): :func:`plot_basins`;
+* a forced response map (F0 or Y0 given): :func:`plot_forced_map`, stops and
+  sticks per period as categorical maps and the amplitude; a frequency-response
+  curve: :func:`plot_frequency_response`; a stroboscopic diagram:
+  :func:`plot_stroboscopic`;
 * a bifurcation diagram: :func:`plot_diagram`, or :func:`plot_hysteresis` (stable
   branches solid, unstable slip cycles dashed) where it has unstable cycles;
   located boundaries: :func:`plot_boundaries`; any other 1-D file: its variables
@@ -26,11 +30,12 @@ one map into a given axes. Axis labels carry the units of the data (kN, cm, s);
 geometric axes are drawn on a log scale.
 
 Rooms: ``style`` (colours, labels, save), ``maps``, ``lines``, ``trajectories``,
-``friction``, ``basins``, ``boundaries`` (diagrams and boundary curves),
+``friction``, ``forced``, ``basins``, ``boundaries`` (diagrams and boundary curves),
 ``branches`` (hysteresis), ``result`` (the choice of picture).
 """
 from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
+from .forced import plot_forced_map, plot_frequency_response, plot_stroboscopic
 from .branches import plot_hysteresis
 from .friction import plot_friction
 from .lines import plot_lines
@@ -42,5 +47,6 @@ from .trajectories import plot_cases, plot_trajectory
 
 __all__ = ["plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
            "plot_friction", "plot_basins", "plot_diagram", "plot_hysteresis",
-           "plot_boundaries", "map_panel", "save", "REGIME_COLOURS", "fixed_parameters",
+           "plot_boundaries", "plot_forced_map", "plot_frequency_response",
+           "plot_stroboscopic", "map_panel", "save", "REGIME_COLOURS", "fixed_parameters",
            "flag_axis", "is_geometric", "label", "pretty_units"]

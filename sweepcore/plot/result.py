@@ -13,6 +13,7 @@ from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
 from .branches import plot_hysteresis
 from .checks import checked_result, swept
+from .forced import plot_forced_map, plot_frequency_response, plot_stroboscopic
 from .lines import plot_lines
 from .maps import plot_map
 from .style import SYMBOLS, flag_axis, fmt, label
@@ -36,6 +37,10 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
         return plot_diagram(ds)
     if kind == "boundaries":
         return plot_boundaries(ds, over=over_map(ds))
+    if kind == "frequency_response":
+        return plot_frequency_response(ds)
+    if kind == "stroboscopic_diagram":
+        return plot_stroboscopic(ds)
     if "time" in ds.dims:
         statuses = run_statuses(ds)
         if all(s != "ok" for s in statuses):
@@ -63,6 +68,11 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
     few = [d for d in numeric if ds.sizes[d] <= 4]
     if len(numeric) == 2 and len(few) == 1 and not ("x" in kwargs or "y" in kwargs):
         numeric.remove(few[0])   # a map 2-4 cells wide reads better as a few lines
+    if len(numeric) == 2 and "stops_per_period" in ds:     # a forced response map
+        x = kwargs.get("x") or ("Omega" if "Omega" in numeric else numeric[-1])
+        y = kwargs.get("y") or next(d for d in numeric if d != x)
+        return plot_forced_map(ds, x=x, y=y, **{k: v for k, v in kwargs.items()
+                                                if k == "variables"})
     if len(numeric) == 1:
         kwargs = {k: v for k, v in kwargs.items() if k not in ("x", "y")}
         series = [d for d in dims if d != numeric[0]]

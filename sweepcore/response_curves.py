@@ -1,0 +1,295 @@
+"""Frequency-response curves and stroboscopic bifurcation diagrams of a forced slider.
+
+A frequency-response curve follows the steady response (``sweepcore.attractor`` of a
+forced slider) along the excitation frequency Omega, up and down, each point started
+from its neighbour's response: from the state the slider has at a whole number of
+forcing periods once it has settled (a point of the stroboscopic map's cycle, at the
+forcing phase t = 0 every point shares). A branch is so kept as long as it exists;
+where two steady responses coexist the up and down sweeps differ over a band and
+jump at its two ends (hysteresis), as ``sweepcore.bifurcation_diagram`` shows for
+the belt speed v.
+
+The stroboscopic diagram samples x at t = j T, T = 2 pi/Omega, for the last
+``periods`` forcing periods of a long simulation at each value of a parameter: one
+dot for a response of period T, n dots for period n T, a cloud for an aperiodic one.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import xarray as xr
+
+from . import excitations, labels, variables
+from .options import did_you_mean
+from .params import LONG_NAMES, UNITS, Params
+
+DIRECTIONS = {"up": ("up",), "down": ("down",), "both": ("up", "down")}
+# relative difference of the two sweeps' amplitudes that marks two coexisting
+# responses: far above the 1e-6 accuracy contract of an ok response
+COEXIST_REL = 1e-4
+# forcing periods a start is settled for at most (settled_state)
+SETTLE_CAP = 4000
+
+
+def _checked(params, name: str, values) -> np.ndarray:
+    if not isinstance(params, Params):
+        raise TypeError(f"params must be a sweepcore.Params, got {type(params).__name__}")
+    fields = [f.name for f in dataclasses.fields(Params) if f.name != "law"]
+    if name not in fields:
+        raise ValueError(f"name must be a parameter of Params, got {name!r}"
+                         f"{did_you_mean(name, fields)}")
+    values = np.asarray(values, dtype=np.float64)
+    if values.ndim != 1 or values.size < 2 or not np.all(np.isfinite(values)):
+        raise ValueError(f"{name} must be a 1-D array of >= 2 finite values, got "
+                         f"{values!r}")
+    if np.unique(values).size != values.size:
+        raise ValueError(f"{name} values must be distinct")
+    return np.sort(values)
+
+
+def _fixed(params: Params, along: str) -> dict:
+    """The slider's parameters and excitation but ``along``, as scalar coordinates
+    with units."""
+    values = {**params.values(), **params.excitation_values()}
+    return {n: xr.Variable((), float(v), {"units": UNITS[n], "long_name": LONG_NAMES[n]})
+            for n, v in values.items() if v is not None and n not in ("law", along)}
+
+
+def settled_state(params: Params, response, x0: float, xdot0) -> tuple[float, float]:
+    """The state (x [cm], xdot [cm/s]) at a whole number of forcing periods T on the
+    trajectory from (x0, xdot0) once it has settled on ``response``: a point of the
+    stroboscopic cycle, at forcing phase 0.
+
+    The search finds the response by Newton before the trajectory has settled on it,
+    so the run goes on past ``t_settle`` for the periods the response's largest
+    multiplier ``floquet`` needs to shrink the remaining distance by 1e-9
+    (ln 1e-9 / ln floquet response periods; one where a stick makes it 0; at most
+    ``SETTLE_CAP`` forcing periods)."""
+    from .simulate import simulate
+    T = 2.0 * math.pi / params.Omega
+    # an aperiodic response: any state on it after the settling time will do
+    period = response.period if math.isfinite(response.period) else T
+    if not math.isfinite(response.t_settle):
+        return math.nan, math.nan
+    mu = response.floquet
+    more = 1 if mu == 0.0 else (math.ceil(math.log(1e-9) / math.log(mu))
+                                if 0.0 < mu < 1.0 else SETTLE_CAP)
+    n = int(round(response.t_settle / T)) + min(more * round(period / T), SETTLE_CAP)
+    ds = simulate(params, t_end=max(n, 1) * T, x0=x0, xdot0=xdot0, output_dt=T,
+                  tol=1e-10)
+    if ds.attrs["status"] != "ok":
+        return math.nan, math.nan
+    return float(ds.x.values[-1]), float(ds.xdot.values[-1])
+
+
+def _follow(params, values, start, tol, method, options):
+    """Responses along Omega ``values`` in the given order, each started from the
+    previous one's settled state (``start`` after a point without a response)."""
+    rows, starts = [], []
+    x0, xd0 = start
+    from .attractor import attractor
+    for w in values:
+        p = dataclasses.replace(params, Omega=float(w))
+        res = attractor(p, x0=x0, xdot0=xd0, method=method, tol=tol, **options)
+        rows.append(res)
+        starts.append((x0, math.nan if xd0 is None else xd0))
+        nxt = settled_state(p, res, x0, xd0) if res.status == "ok" else \
+            (math.nan, math.nan)
+        x0, xd0 = nxt if math.isfinite(nxt[0]) else start
+    return rows, starts
+
+
+def coexisting(ds: xr.Dataset) -> np.ndarray:
+    """Over Omega: whether the up and down sweeps found two different steady
+    responses, both ok: of different regimes or multiplicities, or both periodic
+    with amplitudes more than ``COEXIST_REL`` apart (relative). Two aperiodic
+    responses are not told apart: their amplitudes are samples'."""
+    ok = (ds.status.values == 0).all(axis=0)
+    reg, mult, a = ds.regime.values, ds.multiplicity.values, ds.amplitude.values
+    periodic = np.isfinite(mult).all(axis=0)
+    scale = np.maximum(np.abs(a).max(axis=0), 1e-300)
+    differ = (reg[0] != reg[1]) | (periodic & ((mult[0] != mult[1]) | (
+        np.abs(a[0] - a[1]) > COEXIST_REL * scale)))
+    return ok & differ
+
+
+def frequency_response(params: Params, Omega, direction: str = "both",
+                       x0: float = 0.0, xdot0: float | None = None, tol: float = 1e-8,
+                       method: str = "auto", **options) -> xr.Dataset:
+    """Steady responses of a forced slider along the excitation frequency, swept up
+    and down, each point started from its neighbour's response.
+
+    Parameters
+    ----------
+    params : Params
+        The forced slider (F0 or Y0 given; its Omega is replaced by each value).
+    Omega : array_like
+        Excitation frequencies [rad/s], > 0, >= 2 distinct values (sorted).
+    direction : {"both", "up", "down"}
+        "up" from the lowest Omega, "down" from the highest, "both": up, then down
+        from the up sweep's last response.
+    x0, xdot0 : float
+        Start of the first point [cm], [cm/s] (default at rest at 0 on fixed ground:
+        xdot0 None is stuck on the belt, xdot0 = v).
+    tol, method, **options
+        As :func:`sweepcore.attractor` (``periods``: the largest multiplicity).
+
+    Returns
+    -------
+    xarray.Dataset
+        Dimensions ``sweep`` (the directions) and ``Omega``: every variable of
+        ``sweepcore.variables.FORCED_OBSERVABLES`` with its units, ``regime``,
+        ``status``, ``converged``, the start of each point (``start_x`` [cm],
+        ``start_xdot`` [cm/s]) and, with both directions, ``coexisting`` over Omega
+        (:func:`coexisting`: two steady responses at that frequency).
+    """
+    if direction not in DIRECTIONS:
+        raise ValueError(f"direction must be one of {tuple(DIRECTIONS)}, got "
+                         f"{direction!r}{did_you_mean(str(direction), list(DIRECTIONS))}")
+    values = _checked(params, "Omega", Omega)
+    if not params.forced:
+        raise ValueError("params must be a forced slider: give F0 or Y0 (and Omega)")
+    start = (float(x0), xdot0)
+    scans, starts = [], []
+    if direction != "down":
+        rows, st = _follow(params, values, start, tol, method, options)
+        scans.append(rows)
+        starts.append(st)
+    if direction != "up":
+        first = start
+        if scans and scans[0][-1].status == "ok":
+            p = dataclasses.replace(params, Omega=float(values[-1]))
+            sx, sxd = starts[0][-1]
+            s = settled_state(p, scans[0][-1], sx, None if math.isnan(sxd) else sxd)
+            first = s if math.isfinite(s[0]) else start
+        rows, st = _follow(params, values[::-1], first, tol, method, options)
+        scans.append(rows[::-1])
+        starts.append(st[::-1])
+    dims = ("sweep", "Omega")
+    data = {}
+    for name, (_c, *meta) in variables.FORCED_OBSERVABLES.items():
+        vals = np.array([[getattr(r, name) for r in rows] for rows in scans], float)
+        if name in variables.INTEGER:       # counts, stored as a sweep stores them
+            fill = variables.INTEGER[name]
+            vals = np.where(np.isfinite(vals), vals, -1 if fill is None else fill)
+            vals = vals.astype(np.int64)
+        data[name] = (dims, vals, labels.attrs(*meta))
+    for name, meta in (("regime", variables.REGIME), ("status", variables.STATUS)):
+        codes = {v: k for k, v in zip(meta["flag_values"], meta["flag_meanings"].split())}
+        vals = np.array([[codes[getattr(r, name)] for r in rows] for rows in scans],
+                        np.int8)
+        data[name] = (dims, vals, labels.flag_attrs(meta))
+    data["converged"] = (dims, np.array([[r.converged for r in rows] for rows in scans],
+                                        np.int8),
+                         {"units": "1", "long_name": "status is ok: within tol of the "
+                                                    "steady response",
+                          "flag_values": np.array([0, 1], np.int8),
+                          "flag_meanings": "not_converged converged"})
+    st = np.array(starts, float)
+    data["start_x"] = (dims, st[..., 0], labels.attrs("cm", "start position of the point",
+                                                      "the previous point's settled "
+                                                      "state (x at t = j T)"))
+    data["start_xdot"] = (dims, st[..., 1], labels.attrs(
+        "cm s-1", "start velocity of the point", "NaN: stuck on the belt (xdot0 = v)"))
+    coords = _fixed(params, "Omega")
+    coords["Omega"] = xr.Variable("Omega", values, {"units": UNITS["Omega"],
+                                                    "long_name": LONG_NAMES["Omega"]})
+    coords["sweep"] = xr.Variable("sweep", np.array(DIRECTIONS[direction]), {
+        "units": "1", "long_name": "direction of the sweep (each point started from "
+                                   "its neighbour's response)"})
+    ds = xr.Dataset(data, coords)
+    if direction == "both":
+        ds["coexisting"] = ("Omega", coexisting(ds), {
+            "units": "1", "long_name": "two steady responses coexist (the sweeps "
+                                       "found different ones)"})
+    ds.attrs.update({
+        **labels.provenance(
+            "Frequency-response curve of the forced friction oscillator",
+            f"sweepcore.frequency_response({params!r}, Omega=<{values.size} values in "
+            f"[{values[0]:g}, {values[-1]:g}]>, direction={direction!r}, tol={tol!r})",
+            "steady responses followed along Omega, each started from its neighbour's "
+            "settled state", "Units kN, cm, s."),
+        "sweepcore_kind": "frequency_response", "direction": direction, "tol": float(tol),
+        "omega": float(params.omega)})
+    return ds
+
+
+def stroboscopic_diagram(params: Params, name: str, values, periods: int = 32,
+                         transient: int = 400, x0: float = 0.0,
+                         xdot0: float | None = None, tol: float = 1e-10) -> xr.Dataset:
+    """x and xdot at t = j T (T = 2 pi/Omega) over the last ``periods`` forcing
+    periods of a simulation, at each value of the parameter ``name``.
+
+    Each value starts from the previous value's last state (a diagram swept up);
+    the first from (x0, xdot0).
+
+    Parameters
+    ----------
+    params : Params
+        A forced slider.
+    name : str
+        A parameter of Params (e.g. "Omega", "F0", "r_y", "c", "v").
+    values : array_like
+        >= 2 distinct values of it (sorted).
+    periods : int
+        Stroboscopic samples kept at each value, after ``transient`` forcing periods.
+    tol : float
+        Tolerance of the simulation (``sweepcore.simulate``).
+
+    Returns
+    -------
+    xarray.Dataset
+        ``x`` [cm] and ``xdot`` [cm/s] over (``name``, ``sample``), and ``status`` of
+        each simulation (a failed one leaves NaN samples).
+    """
+    from .simulate import simulate
+    values = _checked(params, name, values)
+    for key, n in (("periods", periods), ("transient", transient)):
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < (1 if key
+                                                                               == "periods" else 0):
+            raise ValueError(f"{key} must be an integer >= {1 if key == 'periods' else 0}, "
+                             f"got {n!r}")
+    if not params.forced:
+        raise ValueError("params must be a forced slider: give F0 or Y0 (and Omega)")
+    xs = np.full((values.size, periods), np.nan)
+    vs = np.full_like(xs, np.nan)
+    status = []
+    start = (float(x0), xdot0)
+    for i, u in enumerate(values):
+        p = dataclasses.replace(params, **{name: float(u)})
+        T = 2.0 * math.pi / p.Omega
+        ds = simulate(p, t_end=(transient + periods) * T, x0=start[0], xdot0=start[1],
+                      output_dt=T, tol=tol)
+        status.append(ds.attrs["status"])
+        x, xd = ds.x.values, ds.xdot.values
+        # samples at whole periods only (the last sample is t_end itself, also one)
+        keep = np.isclose(ds.time.values / T, np.round(ds.time.values / T), atol=1e-9)
+        x, xd = x[keep][-periods:], xd[keep][-periods:]
+        xs[i, :x.size], vs[i, :xd.size] = x, xd
+        if ds.attrs["status"] == "ok":
+            start = (float(x[-1]), float(xd[-1]))
+    st = {v: k for k, v in zip(variables.STATUS["flag_values"],
+                               variables.STATUS["flag_meanings"].split())}
+    dims = (name, "sample")
+    ds = xr.Dataset(
+        {"x": (dims, xs, labels.attrs("cm", "position at t = j T", "the last "
+                                      f"{periods} forcing periods T = 2 pi/Omega")),
+         "xdot": (dims, vs, labels.attrs("cm s-1", "velocity at t = j T")),
+         "status": ((name,), np.array([st[s] for s in status], np.int8),
+                    labels.flag_attrs(variables.STATUS))},
+        {**_fixed(params, name),
+         name: xr.Variable(name, values, {"units": UNITS[name],
+                                          "long_name": LONG_NAMES[name]}),
+         "sample": xr.Variable("sample", np.arange(periods), {
+             "units": "1", "long_name": "forcing period j, counted from the first kept one"})})
+    ds.attrs.update({
+        **labels.provenance(
+            f"Stroboscopic bifurcation diagram of the forced friction oscillator along "
+            f"{name}", f"sweepcore.stroboscopic_diagram({params!r}, {name!r}, "
+            f"<{values.size} values>, periods={periods}, transient={transient})",
+            "x sampled at t = j T after a transient, each value started from the "
+            "previous value's last state", "Units kN, cm, s."),
+        "sweepcore_kind": "stroboscopic_diagram", "along": name})
+    return ds

@@ -1,0 +1,40 @@
+"""The ``[excitation]`` table of a study file: the harmonic load and the anchor's
+motion (``sweepcore.excitations``), each key a scalar or an axis written as in
+``[axes]`` (docs/studies.md)::
+
+    [excitation]
+    F0 = { start = 0.2, stop = 5.0, num = 256 }     # kN: F0 cos(Omega t + phi)
+    Omega = { start = 0.1, stop = 3.0, num = 256 }  # rad/s, > 0
+    phi = 0.0                                       # rad (default 0)
+    Y0 = 0.0                                        # cm: y = Y0 cos(Omega t) (default 0)
+
+Omega is required with F0 or Y0. The keys live here and not in ``[axes]``, so that a
+reader of the file sees at once that the slider is forced; the errors name the key
+and its line as those of ``[axes]`` do (the checker of :mod:`sweepcore.study`).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import excitations
+
+
+def excitation_table(ck, doc: dict, axis) -> dict:
+    """The axes of ``[excitation]`` (name -> ``sweepcore.study.Axis``, in file
+    order); empty without the table. ``axis(ck, name, val, table)`` builds one axis
+    with ``[axes]``'s rules and messages."""
+    if "excitation" not in doc:
+        return {}
+    table = ck.table(doc, "excitation")
+    ck.known(table, excitations.KEYWORDS, ("excitation",))
+    out = {name: axis(ck, name, val, "excitation") for name, val in table.items()}
+    forcing = [n for n in ("F0", "Y0") if n in out and np.any(out[n].values != 0.0)]
+    if forcing and "Omega" not in out:
+        ck.fail(("excitation",), f"Omega (the excitation frequency "
+                                 f"[{excitations.UNITS['Omega']}], > 0) is required "
+                                 f"with {' and '.join(forcing)}")
+    for other in ("boundary", "basins"):    # searches of the autonomous attractor
+        if forcing and other in doc:
+            ck.fail((other,), f"[{other}] applies to the unforced slider; this study "
+                              f"is forced ({' and '.join(forcing)} in [excitation])")
+    return out
