@@ -199,13 +199,17 @@ def _book(acc, qx, qv, qw, ql, h):
 
 
 @kernel
-def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched):
+def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched, a0, cf):
     """Book the partial step to a zdot = 0 event at h and apply the stop rules;
     ``touched``: the event is a tangential touch (``st[S_TOUCH]``), whose stop or
-    stick the integrator decided within its touch tolerance only."""
+    stick the integrator decided within its touch tolerance only. ``a0``: zdd at
+    the step's start, for an extremum of xdot before the event (an overshoot past
+    the belt speed that turns back and sticks within the step)."""
     _x, _z, qx, qv, qw, ql, _e, _ok = step(meth, x0, zd0, h, s, p, lw, o, True)
     st[S_N] += 1.0
     _book(acc, qx, qv, qw, ql, h)
+    _velocity_extremum(meth, st, p, lw, o, acc, x0, zd0, s, h, a0,
+                       accel(xe, 0.0, s, cf, lw, p[K], p[M]))
     st[S_T] += h
     new, ev, xn = classify_zero(xe, s, p, lw, touch_tol(p, o))
     st[S_X] = xn
@@ -388,7 +392,7 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
                 return ev, codes.OK
         if h_ev >= 0.0:
             return _finish_zero(meth, st, p, lw, o, acc, x, zd, s, h_ev, xe,
-                                touched), codes.OK
+                                touched, a0, cf), codes.OK
         _book(acc, qx, qv, qw, ql, h)
         if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
             _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1)
