@@ -9,6 +9,10 @@ temporary ``git worktree`` (before and after probes interleaved, so drifting loa
 shared machine hits both alike).
 
     python -m benchmarks.regimes --probe 3       # this checkout: JSON on stdout
+    python -m benchmarks.regimes 6b6a0bf --out benchmarks/results/events.json --hardest 1
+        # before/after against commit 6b6a0bf, saved with the machine and the date,
+        # and this checkout's map on its hardest points against the independent
+        # references (benchmarks/hopf_map.py)
 """
 from __future__ import annotations
 
@@ -177,6 +181,24 @@ def before_after(ref: str, rounds: int = 3, repeats: int = 3) -> dict:
             "round_medians_s": med}
 
 
+def hardest(per_column: int) -> dict:
+    """This checkout's Hopf map at the default tolerance on its hardest points (the
+    slip cycles next to v* in each alpha2 column) against the independent references
+    of ``benchmarks/hopf_map.py`` (scipy shooting or the normal form)."""
+    from sweepcore import compiled
+    from sweepcore._kernels import layout as L
+    from sweepcore.grid import Grid
+    from sweepcore.laws import ANALYTIC
+    from sweepcore.options import make_options
+
+    from . import hopf_map
+    grid = Grid(**dict(_maps())["cubic"])
+    P = grid.rows(0, grid.size)
+    out = np.empty((grid.size, L.NOBS))
+    compiled.attractors(P, (ANALYTIC,), make_options("auto", tol=1e-8), out, parallel=True)
+    return hopf_map.hardest_points(P, {1e-8: out}, per_column)
+
+
 if __name__ == "__main__":
     import argparse
     ap = argparse.ArgumentParser(description=__doc__,
@@ -186,8 +208,20 @@ if __name__ == "__main__":
     ap.add_argument("--probe", type=int, metavar="N",
                     help="time N runs of this checkout's maps, print JSON (the probe)")
     ap.add_argument("--save", default=None, help="with --probe: .npz of the observables")
+    ap.add_argument("--rounds", type=int, default=3, help="interleaved rounds (default 3)")
+    ap.add_argument("--out", default=None, help="save the comparison as JSON here")
+    ap.add_argument("--hardest", type=int, default=0, metavar="N",
+                    help="also check N hardest points per alpha2 column of the map")
     args = ap.parse_args()
     if args.probe is not None:
         print(json.dumps(_probe(args.probe, args.save)))
     else:
-        print(json.dumps(before_after(args.commit), indent=1))
+        res = before_after(args.commit, args.rounds)
+        if args.hardest:
+            res["hardest_points_after"] = hardest(args.hardest)
+        if args.out:
+            from .common import machine
+            res["machine"] = machine()
+            res["date"] = time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime())
+            Path(args.out).write_text(json.dumps(res, indent=1) + "\n")
+        print(json.dumps(res, indent=1))

@@ -105,6 +105,82 @@ E3_10 = -0.1521609496625161
 E3_11 = 0.20136540080403034
 E3_12 = 0.02265179219836082
 
+# the continuous extension (dense output): three more stages (14-16, from stage 1-13,
+# 13 being the slope at the step's end) and the weights D of its four highest terms
+# (Hairer, Norsett & Wanner, section II.6, and their code DOP853's contd8)
+A14_1 = 0.056167502283047954
+A14_7 = 0.25350021021662483
+A14_8 = -0.2462390374708025
+A14_9 = -0.12419142326381637
+A14_10 = 0.15329179827876568
+A14_11 = 0.00820105229563469
+A14_12 = 0.007567897660545699
+A14_13 = -0.008298
+A15_1 = 0.03183464816350214
+A15_6 = 0.028300909672366776
+A15_7 = 0.053541988307438566
+A15_8 = -0.05492374857139099
+A15_11 = -0.00010834732869724932
+A15_12 = 0.0003825710908356584
+A15_13 = -0.00034046500868740456
+A15_14 = 0.1413124436746325
+A16_1 = -0.42889630158379194
+A16_6 = -4.697621415361164
+A16_7 = 7.683421196062599
+A16_8 = 4.06898981839711
+A16_9 = 0.3567271874552811
+A16_13 = -0.0013990241651590145
+A16_14 = 2.9475147891527724
+A16_15 = -9.15095847217987
+D4_1 = -8.428938276109013
+D4_6 = 0.5667149535193777
+D4_7 = -3.0689499459498917
+D4_8 = 2.38466765651207
+D4_9 = 2.117034582445028
+D4_10 = -0.871391583777973
+D4_11 = 2.2404374302607883
+D4_12 = 0.6315787787694688
+D4_13 = -0.08899033645133331
+D4_14 = 18.148505520854727
+D4_15 = -9.194632392478356
+D4_16 = -4.436036387594894
+D5_1 = 10.427508642579134
+D5_6 = 242.28349177525817
+D5_7 = 165.20045171727028
+D5_8 = -374.5467547226902
+D5_9 = -22.113666853125306
+D5_10 = 7.733432668472264
+D5_11 = -30.674084731089398
+D5_12 = -9.332130526430229
+D5_13 = 15.697238121770845
+D5_14 = -31.139403219565178
+D5_15 = -9.35292435884448
+D5_16 = 35.81684148639408
+D6_1 = 19.985053242002433
+D6_6 = -387.0373087493518
+D6_7 = -189.17813819516758
+D6_8 = 527.8081592054236
+D6_9 = -11.57390253995963
+D6_10 = 6.8812326946963
+D6_11 = -1.0006050966910838
+D6_12 = 0.7777137798053443
+D6_13 = -2.778205752353508
+D6_14 = -60.19669523126412
+D6_15 = 84.32040550667716
+D6_16 = 11.99229113618279
+D7_1 = -25.69393346270375
+D7_6 = -154.18974869023643
+D7_7 = -231.5293791760455
+D7_8 = 357.6391179106141
+D7_9 = 93.40532418362432
+D7_10 = -37.45832313645163
+D7_11 = 104.0996495089623
+D7_12 = 29.8402934266605
+D7_13 = -43.53345659001114
+D7_14 = 96.32455395918828
+D7_15 = -39.17726167561544
+D7_16 = -149.72683625798564
+
 # The floor of zdot's error weight at the rounding of the spring force (dopri5.py):
 # the rounding of k x enters each estimate through the sum of its weights' sizes,
 # 0.16 for dopri5's and 4.19 for the fifth-order estimate here, so the floor is
@@ -117,11 +193,31 @@ FLOOR_GAIN = (abs(E5_1) + abs(E5_6) + abs(E5_7) + abs(E5_8) + abs(E5_9) + abs(E5
 @kernel
 def dop853_step(x, zd, h, s, p, lw, o, want_q):
     """One DOP853 step of the sliding field; see ``stepper.py``."""
+    k = p[K]
+    cf = constants(p, lw, s)
+    im = 1.0 / p[M]
+    floor_z = FLOOR_GAIN * EPS * h * k * im * abs(x)
+    KX, KZ, X, Z = _stages(x, zd, h, s, p, lw, cf)
+    x_end, z_end = X[7], Z[7]
+    sx = o[O_RTOL] * (o[O_LX] + max(abs(x), abs(x_end)))
+    sz = o[O_RTOL] * (o[O_LV] + max(abs(zd), abs(z_end))) + floor_z
+    err = _error(h, sx, sz, (KX[0], KX[5], KX[6], KX[7], KX[8], KX[9], KX[10], KX[11]),
+                 (KZ[0], KZ[5], KZ[6], KZ[7], KZ[8], KZ[9], KZ[10], KZ[11]))
+    if not want_q:
+        return x_end, z_end, 0.0, 0.0, 0.0, 0.0, err, True
+    qx, qv, qw, ql = _quadratures(h, s, p, lw, cf, (x, X[0], X[1], X[2], X[3], X[4], X[5],
+                                                    X[6]),
+                                  (zd, Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]))
+    return x_end, z_end, qx, qv, qw, ql, err, True
+
+
+@kernel(inline="always")
+def _stages(x, zd, h, s, p, lw, cf):
+    """The twelve stages of a step: their slopes (KX, KZ: of x and zdot, stages
+    1-12) and the states (X, Z) of stages 6-12 and of the step's end (the last)."""
     v = p[V]
     k = p[K]
     im = 1.0 / p[M]
-    cf = constants(p, lw, s)
-    floor_z = FLOOR_GAIN * EPS * h * k * im * abs(x)
     k1x = zd + v
     k1z = zdd_of(x, zd, s, cf, lw, k, im)
     x2 = x + h * (A2_1 * k1x)
@@ -180,15 +276,9 @@ def dop853_step(x, zd, h, s, p, lw, o, want_q):
                      B11 * k11x + B12 * k12x)
     z_end = zd + h * (B1 * k1z + B6 * k6z + B7 * k7z + B8 * k8z + B9 * k9z + B10 * k10z +
                       B11 * k11z + B12 * k12z)
-    sx = o[O_RTOL] * (o[O_LX] + max(abs(x), abs(x_end)))
-    sz = o[O_RTOL] * (o[O_LV] + max(abs(zd), abs(z_end))) + floor_z
-    err = _error(h, sx, sz, (k1x, k6x, k7x, k8x, k9x, k10x, k11x, k12x),
-                 (k1z, k6z, k7z, k8z, k9z, k10z, k11z, k12z))
-    if not want_q:
-        return x_end, z_end, 0.0, 0.0, 0.0, 0.0, err, True
-    qx, qv, qw, ql = _quadratures(h, s, p, lw, cf, (x, x6, x7, x8, x9, x10, x11, x12),
-                                  (zd, z6, z7, z8, z9, z10, z11, z12))
-    return x_end, z_end, qx, qv, qw, ql, err, True
+    return ((k1x, k2x, k3x, k4x, k5x, k6x, k7x, k8x, k9x, k10x, k11x, k12x),
+            (k1z, k2z, k3z, k4z, k5z, k6z, k7z, k8z, k9z, k10z, k11z, k12z),
+            (x6, x7, x8, x9, x10, x11, x12, x_end), (z6, z7, z8, z9, z10, z11, z12, z_end))
 
 
 @kernel(inline="always")
@@ -233,3 +323,67 @@ def _quadratures(h, s, p, lw, cf, X, Z):
               B9 * integrand(lw, cf, Z[4]) + B10 * integrand(lw, cf, Z[5]) +
               B11 * integrand(lw, cf, Z[6]) + B12 * integrand(lw, cf, Z[7]))
     return qx, qv, qw, ql
+
+
+@kernel
+def dop853_dense(x, zd, h, s, p, lw, o):
+    """DOP853's continuous extension over the step ``h`` from ``(x, zd)``: the
+    coefficients ``(F0..F6 of x, F0..F6 of zdot)`` of its seventh-order interpolant
+    (``stepper.interpolate``). The step's stages are computed again (bit for bit the
+    step's), with the slope at its end and three more stages."""
+    v = p[V]
+    k = p[K]
+    im = 1.0 / p[M]
+    cf = constants(p, lw, s)
+    KX, KZ, X, Z = _stages(x, zd, h, s, p, lw, cf)
+    k1x, k2x, k3x, k4x, k5x, k6x, k7x, k8x, k9x, k10x, k11x, k12x = KX
+    k1z, k2z, k3z, k4z, k5z, k6z, k7z, k8z, k9z, k10z, k11z, k12z = KZ
+    x_end, z_end = X[7], Z[7]
+    k13x = z_end + v
+    k13z = zdd_of(x_end, z_end, s, cf, lw, k, im)
+    x14 = x + h * (A14_1 * k1x + A14_7 * k7x + A14_8 * k8x + A14_9 * k9x + A14_10 * k10x
+        + A14_11 * k11x + A14_12 * k12x + A14_13 * k13x)
+    z14 = zd + h * (A14_1 * k1z + A14_7 * k7z + A14_8 * k8z + A14_9 * k9z + A14_10 *
+        k10z + A14_11 * k11z + A14_12 * k12z + A14_13 * k13z)
+    k14x = z14 + v
+    k14z = zdd_of(x14, z14, s, cf, lw, k, im)
+    x15 = x + h * (A15_1 * k1x + A15_6 * k6x + A15_7 * k7x + A15_8 * k8x + A15_11 * k11x
+        + A15_12 * k12x + A15_13 * k13x + A15_14 * k14x)
+    z15 = zd + h * (A15_1 * k1z + A15_6 * k6z + A15_7 * k7z + A15_8 * k8z + A15_11 *
+        k11z + A15_12 * k12z + A15_13 * k13z + A15_14 * k14z)
+    k15x = z15 + v
+    k15z = zdd_of(x15, z15, s, cf, lw, k, im)
+    x16 = x + h * (A16_1 * k1x + A16_6 * k6x + A16_7 * k7x + A16_8 * k8x + A16_9 * k9x +
+        A16_13 * k13x + A16_14 * k14x + A16_15 * k15x)
+    z16 = zd + h * (A16_1 * k1z + A16_6 * k6z + A16_7 * k7z + A16_8 * k8z + A16_9 * k9z
+        + A16_13 * k13z + A16_14 * k14z + A16_15 * k15z)
+    k16x = z16 + v
+    k16z = zdd_of(x16, z16, s, cf, lw, k, im)
+    f3x = h * (D4_1 * k1x + D4_6 * k6x + D4_7 * k7x + D4_8 * k8x + D4_9 * k9x + D4_10 *
+        k10x + D4_11 * k11x + D4_12 * k12x + D4_13 * k13x + D4_14 * k14x + D4_15 * k15x
+        + D4_16 * k16x)
+    f3z = h * (D4_1 * k1z + D4_6 * k6z + D4_7 * k7z + D4_8 * k8z + D4_9 * k9z + D4_10 *
+        k10z + D4_11 * k11z + D4_12 * k12z + D4_13 * k13z + D4_14 * k14z + D4_15 * k15z
+        + D4_16 * k16z)
+    f4x = h * (D5_1 * k1x + D5_6 * k6x + D5_7 * k7x + D5_8 * k8x + D5_9 * k9x + D5_10 *
+        k10x + D5_11 * k11x + D5_12 * k12x + D5_13 * k13x + D5_14 * k14x + D5_15 * k15x
+        + D5_16 * k16x)
+    f4z = h * (D5_1 * k1z + D5_6 * k6z + D5_7 * k7z + D5_8 * k8z + D5_9 * k9z + D5_10 *
+        k10z + D5_11 * k11z + D5_12 * k12z + D5_13 * k13z + D5_14 * k14z + D5_15 * k15z
+        + D5_16 * k16z)
+    f5x = h * (D6_1 * k1x + D6_6 * k6x + D6_7 * k7x + D6_8 * k8x + D6_9 * k9x + D6_10 *
+        k10x + D6_11 * k11x + D6_12 * k12x + D6_13 * k13x + D6_14 * k14x + D6_15 * k15x
+        + D6_16 * k16x)
+    f5z = h * (D6_1 * k1z + D6_6 * k6z + D6_7 * k7z + D6_8 * k8z + D6_9 * k9z + D6_10 *
+        k10z + D6_11 * k11z + D6_12 * k12z + D6_13 * k13z + D6_14 * k14z + D6_15 * k15z
+        + D6_16 * k16z)
+    f6x = h * (D7_1 * k1x + D7_6 * k6x + D7_7 * k7x + D7_8 * k8x + D7_9 * k9x + D7_10 *
+        k10x + D7_11 * k11x + D7_12 * k12x + D7_13 * k13x + D7_14 * k14x + D7_15 * k15x
+        + D7_16 * k16x)
+    f6z = h * (D7_1 * k1z + D7_6 * k6z + D7_7 * k7z + D7_8 * k8z + D7_9 * k9z + D7_10 *
+        k10z + D7_11 * k11z + D7_12 * k12z + D7_13 * k13z + D7_14 * k14z + D7_15 * k15z
+        + D7_16 * k16z)
+    dx = x_end - x
+    dz = z_end - zd
+    return (dx, h * k1x - dx, 2.0 * dx - h * (k13x + k1x), f3x, f4x, f5x, f6x,
+            dz, h * k1z - dz, 2.0 * dz - h * (k13z + k1z), f3z, f4z, f5z, f6z)

@@ -66,7 +66,6 @@ def scales(p, lw):
 @kernel
 def dopri5_step(x, zd, h, s, p, lw, o, want_q):
     """One Dormand-Prince step of the sliding field; see ``stepper.py``."""
-    v = p[V]
     k = p[K]
     im = 1.0 / p[M]
     cf = constants(p, lw, s)
@@ -75,6 +74,43 @@ def dopri5_step(x, zd, h, s, p, lw, o, want_q):
     # resolution of x (tiny v far from x = 0) would otherwise shrink the steps for
     # ever. (From the step's start: off the chain of dependent stages.)
     floor_z = EPS * h * k * im * abs(x)
+    k1x, k3x, k4x, k5x, k6x, k7x, k1z, k3z, k4z, k5z, k6z, k7z, x1, zd1, X, Z = \
+        _stages(x, zd, h, s, p, lw, cf)
+    x3, x4, x5, x6 = X
+    z3, z4, z5, z6 = Z
+    ex = h * (E1 * k1x + E3 * k3x + E4 * k4x + E5 * k5x + E6 * k6x + E7 * k7x)
+    ez = h * (E1 * k1z + E3 * k3z + E4 * k4z + E5 * k5z + E6 * k6z + E7 * k7z)
+    lx = o[O_LX]
+    lv = o[O_LV]
+    rtol = o[O_RTOL]
+    err = max(abs(ex) / (rtol * (lx + max(abs(x), abs(x1)))),
+              abs(ez) / (rtol * (lv + max(abs(zd), abs(zd1))) + floor_z))
+    qx = 0.0
+    qv = 0.0
+    qw = 0.0
+    ql = 0.0
+    if want_q:
+        qx = h * (B1 * x + B3 * x3 + B4 * x4 + B5 * x5 + B6 * x6)
+        qv = h * (B1 * k1x * k1x + B3 * k3x * k3x + B4 * k4x * k4x
+                  + B5 * k5x * k5x + B6 * k6x * k6x)
+        qw = h * (B1 * friction_force(lw, cf, zd, s) * k1x
+                  + B3 * friction_force(lw, cf, z3, s) * k3x
+                  + B4 * friction_force(lw, cf, z4, s) * k4x
+                  + B5 * friction_force(lw, cf, z5, s) * k5x
+                  + B6 * friction_force(lw, cf, z6, s) * k6x)
+        ql = h * (B1 * integrand(lw, cf, zd) + B3 * integrand(lw, cf, z3)
+                  + B4 * integrand(lw, cf, z4) + B5 * integrand(lw, cf, z5)
+                  + B6 * integrand(lw, cf, z6))
+    return x1, zd1, qx, qv, qw, ql, err, True
+
+
+@kernel(inline="always")
+def _stages(x, zd, h, s, p, lw, cf):
+    """The seven stages of a step (the seventh at its end): the slopes of x and zdot
+    that the weights use, the step's end, and the states of stages 3-6."""
+    v = p[V]
+    k = p[K]
+    im = 1.0 / p[M]
     k1x = zd + v
     k1z = zdd_of(x, zd, s, cf, lw, k, im)
     x2 = x + h * A21 * k1x
@@ -101,27 +137,29 @@ def dopri5_step(x, zd, h, s, p, lw, o, want_q):
     zd1 = zd + h * (B1 * k1z + B3 * k3z + B4 * k4z + B5 * k5z + B6 * k6z)
     k7x = zd1 + v
     k7z = zdd_of(x1, zd1, s, cf, lw, k, im)
-    ex = h * (E1 * k1x + E3 * k3x + E4 * k4x + E5 * k5x + E6 * k6x + E7 * k7x)
-    ez = h * (E1 * k1z + E3 * k3z + E4 * k4z + E5 * k5z + E6 * k6z + E7 * k7z)
-    lx = o[O_LX]
-    lv = o[O_LV]
-    rtol = o[O_RTOL]
-    err = max(abs(ex) / (rtol * (lx + max(abs(x), abs(x1)))),
-              abs(ez) / (rtol * (lv + max(abs(zd), abs(zd1))) + floor_z))
-    qx = 0.0
-    qv = 0.0
-    qw = 0.0
-    ql = 0.0
-    if want_q:
-        qx = h * (B1 * x + B3 * x3 + B4 * x4 + B5 * x5 + B6 * x6)
-        qv = h * (B1 * k1x * k1x + B3 * k3x * k3x + B4 * k4x * k4x
-                  + B5 * k5x * k5x + B6 * k6x * k6x)
-        qw = h * (B1 * friction_force(lw, cf, zd, s) * k1x
-                  + B3 * friction_force(lw, cf, z3, s) * k3x
-                  + B4 * friction_force(lw, cf, z4, s) * k4x
-                  + B5 * friction_force(lw, cf, z5, s) * k5x
-                  + B6 * friction_force(lw, cf, z6, s) * k6x)
-        ql = h * (B1 * integrand(lw, cf, zd) + B3 * integrand(lw, cf, z3)
-                  + B4 * integrand(lw, cf, z4) + B5 * integrand(lw, cf, z5)
-                  + B6 * integrand(lw, cf, z6))
-    return x1, zd1, qx, qv, qw, ql, err, True
+    return (k1x, k3x, k4x, k5x, k6x, k7x, k1z, k3z, k4z, k5z, k6z, k7z, x1, zd1,
+            (x3, x4, x5, x6), (z3, z4, z5, z6))
+
+
+# the continuous extension (dense output) of order 4: the weights of its highest
+# term (Hairer, Norsett & Wanner, section II.6, and their code DOPRI5's contd5)
+D1, D3, D4, D5, D6, D7 = (-12715105075 / 11282082432, 87487479700 / 32700410799,
+                          -10690763975 / 1880347072, 701980252875 / 199316789632,
+                          -1453857185 / 822651844, 69997945 / 29380423)
+
+
+@kernel
+def dopri5_dense(x, zd, h, s, p, lw, o):
+    """The continuous extension over the step ``h`` from ``(x, zd)``: the
+    coefficients ``(F0..F6 of x, F0..F6 of zdot)`` of its interpolant
+    (``stepper.interpolate``; F4..F6 are 0 here). The step's stages are computed
+    again, bit for bit the step's; the seventh is the slope at its end."""
+    cf = constants(p, lw, s)
+    k1x, k3x, k4x, k5x, k6x, k7x, k1z, k3z, k4z, k5z, k6z, k7z, x1, zd1, _X, _Z = \
+        _stages(x, zd, h, s, p, lw, cf)
+    dx = x1 - x
+    dz = zd1 - zd
+    f3x = h * (D1 * k1x + D3 * k3x + D4 * k4x + D5 * k5x + D6 * k6x + D7 * k7x)
+    f3z = h * (D1 * k1z + D3 * k3z + D4 * k4z + D5 * k5z + D6 * k6z + D7 * k7z)
+    return (dx, h * k1x - dx, 2.0 * dx - h * (k7x + k1x), f3x, 0.0, 0.0, 0.0,
+            dz, h * k1z - dz, 2.0 * dz - h * (k7z + k1z), f3z, 0.0, 0.0, 0.0)

@@ -10,8 +10,8 @@ Rules (eq. numbers of Liu's paper):
   the closed-form time of eq. (27), never by time stepping. The slip state is set to
   the breakaway point ``(x_s, v)`` (``law.breakaway``) exactly, so every slip after a
   stick starts from the same point.
-* slide: ``zdot`` returns to 0 (located inside a step, then re-stepped to the event so
-  the state is the integrator's own). With the stick band ``[x_lo, x_hi]`` of
+* slide: ``zdot`` returns to 0 (located inside a step on its interpolant, then
+  re-stepped to the event so the state is the integrator's own: ``_on_root``). With the stick band ``[x_lo, x_hi]`` of
   ``|k x + c v| <= r_y`` (``law.stick_band``) and ``v > 0``: ``x >= x_hi`` -> slide on
   with ``zdot < 0`` (the slide-slide condition (22)); ``x < x_lo`` -> slide on with
   ``zdot > 0``; otherwise stick. Sliding on in the same direction is an abnormal stop
@@ -33,13 +33,15 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .law import accel, breakaway, constants, jerk, step_bound, stick_band
+from .law import (accel, breakaway, constants, friction_force, integrand, jerk,
+                  step_bound, stick_band)
 from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
                      O_METHOD, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_TOUCH, S_X, S_ZD,
                      V)
 from .events import F_XD, F_ZD, F_ZDD, cubic, polish, zd_event
-from .stepper import ADAPTIVE, EXPONENT, TOUCH_FACTOR, proposal, step
+from .stepper import (ADAPTIVE, EXPONENT, TOUCH_FACTOR, dense, has_dense, proposal,
+                      state_at, step)
 
 EPS = np.finfo(np.float64).eps
 # ---------------------------------------------------------------- small pieces
@@ -199,13 +201,26 @@ def _book(acc, qx, qv, qw, ql, h):
 
 
 @kernel
-def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched):
+def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched, a0, cf, dc, H):
     """Book the partial step to a zdot = 0 event at h and apply the stop rules;
     ``touched``: the event is a tangential touch (``st[S_TOUCH]``), whose stop or
-    stick the integrator decided within its touch tolerance only."""
-    _x, _z, qx, qv, qw, ql, _e, _ok = step(meth, x0, zd0, h, s, p, lw, o, True)
+    stick the integrator decided within its touch tolerance only. ``a0``: zdd at
+    the step's start, for an extremum of xdot before the event (an overshoot past
+    the belt speed that turns back and sticks within the step). ``dc``: the
+    interpolant of the step ``H`` that holds the event."""
+    xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, x0, zd0, h, s, p, lw, o, True)
     st[S_N] += 1.0
     _book(acc, qx, qv, qw, ql, h)
+    _velocity_extremum(meth, st, p, lw, o, acc, x0, zd0, s, h, a0,
+                       accel(xe, 0.0, s, cf, lw, p[K], p[M]), dc, H)
+    if has_dense(meth):
+        # located on the interpolant: the integrator's state there, and for a
+        # crossing its own zero (a touch is placed at its turning point, where the
+        # time of zdot = 0 is ill-conditioned)
+        xe = xr
+        if not touched:
+            xe, dt = _on_root(acc, xr, zr, 0.0, s, cf, lw, p)
+            h += dt
     st[S_T] += h
     new, ev, xn = classify_zero(xe, s, p, lw, touch_tol(p, o))
     st[S_X] = xn
@@ -220,14 +235,13 @@ def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched):
 
 
 @kernel
-def _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, d0, d1, ta, tb):
+def _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, d0, d1, ta, tb, dc, H):
     """The first root of zdot in the bracket [ta, tb] (fractions of the step h) of
     the Hermite cubic of g = s zdot, if the integrator confirms it: ``(h_ev, x_ev)``
     (h_ev < 0: none). Newton starts from the cubic's own root (bisection on it)."""
     gb = g1
     if tb < 1.0:
-        _xb, zb, _a, _b, _c, _l, _e, _ok = step(meth, x, zd, tb * h, s, p, lw, o, False)
-        st[S_N] += 1.0
+        _xb, zb = state_at(meth, x, zd, tb * h, s, p, lw, o, dc, H, st)
         gb = s * zb
     if gb > 0.0:
         return -1.0, x
@@ -240,18 +254,19 @@ def _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, d0, d1, ta, tb):
         else:
             cb = cm
     h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, tb * h, s,
-                            0.5 * (ca + cb) * h, st)
+                            0.5 * (ca + cb) * h, st, dc, H)
     return h_ev, xe
 
 
 @kernel
 def _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol,
-                 cf):
+                 cf, dc, H):
     """Where zdot = 0 inside the step from (x, zd), once the scan of the step's
     Hermite cubic (``events.zd_event``) found a crossing (kind 1, bracketed in
     [ta, tb]) or a turning point tc that may touch 0 (kind 2). Touches are placed at
     the turning point, where they are well conditioned. Returns ``(h_ev, x_ev,
-    touched)``, h_ev < 0 when the integrator does not confirm it.
+    touched)``, h_ev < 0 when the integrator does not confirm it. ``dc``: the step's
+    interpolant, used for times up to ``H`` (``H = h``; 0: re-steps only).
 
     A crossing of the cubic that the integrator does not confirm, in a step where
     zdd turns towards 0 and back (g has an interior minimum), is checked at that
@@ -264,20 +279,20 @@ def _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, 
     lo, hi = 0.5 * (ta + tc), 0.5 * (tc + tb)      # the turning point's bracket
     if kind == 1:
         h_ev, xe = _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, s * a0 * h,
-                                  s * a1 * h, ta, tb)
+                                  s * a1 * h, ta, tb, dc, H)
         crossing = h_ev >= 0.0
         if not crossing and s * a0 < 0.0 < s * a1:
             kind, ta, tc, lo, hi = 2, 0.0, a0 / (a0 - a1), 0.0, 1.0
     if kind == 2:                   # check the turning point on the integrator
         # zdd has the sign -s where g falls towards the touch, +s after it
         hc, xc, zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, lo * h, hi * h, -s, tc * h,
-                            st)
+                            st, dc, H)
         gc = s * zc
         if abs(gc) <= gtol:         # a touch
             return hc, xc, True
         if gc < 0.0:                # a real double crossing: the first root
             h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, hc, s,
-                                   0.5 * (ta * h + hc), st)
+                                   0.5 * (ta * h + hc), st, dc, H)
             crossing = True
     if crossing:
         # A crossing whose excursion past 0 stays within the graze tolerance is a
@@ -288,13 +303,13 @@ def _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, 
         if gp < 0.0 and gpp > 0.0 and gp * gp <= 2.0 * gpp * gtol:
             tau = -gp / gpp
             h_ev, xe, _zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, h_ev, h_ev + 2.0 * tau,
-                                   -s, h_ev + tau, st)
+                                   -s, h_ev + tau, st, dc, H)
             return h_ev, xe, True
     return h_ev, xe, False
 
 
 @kernel
-def _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf):
+def _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf, dc):
     """The extremum of x inside the step from (x, zd) (xdot changes sign): if it
     comes before the zdot = 0 event at h_ev (h_ev < 0: none), book the partial step
     to it and stop there, at the Poincare section (xdot = 0 exactly). Returns its
@@ -302,18 +317,21 @@ def _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf):
     v = p[V]
     xd0 = zd + v
     h_xe, xx, _zx = polish(meth, F_XD, x, zd, s, p, lw, o, 0.0, h, 1.0 if xd0 > 0.0 else -1.0,
-                           h * xd0 / (xd0 - (z1 + v)), st)
+                           h * xd0 / (xd0 - (z1 + v)), st, dc, h)
     if h_ev >= 0.0 and h_xe >= h_ev:
         return codes.EV_NONE
-    _x, _z, qx, qv, qw, ql, _e, _ok = step(meth, x, zd, h_xe, s, p, lw, o, True)
+    xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, x, zd, h_xe, s, p, lw, o, True)
     st[S_N] += 1.0
     _book(acc, qx, qv, qw, ql, h_xe)
-    st[S_T] = t + h_xe
+    _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h_xe, a0,
+                       accel(xx, -v, s, cf, lw, p[K], p[M]), dc, h)
+    dt = 0.0
+    if has_dense(meth):         # located on the interpolant: the integrator's root
+        xx, dt = _on_root(acc, xr, zr, -v, s, cf, lw, p)
+    st[S_T] = t + h_xe + dt
     st[S_X] = xx
     st[S_ZD] = -v               # xdot = 0 exactly at the section
     _note_x(acc, xx, 0.0)
-    _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h_xe, a0,
-                       accel(xx, -v, s, cf, lw, p[K], p[M]))
     return codes.EV_XMAX if xd0 > 0.0 else codes.EV_XMIN
 
 
@@ -376,22 +394,38 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
                                            st[S_ARMED] > 0.0, near)
         st[S_ARMED] = 1.0 if armed else 0.0
         h_ev, xe, touched = -1.0, x1, False
+        sec = v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0)
+        turns = a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0)
+        ends = _ends_on_touch(g0, g1, s * a1 * h, gtol, armed)
+        dc = (0.0,) * 14
+        if kind != 0 or sec or turns or ends:
+            # something to locate inside the step: its interpolant, once
+            dc = dense(meth, x, zd, h, s, p, lw, o)
+            if has_dense(meth):
+                st[S_N] += 1.0
         if kind != 0:
             h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0,
-                                             g1, kind, ta, tb, tc, gtol, cf)
-        if h_ev < 0.0 and _ends_on_touch(g0, g1, s * a1 * h, gtol, armed):
+                                             g1, kind, ta, tb, tc, gtol, cf, dc, h)
+            if has_dense(meth) and h_ev >= 0.0 and not touched and \
+                    not _confirmed(meth, st, p, lw, o, x, zd, s, h_ev, cf):
+                # the interpolant cannot place this crossing (a layer of the law
+                # at zdot = 0 that its polynomial does not resolve): on re-steps
+                h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1,
+                                                 g0, g1, kind, ta, tb, tc, gtol, cf, dc,
+                                                 0.0)
+        if h_ev < 0.0 and ends:
             h_ev, xe, touched = h, x1, True
         # --- extremum of x (Poincare section) inside the step
-        if v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0):
-            ev = _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf)
+        if sec:
+            ev = _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf, dc)
             if ev != codes.EV_NONE:
                 return ev, codes.OK
         if h_ev >= 0.0:
             return _finish_zero(meth, st, p, lw, o, acc, x, zd, s, h_ev, xe,
-                                touched), codes.OK
+                                touched, a0, cf, dc, h), codes.OK
         _book(acc, qx, qv, qw, ql, h)
-        if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
-            _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1)
+        if turns:
+            _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1, dc, h)
         st[S_T] = t + h if not last else t_stop
         st[S_X] = x1
         st[S_ZD] = z1
@@ -444,12 +478,46 @@ def _halved(meth, st, p, lw, o, x, zd, s, h, omega):
 
 
 @kernel
-def _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1):
-    """Record an extremum of xdot (zdd = 0) inside [0, h] of the step from (x, zd)."""
+def _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1, dc, H):
+    """Record an extremum of xdot (zdd = 0) inside [0, h] of the step H from (x, zd)
+    (interpolant ``dc``)."""
     if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
         _h, xv, zv = polish(meth, F_ZDD, x, zd, s, p, lw, o, 0.0, h, 1.0 if a0 > 0.0 else -1.0,
-                             h * a0 / (a0 - a1), st)
+                             h * a0 / (a0 - a1), st, dc, H)
         _note_x(acc, xv, zv + p[V])
+
+
+@kernel
+def _confirmed(meth, st, p, lw, o, x, zd, s, h, cf):
+    """Whether the integrator confirms a zero of zdot found on the interpolant at
+    ``h``: one Newton step in time from its state there lands where the acceleration
+    has changed so little that the step's neglected second-order term moves zdot by
+    under 1e-3 of its tolerance ``rtol lv``."""
+    xr, zr, _a, _b, _c, _l, _e, _ok = step(meth, x, zd, h, s, p, lw, o, False)
+    st[S_N] += 1.0
+    a = accel(xr, zr, s, cf, lw, p[K], p[M])
+    if a == 0.0:
+        return False
+    dt = -zr / a
+    a1 = accel(xr + (zr + p[V]) * dt, 0.0, s, cf, lw, p[K], p[M])
+    return abs(a1 - a) * abs(dt) <= 1e-3 * o[O_RTOL] * o[O_LV]
+
+
+@kernel
+def _on_root(acc, xr, zr, zt, s, cf, lw, p):
+    """From the integrator's state ``(xr, zr)`` at a root of ``zdot - zt`` found on
+    the interpolant, one Newton step in time to the integrator's own root:
+    ``(x there, dt)``, with the quadratures of ``dt`` booked (Taylor to first order;
+    dt is the interpolant's error, so what is left is of its square)."""
+    v = p[V]
+    a = accel(xr, zr, s, cf, lw, p[K], p[M])
+    if a == 0.0:
+        return xr, 0.0
+    dt = (zt - zr) / a
+    xd = zr + v
+    _book(acc, xr * dt, xd * xd * dt, friction_force(lw, cf, zr, s) * xd * dt,
+          integrand(lw, cf, zr) * dt, dt)
+    return xr + dt * (xd + 0.5 * a * dt), dt
 
 
 @kernel(inline="always")

@@ -3,9 +3,10 @@
 The step's Hermite cubic of ``g = s zdot`` (values and ``zdd`` at both ends) is
 split at its critical points into monotone pieces (``zd_event``), so two crossings
 inside one step and a touch between two samples are both seen (a sign test at the
-step's ends sees neither). A root is then polished by safeguarded Newton on re-steps
-of the integrator (``polish``): dense output is the stepper itself, so the state at
-an event is the integrator's own.
+step's ends sees neither). A root is then polished by safeguarded Newton
+(``polish``) on the step's continuous extension (dop853, dopri5) or on re-steps of
+the integrator (the fixed-step methods); the driver then takes the integrator's own
+state at the root (``driver.py``).
 """
 import math
 
@@ -14,8 +15,8 @@ import numpy as np
 from .jit import kernel
 
 from .law import zdd, zddd
-from .layout import S_N, V
-from .stepper import step
+from .layout import V
+from .stepper import state_at
 
 EPS = np.finfo(np.float64).eps
 
@@ -38,8 +39,10 @@ def _fun(which, x, zd, s, p, lw):
 
 
 @kernel
-def polish(meth, which, x, zd, s, p, lw, o, lo, hi, sign_lo, guess, st):
-    """Root in (lo, hi] of F(h) = fun(step(x, zd, h)); F(lo) has sign ``sign_lo``.
+def polish(meth, which, x, zd, s, p, lw, o, lo, hi, sign_lo, guess, st, dc, H):
+    """Root in (lo, hi] of F(h) = fun(state at h into the step H from (x, zd));
+    F(lo) has sign ``sign_lo``. The state is the interpolant ``dc`` of the step
+    where the method has one, else a re-step (``stepper.state_at``).
 
     Safeguarded Newton: Newton steps inside the bracket, bisection otherwise.
     Returns (h, x1, zd1).
@@ -48,8 +51,7 @@ def polish(meth, which, x, zd, s, p, lw, o, lo, hi, sign_lo, guess, st):
     x1 = x
     z1 = zd
     for _ in range(60):
-        x1, z1, _a, _b, _c, _l, _e, _ok = step(meth, x, zd, h, s, p, lw, o, False)
-        st[S_N] += 1.0
+        x1, z1 = state_at(meth, x, zd, h, s, p, lw, o, dc, H, st)
         f, df = _fun(which, x1, z1, s, p, lw)
         if f == 0.0:
             break
@@ -64,8 +66,7 @@ def polish(meth, which, x, zd, s, p, lw, o, lo, hi, sign_lo, guess, st):
             hn = 0.5 * (lo + hi)
         if abs(hn - h) <= 2.0 * EPS * hi:
             h = hn
-            x1, z1, _a, _b, _c, _l, _e, _ok = step(meth, x, zd, h, s, p, lw, o, False)
-            st[S_N] += 1.0
+            x1, z1 = state_at(meth, x, zd, h, s, p, lw, o, dc, H, st)
             break
         h = hn
     return h, x1, z1

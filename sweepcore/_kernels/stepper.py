@@ -16,9 +16,13 @@ with ``p`` the parameter row and ``lw`` the law's data (``law.py``).
 3. ``err`` is the error estimate scaled by the tolerance (``<= 1`` accept); fixed-step
    methods return 0.  ``ok`` is False when the step cannot be taken at this ``h``
    (the GPS denominator guard); the driver then halves ``h``.
-4. Dense output is the stepper itself: the state at ``t + theta h`` is
-   ``step(..., theta * h, ...)`` from the step's start, so an event located there is
-   the integrator's own state, not an interpolant's.
+4. Dense output: the adaptive pairs carry their continuous extension
+   (``dense``: the coefficients of the interpolant over an accepted step, evaluated
+   by ``interpolate``; Hairer, Norsett & Wanner, Solving ODEs I, section II.6),
+   seventh order for dop853, fourth for dopri5. For the other methods the dense
+   output is the stepper itself: the state at ``t + theta h`` is
+   ``step(..., theta * h, ...)`` from the step's start. ``state_at`` gives the
+   state inside a step by whichever the method has.
 5. ``proposal`` gives the next step size to try, by the method's kind (table below).
 
 The method is a compile-time constant: the entry kernels (``entries.py``) are
@@ -33,14 +37,14 @@ from numba import types
 from numba.core.errors import TypingError
 from numba.extending import overload
 
-from .jit import OVERLOAD_OPTIONS
+from .jit import OVERLOAD_OPTIONS, kernel
 
-from .dop853 import dop853_step
-from .dopri5 import dopri5_step
+from .dop853 import dop853_dense, dop853_step
+from .dopri5 import dopri5_dense, dopri5_step
 from .exact import exact_proposal, exact_step
 from .gps import gps_step
 from .rk4 import rk4_step
-from .layout import O_DT
+from .layout import O_DT, S_N
 
 # name, order, adaptive, controller exponent, touch-tolerance factor (of rtol),
 # closed form (needs a piecewise-linear law), step function. The code of a method
@@ -74,6 +78,8 @@ ADAPTIVE = tuple(row[2] for row in METHODS)
 EXPONENT = tuple(row[3] for row in METHODS)
 TOUCH_FACTOR = tuple(row[4] for row in METHODS)
 CLOSED_FORM = tuple(row[5] for row in METHODS)
+# the continuous extension of a method, by code (None: re-step from the start)
+DENSE = (None, None, None, dopri5_dense, dop853_dense)
 
 
 def _method(meth):
@@ -110,3 +116,68 @@ def _proposal(meth, x, zd, s, p, lw, o, h_prev):
     if ADAPTIVE[code]:
         return lambda meth, x, zd, s, p, lw, o, h_prev: h_prev
     return lambda meth, x, zd, s, p, lw, o, h_prev: o[O_DT]
+
+
+def dense(meth, x, zd, h, s, p, lw, o):
+    """The coefficients of method ``meth``'s interpolant over the step ``h`` from
+    ``(x, zd)`` (zeros for a method without one; module docstring, item 4)."""
+
+
+@overload(dense, prefer_literal=True, jit_options=OVERLOAD_OPTIONS)
+def _dense(meth, x, zd, h, s, p, lw, o):
+    fn = DENSE[_method(meth)]
+    if fn is None:
+        return lambda meth, x, zd, h, s, p, lw, o: (0.0,) * 14
+    return lambda meth, x, zd, h, s, p, lw, o: fn(x, zd, h, s, p, lw, o)
+
+
+@kernel(inline="always")
+def interpolate(dc, th, x, zd):
+    """The state ``(x, zdot)`` at the fraction ``th`` of a step from ``(x, zd)`` on
+    its interpolant ``dc`` (``dense``): y0 + th (F0 + (1 - th) (F1 + th (F2 + ...))),
+    the nesting of DOP853's contd8."""
+    u = 1.0 - th
+    xi = x + th * (dc[0] + u * (dc[1] + th * (dc[2] + u * (dc[3] + th * (
+        dc[4] + u * (dc[5] + th * dc[6]))))))
+    zi = zd + th * (dc[7] + u * (dc[8] + th * (dc[9] + u * (dc[10] + th * (
+        dc[11] + u * (dc[12] + th * dc[13]))))))
+    return xi, zi
+
+
+def state_at(meth, x, zd, h, s, p, lw, o, dc, H, st):
+    """The state ``(x, zdot)`` a time ``h`` into the step ``H`` from ``(x, zd)``:
+    on the interpolant ``dc`` where the method has one, else by a re-step (counted
+    in ``st[S_N]``)."""
+
+
+@overload(state_at, prefer_literal=True, jit_options=OVERLOAD_OPTIONS)
+def _state_at(meth, x, zd, h, s, p, lw, o, dc, H, st):
+    code = _method(meth)
+    if DENSE[code] is None:
+        fn = METHODS[code][6]
+
+        def restep(meth, x, zd, h, s, p, lw, o, dc, H, st):
+            st[S_N] += 1.0
+            x1, z1, _a, _b, _c, _l, _e, _ok = fn(x, zd, h, s, p, lw, o, False)
+            return x1, z1
+        return restep
+    fn = METHODS[code][6]
+
+    def on_interpolant(meth, x, zd, h, s, p, lw, o, dc, H, st):
+        if h <= H:
+            return interpolate(dc, h / H, x, zd)
+        # past the step (a touch's bracket may reach beyond it): no extrapolation
+        st[S_N] += 1.0
+        x1, z1, _a, _b, _c, _l, _e, _ok = fn(x, zd, h, s, p, lw, o, False)
+        return x1, z1
+    return on_interpolant
+
+
+def has_dense(meth):
+    """Whether method ``meth`` has a continuous extension (a compile-time bool)."""
+
+
+@overload(has_dense, prefer_literal=True, jit_options=OVERLOAD_OPTIONS)
+def _has_dense(meth):
+    flag = DENSE[_method(meth)] is not None
+    return lambda meth: flag
