@@ -66,7 +66,7 @@ def reference_sample(grid, out, count, seed=1):
     for i in rows:
         p = P[i]
         mod = Forced(m=p[layout.M], k=p[layout.K], c=p[layout.C], v=p[layout.V],
-                     F0=p[layout.F0], Omega=p[layout.OMEGA], r_y=p[layout.RY])
+                     F0=p[layout.F0], Omega=p[layout.OMEGA], r_y=float(grid.r_y))
         t = time.process_time()
         ref = forced_steady(mod, x0=0.0, xd0=0.0, multipliers=False)
         seconds.append(time.process_time() - t)
