@@ -22,7 +22,7 @@ import numpy as np
 import xarray as xr
 
 from . import excitations, labels, variables
-from .options import did_you_mean
+from .options import checked_keywords, did_you_mean
 from .params import LONG_NAMES, UNITS, Params
 
 DIRECTIONS = {"up": ("up",), "down": ("down",), "both": ("up", "down")}
@@ -115,6 +115,7 @@ def coexisting(ds: xr.Dataset) -> np.ndarray:
     return ok & differ
 
 
+@checked_keywords(options=True)
 def frequency_response(params: Params, Omega, direction: str = "both",
                        x0: float = 0.0, xdot0: float | None = None, tol: float = 1e-8,
                        method: str = "auto", **options) -> xr.Dataset:
@@ -216,6 +217,7 @@ def frequency_response(params: Params, Omega, direction: str = "both",
     return ds
 
 
+@checked_keywords(options=True)
 def stroboscopic_diagram(params: Params, name: str, values, periods: int = 32,
                          transient: int = 400, x0: float = 0.0,
                          xdot0: float | None = None, tol: float = 1e-10) -> xr.Dataset:

@@ -9,6 +9,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
+from ..options import checked_keywords
 from .._kernels import codes
 from .checks import checked_result
 from .maps import _edges
@@ -87,6 +88,7 @@ def continuous_motion_boundary(ds: xr.Dataset, Omega: np.ndarray):
     return r_y / r_b(np.asarray(Omega) / omega)
 
 
+@checked_keywords
 def plot_forced_map(ds: xr.Dataset, x: str = "Omega", y: str = "F0",
                     variables=FORCED_MAP_VARIABLES) -> Figure:
     """A forced response map: the count variables (``stops_per_period``,
@@ -163,6 +165,7 @@ def _axis_label(ds, name: str) -> str:
     return label(ds[name], name)
 
 
+@checked_keywords
 def plot_frequency_response(ds: xr.Dataset, variables=("amplitude", "mean")) -> Figure:
     """A frequency-response curve (``sweepcore.frequency_response``): each variable
     against Omega, the up sweep solid with upward triangles, the down sweep dashed
@@ -202,6 +205,7 @@ def plot_frequency_response(ds: xr.Dataset, variables=("amplitude", "mean")) -> 
     return fig
 
 
+@checked_keywords
 def plot_stroboscopic(ds: xr.Dataset) -> Figure:
     """A stroboscopic diagram (``sweepcore.stroboscopic_diagram``): x at t = j T
     against the parameter, one dot per sample."""
