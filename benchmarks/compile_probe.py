@@ -193,7 +193,9 @@ def stored_section(path=None) -> str:
 
 
 if __name__ == "__main__":
-    if sys.argv[1:2] == ["--kinds"]:
+    if sys.argv[1:2] in (["-h"], ["--help"]):
+        print(__doc__)
+    elif sys.argv[1:2] == ["--kinds"]:
         kinds()
     else:
         probe(int(sys.argv[1]), int(sys.argv[2]), len(sys.argv) > 3 and sys.argv[3] == "map")
