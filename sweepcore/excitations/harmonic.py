@@ -31,6 +31,26 @@ def run(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray, parallel: bool) -> 
             with compiled.compiling("forced response", METHOD, kind):
                 _threads(kernel, block, lw, o, res, parallel)
             out[rows] = res
+    _flag_neutral(P, laws, out)
+
+
+def _flag_neutral(P: np.ndarray, laws, out: np.ndarray) -> None:
+    """Den Hartog's slider (constant friction, c = 0, v = 0) at Omega/omega = 1/(2 n):
+    a neutral family of responses (``theory.neutral_family``), whose member a start
+    picks only on the time scale of a multiplier 1; its numbers are flagged, never a
+    confident amplitude (regime neutral, status unresolved). The search's own
+    multiplier there is 1 to the accuracy of its Jacobian, not exactly."""
+    from .. import law
+    from .._kernels import codes
+    from .theory import neutral_family
+    with np.errstate(all="ignore"):
+        family = neutral_family(P[:, layout.M], P[:, layout.K], P[:, layout.OMEGA],
+                                P[:, layout.C], P[:, layout.V])
+    family = np.asarray(family) & law.per_law(P, laws, "closed_form", bool)
+    family &= out[:, layout.OB_REGIME] != codes.R_STUCK
+    family &= out[:, layout.OB_STATUS] == codes.OK
+    out[family, layout.OB_REGIME] = codes.R_NEUTRAL
+    out[family, layout.OB_STATUS] = codes.UNRESOLVED
 
 
 def trajectory(row: np.ndarray, lw, kind: int, o: np.ndarray, *arrays):
