@@ -54,6 +54,7 @@ def product_rows(**axes):
         if row["v_s"] is None:
             row["v_s"] = np.nan
         r = np.zeros(layout.NP)                  # the law's index (layout.LAW) 0
+        r[layout.OMEGA] = np.nan                 # no excitation: F0 = Y0 = 0, no Omega
         for n in AXES:
             r[COLUMN[n]] = float(row[n])
         rows.append(r)
