@@ -285,7 +285,7 @@ def test_readme_commands_and_snippet_run_as_written(tmp_path, monkeypatch, capsy
             exec(compile(block, "README.md", "exec"), names)      # noqa: S102
     snippet = next(b for b in blocks if "p = sc.Params(" in b)
     p, ob = names["p"], names["ob"]
-    comment = re.search(r"p\.q, p\.v_star, p\.x_eq\s+# (\S+) 1/s, (\S+) cm/s, (\S+) cm",
+    comment = re.search(r"p\.q, p\.v_star, p\.x_eq\)?\s+# (\S+) 1/s, (\S+) cm/s, (\S+) cm",
                         snippet).groups()
     assert comment == (f"{p.q:.2g}", f"{p.v_star:.3g}", f"{p.x_eq:.3g}")
     amp, period = re.search(r"amplitude=(\S+), regime='(\w+)',\s+#\s+period=(\S+),",
