@@ -194,6 +194,7 @@ def stored_section(path=None) -> str:
 
 if __name__ == "__main__":
     if sys.argv[1:2] in (["-h"], ["--help"]):
+        print("usage: compile_probe.py [-h] [--kinds | NV NA [map]]\n")
         print(__doc__)
     elif sys.argv[1:2] == ["--kinds"]:
         kinds()
