@@ -27,13 +27,13 @@ import math
 import numpy as np
 
 from . import codes
+from .driver import _note_x
 from .events import cubic, zd_event
 from .forced_step import forced_accel, forced_step, load
 from .jit import kernel
 from .law import constants, field_slope, static_limits, step_bound
-from .layout import (A_DT, A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
-                     A_XMIN, C, K, M, O_LV, O_LX, O_MAX_STEPS, O_RTOL, S_ARMED, S_H,
-                     S_MODE, S_N, S_T, S_X, S_ZD, V)
+from .layout import (A_DT, A_IX, A_NSTICK, A_NSTOP, A_TSTICK, C, K, M, O_LV, O_LX,
+                     O_MAX_STEPS, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
 
 EPS = np.finfo(np.float64).eps
 TOUCH_FACTOR = 20.0     # zdot's error at a touch, in rtol lv (driver.touch_tol)
@@ -144,7 +144,7 @@ def stick_forced(st, p, lw, fa, fb, om, acc, t_stop):
     acc[A_DT] += dt
     st[S_T] = t1
     st[S_X] = x1
-    _note(acc, x1, v)
+    _note_x(acc, x1, v)
     if mode == codes.STICK:
         return codes.EV_STOP_TIME, codes.OK
     st[S_ZD] = 0.0
@@ -154,18 +154,6 @@ def stick_forced(st, p, lw, fa, fb, om, acc, t_stop):
 
 
 # --------------------------------------------------------------- the slides
-@kernel(inline="always")
-def _note(acc, x, xd):
-    if x > acc[A_XMAX]:
-        acc[A_XMAX] = x
-    if x < acc[A_XMIN]:
-        acc[A_XMIN] = x
-    if xd > acc[A_XDMAX]:
-        acc[A_XDMAX] = xd
-    if xd < acc[A_XDMIN]:
-        acc[A_XDMIN] = xd
-
-
 @kernel
 def classify_forced(x, t, s, p, lw, fa, fb, om, ftol):
     """Mode after zdot reached 0 at (x, t) while sliding with sign s, and the event:
@@ -277,11 +265,11 @@ def _extrema(x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, hk, z1, a0, a1, acc,
     if xd0 != 0.0 and (xd0 > 0.0) != (xd1 > 0.0):
         _h, xx, zx = _polish(1, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, 0.0, hk,
                              xd0, hk * xd0 / (xd0 - xd1), st)
-        _note(acc, xx, zx + v)
+        _note_x(acc, xx, zx + v)
     if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
         _h, xv, zv = _polish(2, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, 0.0, hk,
                              a0, hk * a0 / (a0 - a1), st)
-        _note(acc, xv, zv + v)
+        _note_x(acc, xv, zv + v)
 
 
 @kernel
@@ -364,7 +352,7 @@ def slide_forced(st, p, lw, fa, fb, om, o, acc, ws, vw, t_stop, measure, track):
         st[S_T] = t + h if not last else t_stop
         st[S_X] = x1
         st[S_ZD] = z1
-        _note(acc, x1, z1 + v)
+        _note_x(acc, x1, z1 + v)
         if last:
             return codes.EV_STOP_TIME, codes.OK
 
@@ -405,7 +393,7 @@ def _finish(st, p, lw, fa, fb, om, o, acc, ws, vw, cf, x, zd, t, s, h_ev, a0, ft
         acc[A_NSTICK] += 1.0
     else:
         acc[A_NSTOP] += 1.0
-    _note(acc, xe, v)
+    _note_x(acc, xe, v)
     return ev, codes.OK
 
 
