@@ -3,9 +3,11 @@
 heyoka.py (https://bluescarni.github.io/heyoka.py/) integrates ODEs by Taylor's method,
 compiled for the system by LLVM, and locates events by polynomial root finding on
 each step's Taylor series; in batch mode one integrator advances several systems at
-once in SIMD lanes. This peer computes what sweepcore's map computes, each point's
-attractor from a start stuck on the belt, for the paper's law (eq. 40, r_k = r_y,
-c = 0), with everything the library offers and everything the physics gives away:
+once in SIMD lanes, each lane stopping at its own terminal event. This peer computes
+what sweepcore's map computes, each point's attractor from a start stuck on the belt,
+for the paper's law (eq. 40, r_k = r_y, c = 0), with what the library offers
+(events, batch mode, the variational equations as extra states) and what the physics
+gives away:
 
 * the sliding field as a heyoka system, the sign of the relative speed
   ``z = x' - v`` a runtime parameter ``s`` (one compiled integrator for every point
@@ -15,36 +17,35 @@ c = 0), with everything the library offers and everything the physics gives away
   0, never where it leaves 0), then the stick in closed form (x moves with the belt
   to the breakaway point r_y/k) or a reversal (s flips when |k x| >= r_y);
 * a start stuck on the belt means every stick ends at the same breakaway point: the
-  first stick closes a stick-slip cycle, exact in one period;
-* otherwise the attractor is the fixed point of the return map on the section
-  x' = 0 (maxima of x), found by Aitken extrapolation of the returns over a lag that
-  grows with their count (the first third, the transient, is never used), accepted
-  when three successive extrapolations, their spread times the lag, agree to
-  ``xtol``; then one period from the extrapolated point gives amplitude, mean and
-  period (a plain "successive returns agree" test stops far too early next to v*,
-  where the returns creep);
-* equilibria by decay: a section point (or the extrapolated fixed point, or the last
-  three extrapolations) within ``eps_eq`` of the analytic x_eq (eq. 43), or no
-  maximum of x for ``at_rest`` = 20 s while the section is on.
+  orbit from breakaway that sticks again is the stick-slip cycle, exact in one
+  period (measured with every extremum from breakaway);
+* otherwise the attractor is a fixed point of the return map P on the section
+  x' = 0, x'' < 0 (maxima of x, which lie above the equilibrium x_eq, eq. 43), found
+  by Newton's method on P(x) - x from the second maximum after breakaway. P'(x) is
+  the first variational state dx/dx0 at the next maximum (there x' = 0, so the
+  section adds no term), carried by the integrator beside (x, z) and multiplied in
+  its z-row by zdot+/zdot- at a reversal (the saltation of the jump in the field
+  across z = 0). Next to v* the map contracts by only 1 - 1e-5 a period: Newton
+  needs a handful of periods where iterating the map needs 1e5 or more;
+* the iteration is kept on the attractor the orbit from breakaway reaches: a
+  bracket [lo, hi] with P(lo) > lo (the orbit grows) and P(hi) < hi (it decays),
+  lo starting at x_eq; a Newton step that leaves it, or where the map is locally
+  expanding, is replaced by halving towards the bracket. A return that sticks
+  bounds the bracket from above; one from a point of the true orbit (the second
+  maximum and its plain iterates) proves the orbit sticks: the stick-slip cycle is
+  then measured from breakaway. Converged when a Newton step is below ``xtol``;
+  the equilibrium when the iterate is within ``eps_eq`` of x_eq, or no maximum of x
+  comes for ``at_rest`` = 20 s;
+* one period from the fixed point with every extremum gives amplitude, mean and
+  period. The mean's running integral of x is a state reset at every extremum (heyoka's
+  error control is relative to the largest state component: an integral left to grow
+  loosens the tolerance on x and x'); the variational states are 0 (and stay 0)
+  outside Newton's returns.
 
-Two integrators, so that heyoka's error control (relative to the largest state
-component) sees the state the job measures:
-
-* the *measure* integrator, (x, z, int x) with terminal events at the slide's end
-  and at both extrema of x, for what needs every extremum: the first two returns of
-  a point (a stick-slip cycle is over by then), one period through the fixed point,
-  and a slide that sticks after a long transient. The running integral of x (the
-  mean's quadrature) is added to a sum and reset to 0 at every extremum, so it never
-  exceeds about x times half a period;
-* the *lane* integrator, (x, z) and a clock c in [-1, 0], in batch mode (or
-  scalar), for the transient's section returns. The section event is compiled with
-  a per-lane switch ``on``, ``on x' + 1 - on`` (rootless when off), and the clock's
-  zero is a timer event that turns it on again: once the returns of a point
-  outnumber ``2 keep``, every other one is dropped and only every K-th return (K
-  doubling) is sampled, the section off for K - 1/2 periods in between, so Python
-  handles O(keep log N) events of a point that needs N returns. Each terminal event
-  stops every lane of the batch (heyoka's rule); the lane whose point is done is
-  refilled with the next point at once.
+Each point's search is a generator that asks for one flight to the next event at a
+time; the same code runs on the scalar integrator or in the lanes of the batch one
+(every lane refilled with the next point as its point is done), so Python handles
+each event once, about 20 a point, and never a section return it does not use.
 
 Units: kN, cm, s (the package's). Written from heyoka.py's documented API; shares no
 code with sweepcore (the workers import neither sweepcore nor numba).
@@ -60,483 +61,323 @@ import numpy as np
 # the worker processes import neither sweepcore nor numba
 EQUILIBRIUM, SLIP_CYCLE, STICK_SLIP, UNCONVERGED = 0, 1, 2, 6
 COLUMNS = ("amplitude", "mean", "period", "regime", "steps", "t_end", "returns")
-STOP, XMAX, XMIN = 0, 1, 2            # events of the measure integrator
-SECTION, TIMER = 1, 2                 # the lane integrator's (STOP is 0 in both)
-TIME_LIMIT, FAILED, NO_EVENT = -1, -2, -3   # NO_EVENT: a lane stopped by another's event
-FAR = 1e15                            # s: a propagation ends on an event, never here
-ONE_PERIOD, REDO = "one period", "redo"
+STOP, XMAX, XMIN = 0, 1, 2            # the integrator's terminal events
+TIME_LIMIT, FAILED = -1, -2
+# the state: x [cm], z [cm/s], q = int x [cm s] since the last extremum, and the
+# variational states p = dx/dx0 [1], w = dz/dx0 [1/s]
+X, Z, Q, P, W = range(5)
+ON = 6                                # the parameter that switches the minima on
 
 
-def field():
-    """The sliding field: state (x, z), parameters (s, k/m, r_y/m, v, alpha1/m,
-    alpha2/m); z = x' - v [cm/s], eq. (40) with sgn(z) = s frozen."""
+def integrator(tol, batch=None):
+    """Taylor integrator of (x, z, q, p, w) at ``tol`` with ``batch`` lanes (None:
+    scalar) and the terminal events [slide ends, maximum of x, minimum of x if
+    par[6] = 1]; parameters (s, k/m, r_y/m, v, alpha1/m, alpha2/m, on)."""
     import heyoka as hy
-    x, z = hy.make_vars("x", "z")
-    s, km, rm, v, a1, a2 = (hy.par[i] for i in range(6))
-    return x, [(x, z + v), (z, -km * x - rm * s + a1 * z - a2 * z * z * z)], s * z, z + v
-
-
-def measure_integrator(tol):
-    """Scalar Taylor integrator of (x, z, int x) at ``tol`` with the terminal events
-    [slide ends, maximum of x, minimum of x]."""
-    import heyoka as hy
-    x, sys, sz, xdot = field()
-    q = hy.make_vars("q")
-    neg, pos = hy.event_direction.negative, hy.event_direction.positive
-    events = [hy.t_event(sz, direction=neg),         # z back to 0 from the slide's side
-              hy.t_event(xdot, direction=neg),       # x' = 0 falling: a maximum of x
-              hy.t_event(xdot, direction=pos)]
-    return hy.taylor_adaptive(sys + [(q, x)], [0.0, 0.0, 0.0], tol=tol, t_events=events,
-                              pars=[-1.0, 10.0, 2.0, 1.0, 0.2, 0.01], compact_mode=False)
-
-
-def lane_integrator(tol, batch=None):
-    """Taylor integrator of (x, z, c) at ``tol``, ``batch`` lanes (None: scalar), with
-    the terminal events [slide ends, maximum of x if par[6] = 1, c = 0].
-
-    c is a clock that runs from -1 to 0 at the rate par[7] [1/s]. The section's
-    switch and the clock are both of the state's size: heyoka's step control heeds
-    the event functions, and an event of ``time`` (which grows to 1e5 s) or a large
-    constant added to x' (to move its root away) loosens the tolerance on x, x' as an
-    unreset integral does (measured: a decaying oscillation of 1e-5 cm next to v*
-    held at 4e-5 cm).
-    """
-    import heyoka as hy
-    _x, sys, sz, xdot = field()
-    c = hy.make_vars("c")
-    on, rate = hy.par[6], hy.par[7]
-    neg, pos = hy.event_direction.negative, hy.event_direction.positive
+    x, z, q, p, w = hy.make_vars("x", "z", "q", "p", "w")
+    s, km, rm, v, a1, a2, on = (hy.par[i] for i in range(7))
+    sys = [(x, z + v), (z, -km * x - rm * s + a1 * z - a2 * z * z * z), (q, x),
+           (p, w), (w, -km * p + (a1 - 3.0 * a2 * z * z) * w)]
     ev = hy.t_event if batch is None else hy.t_event_batch
-    events = [ev(sz, direction=neg), ev(on * xdot + (1.0 - on), direction=neg),
-              ev(c, direction=pos)]
-    sys = sys + [(c, rate)]
-    pars = [-1.0, 10.0, 2.0, 1.0, 0.2, 0.01, 0.0, 0.0]
+    neg, pos = hy.event_direction.negative, hy.event_direction.positive
+    events = [ev(s * z, direction=neg),               # z back to 0 from the slide's side
+              ev(z + v, direction=neg),               # x' = 0 falling: a maximum of x
+              ev(on * (z + v) + (1.0 - on), direction=pos)]   # a minimum (rootless off)
+    pars = [-1.0, 10.0, 2.0, 1.0, 0.2, 0.01, 1.0]
     if batch is None:
-        return Scalar(hy.taylor_adaptive(sys, [0.0, 0.0, -1.0], tol=tol, t_events=events,
-                                         pars=pars, compact_mode=False))
-    return Batch(hy.taylor_adaptive_batch(
-        sys, np.repeat([[0.0], [0.0], [-1.0]], batch, axis=1), tol=tol, t_events=events,
-        pars=np.repeat(np.array(pars)[:, None], batch, axis=1), compact_mode=False))
+        return hy.taylor_adaptive(sys, [0.0] * 5, tol=tol, t_events=events, pars=pars,
+                                  compact_mode=False)
+    return hy.taylor_adaptive_batch(
+        sys, np.zeros((5, batch)), tol=tol, t_events=events,
+        pars=np.repeat(np.array(pars)[:, None], batch, axis=1), compact_mode=False)
 
 
-class Batch:
-    """The lane integrator in batch mode: what the driver asks of it."""
+class Point:
+    """One slider started stuck at x = 0: its parameters and counters."""
 
-    def __init__(self, ta):
-        self.ta, self.lanes = ta, ta.batch_size
-
-    def propagate(self, t):
-        """Propagate every lane towards t [s] until a terminal event in any lane;
-        (outcome code, steps) of each lane."""
-        self.ta.propagate_until(t)
-        return [(int(r[0]), r[3]) for r in self.ta.propagate_res]
-
-    def time(self, j):
-        return float(self.ta.time[j])
-
-    def x(self, j):
-        return float(self.ta.state[0, j])
-
-    def get(self, j):
-        """(time, state, pars) of lane j."""
-        ta = self.ta
-        return float(ta.time[j]), ta.state[:, j].copy(), ta.pars[:, j].copy()
-
-    def put(self, j, t, state, pars):
-        ta = self.ta
-        times = np.array(ta.time, dtype=float)
-        times[j] = t
-        ta.set_time(times)
-        ta.state[:, j] = state
-        ta.pars[:, j] = pars
-        ta.reset_cooldowns(j)
-
-    def par(self, j, i, value):
-        self.ta.pars[i, j] = value
-
-    def wind(self, j, rate):
-        """Restart lane j's clock at -1, to reach 0 after 1/rate seconds."""
-        self.ta.state[2, j] = -1.0
-        self.ta.pars[7, j] = rate
-
-
-class Scalar(Batch):
-    """The lane integrator in scalar mode, seen as one lane."""
-
-    def __init__(self, ta):
-        self.ta, self.lanes = ta, 1
-
-    def propagate(self, t):
-        oc, _h0, _h1, n = self.ta.propagate_until(t)[:4]
-        return [(int(oc), n)]
-
-    def time(self, j):
-        return self.ta.time
-
-    def x(self, j):
-        return float(self.ta.state[0])
-
-    def get(self, j):
-        return self.ta.time, self.ta.state.copy(), self.ta.pars.copy()
-
-    def put(self, j, t, state, pars):
-        ta = self.ta
-        ta.time = t
-        ta.state[:] = state
-        ta.pars[:] = pars
-        ta.reset_cooldowns()
-
-    def par(self, j, i, value):
-        self.ta.pars[i] = value
-
-    def wind(self, j, rate):
-        self.ta.state[2] = -1.0
-        self.ta.pars[7] = rate
-
-
-def aitken(seq, lag):
-    """Aitken's extrapolation of the limit of ``seq`` from its last element and the
-    ones ``lag`` and ``2 lag`` before (the last element if the differences vanish)."""
-    a, b, c = seq[-1 - 2 * lag], seq[-1 - lag], seq[-1]
-    d1, d0 = c - b, b - a
-    den = d1 - d0
-    return c if den == 0.0 else c - d1 * d1 / den
-
-
-class Returns:
-    """Returns to the section, every K-th one kept, and their Aitken limits.
-
-    The kept returns are equally spaced, K returns apart: when they reach ``2 keep``
-    every other one is dropped and K doubles. Aitken's limit over a lag of a third of
-    the kept returns (the first third, the transient, is never used); converged when
-    the last three limits, their spread multiplied by the lag, agree to ``xtol``
-    [cm]: next to v* the returns converge algebraically for long (the cubic term of
-    the law outweighs q), and the limit drifts by a little each return for many
-    returns; over a lag the drift is what is left. A sampled return that is not the
-    K-th (the period changed) restarts the record.
-    """
-
-    def __init__(self, xtol, keep):
-        self.xtol, self.keep = xtol, keep
-        self.x, self.t = [], []
-        self.K, self.period, self.count = 1, math.nan, 0
-        self.limits = []
-
-    def add(self, t, x):
-        """Record a return at time t [s], x [cm]; True when converged."""
-        if self.t:
-            n = max(1, round((t - self.t[-1]) / self.period)) if self.K > 1 else 1
-            if n != self.K:
-                self.x, self.t, self.limits = [], [], []
-            else:
-                self.period = (t - self.t[-1]) / self.K
-            self.count += n
-        else:
-            self.count += 1
-        self.x.append(x)
-        self.t.append(t)
-        if len(self.x) >= 2 * self.keep:            # keep the last one and every other
-            self.x, self.t = self.x[1::2], self.t[1::2]
-            self.K *= 2
-            self.limits = []
-        n = len(self.x) - 1
-        if n < 2:
-            return False
-        lag = n // 3 or 1
-        self.limits = self.limits[-2:] + [aitken(self.x, lag)]
-        return len(self.limits) == 3 and lag * (max(self.limits) - min(self.limits)) \
-            <= self.xtol
-
-    @property
-    def limit(self):
-        return self.limits[-1] if self.limits else (self.x[-1] if self.x else math.nan)
-
-
-class Track:
-    """One point from its breakaway: its parameters, its section returns, the sign of
-    its slide and, once known, its result (a tuple of observables, ``ONE_PERIOD``:
-    the slip cycle through ``ret.limit``, or ``REDO``: it stuck after its extremes
-    stopped being tracked)."""
-
-    def __init__(self, peer, m, k, r_y, v, alpha1, alpha2, x0):
-        self.peer, self.k, self.r_y, self.v = peer, k, r_y, v
-        self.pars = [-1.0, k / m, r_y / m, v, alpha1 / m, alpha2 / m]
+    def __init__(self, m, k, r_y, v, alpha1, alpha2):
+        self.k, self.r_y, self.v = k, r_y, v
+        self.km, self.rm = k / m, r_y / m
+        self.pars = [-1.0, k / m, r_y / m, v, alpha1 / m, alpha2 / m, 1.0]
         self.xs, self.x_eq = r_y / k, (r_y - alpha1 * v + alpha2 * v ** 3) / k
-        self.t_b = (self.xs - x0) / v                # breakaway at the end of the stick
-        self.ret = Returns(peer.xtol, peer.keep)
-        self.s, self.last, self.result, self.steps = -1.0, self.t_b, None, 0
-        self.section_on = True
+        self.t_b = self.xs / v                   # breakaway at the end of the stick
+        self.steps, self.returns, self.t_end = 0, 0, 0.0
 
-    def section(self, t, x):
-        """A sampled maximum of x at time t [s]: the equilibrium (this point, or the
-        last three extrapolated limits, within ``eps_eq`` of x_eq: next to v* the
-        limits reach x_eq long before they agree to ``xtol``), the slip cycle, or
-        nothing yet."""
-        self.last = t
-        done = self.ret.add(t, x)
-        eps, lims = self.peer.eps_eq, self.ret.limits
-        near = len(lims) == 3 and max(abs(l - self.x_eq) for l in lims) <= eps
-        if x - self.x_eq <= eps or near or (done and self.ret.limit - self.x_eq <= eps):
-            self.result = (0.0, self.x_eq, math.nan, EQUILIBRIUM)
-        elif done:
-            self.result = ONE_PERIOD
+    def row(self, amplitude, mean, period, regime):
+        return (amplitude, mean, period, regime, self.steps, self.t_end, self.returns)
+
+    def equilibrium(self):
+        return self.row(0.0, self.x_eq, math.nan, EQUILIBRIUM)
 
     def failed(self):
-        self.result = (math.nan, math.nan, math.nan, UNCONVERGED)
-
-    def at_rest(self):
-        self.result = (0.0, self.x_eq, math.nan, EQUILIBRIUM)
+        return self.row(math.nan, math.nan, math.nan, UNCONVERGED)
 
 
 class Peer:
-    """Attractors of the paper's slider by heyoka, the transients in the lanes of a
-    batch integrator (``batch_size``) or on a scalar one (None).
+    """Attractors of the paper's slider by heyoka, on the scalar integrator or in the
+    lanes of a batch one.
 
     Parameters
     ----------
     tol : float
         heyoka's tolerance (relative and absolute, per step).
     xtol : float
-        agreement of successive Aitken limits of the section returns [cm].
+        a Newton step on the section below this ends the search [cm].
     eps_eq : float
         a section point within this of x_eq is the equilibrium [cm].
     at_rest : float
-        no maximum of x for this long, the section on, means the slider is at rest [s].
+        no event for this long means the slider is at rest [s].
     t_max : float
         simulated time after which a point is left unconverged [s].
-    keep : int
-        returns kept per point before every other one is dropped (K doubles).
-    k_lanes : int
-        in batch mode, a point goes to the lanes once every K-th return is sampled,
-        K >= k_lanes (sooner, the lanes' events are too frequent for them to pay).
+    max_iter : int
+        Newton iterations after which a point is left unconverged.
     batch_size : int or None
-        lanes of heyoka's batch mode for the transients (None: scalar mode).
+        lanes of heyoka's batch mode (None: scalar mode).
     """
 
-    def __init__(self, tol, xtol=1e-7, eps_eq=1e-6, at_rest=20.0, t_max=2e6, keep=8,
-                 k_lanes=16, batch_size=None):
+    def __init__(self, tol, xtol=1e-9, eps_eq=1e-7, at_rest=20.0, t_max=2e6,
+                 max_iter=80, batch_size=None):
         import heyoka as hy
-        self.tol, self.xtol, self.eps_eq, self.at_rest, self.t_max, self.keep = \
-            tol, xtol, eps_eq, at_rest, t_max, keep
-        self.batch_size, self.k_lanes = batch_size, k_lanes
-        self._codes = {int(hy.taylor_outcome.time_limit): TIME_LIMIT,
-                       int(hy.taylor_outcome.success): NO_EVENT}
+        self.tol, self.xtol, self.eps_eq, self.at_rest, self.t_max, self.max_iter = \
+            tol, xtol, eps_eq, at_rest, t_max, max_iter
+        self.batch_size = batch_size
+        self._codes = {int(hy.taylor_outcome.time_limit): TIME_LIMIT}
+        self._success = int(hy.taylor_outcome.success)
         t0 = time.perf_counter()
-        self.measure = measure_integrator(tol)
-        self.scalar = lane_integrator(tol)
-        self.lanes = lane_integrator(tol, batch_size) if batch_size else self.scalar
+        self.ta = integrator(tol, batch_size)
         self.compile_s = time.perf_counter() - t0
 
     def _code(self, oc):
         """Event index of an outcome (heyoka writes -1 - index for a terminal event),
-        TIME_LIMIT, NO_EVENT or FAILED (a non-finite state)."""
+        TIME_LIMIT or FAILED (a non-finite state)."""
+        oc = int(oc)
         if -4 < oc < 0:
             return -oc - 1
         return self._codes.get(oc, FAILED)
 
-    # ------------------------------------------------ the measure integrator
-    def _measure(self, tr, t0, state, s, n_returns):
-        """Every extremum of track tr from (t0, state, s) on the measure integrator,
-        until its result or ``n_returns`` maxima of x; (t, (x, z), s) where it left
-        off, or None. A stick sets the stick-slip cycle's result."""
-        ta = self.measure
-        ta.time = t0
-        ta.state[:] = [state[0], state[1], 0.0]
-        ta.pars[:] = tr.pars
-        ta.pars[0] = s
-        ta.reset_cooldowns()
-        xmax = xmin = state[0]
-        total, n = 0.0, 0                  # int x [cm s] before the last reset
-        while tr.result is None:
-            oc, _h0, _h1, steps = ta.propagate_until(tr.last + self.at_rest)[:4]
-            tr.steps += steps
-            ev, t, x = self._code(int(oc)), ta.time, ta.state[0]
-            total += ta.state[2]
-            ta.state[2] = 0.0              # the integral's scale stays the state's
-            if ev == FAILED or t - tr.t_b > self.t_max:
-                tr.failed()
-            elif ev == TIME_LIMIT:
-                tr.at_rest()
-            elif ev == STOP:
-                tr.last = t
-                if abs(tr.k * x) < tr.r_y:           # sticks: back to breakaway
-                    if not math.isinf(n_returns):
-                        tr.result = REDO
-                        break
-                    xmin = min(xmin, x)
-                    t_stick = (tr.xs - x) / tr.v
-                    T = t - tr.t_b + t_stick
-                    tr.result = (0.5 * (xmax - xmin), (total + 0.5 * (x + tr.xs) * t_stick)
-                                 / T, T, STICK_SLIP)
-                else:
-                    ta.pars[0] = -ta.pars[0]         # slide-slide reversal
-            elif ev == XMIN:
-                tr.last = t
-                xmin = min(xmin, x)
-            elif ev == XMAX:
-                xmax = max(xmax, x)
-                tr.section(t, x)
-                n += 1
-                if n >= n_returns and tr.result is None:
-                    return t, ta.state[:2].copy(), float(ta.pars[0])
-        return None
+    # ------------------------------------------------ a point's search
+    # A flight is asked for by yielding (t, state, s, on, reload) and answered with
+    # (event, t, state); ``reload`` False goes on from where the integrator stopped
+    # (a new s, or a state with q or w changed; heyoka's cooldown keeps the event
+    # just found from firing again at once).
 
-    def _start(self, tr):
-        """The first two returns of track tr from its breakaway (a stick-slip cycle
-        is over by then)."""
-        return self._measure(tr, tr.t_b, (tr.xs, 0.0), -1.0, 2)
-
-    def _finish(self, tr):
-        """The observables of a track with a result (a redo, one period)."""
-        if tr.result is REDO:
-            tr.result, tr.last, tr.s = None, tr.t_b, -1.0
-            tr.ret = Returns(self.xtol, self.keep)
-            self._measure(tr, tr.t_b, (tr.xs, 0.0), -1.0, math.inf)
-        if tr.result is ONE_PERIOD:
-            tr.result = self._one_period(tr, tr.ret.limit)
-        return tr.result + (tr.steps, tr.last, tr.ret.count)
-
-    def _one_period(self, tr, x_star):
-        """Amplitude, mean and period of the slip cycle through the section point
-        (x_star, x' = 0): one period with every extremum."""
-        ta = self.measure
-        ta.time = 0.0
-        ta.state[:] = [x_star, -tr.v, 0.0]
-        ta.pars[:] = tr.pars
-        ta.reset_cooldowns()
-        xmin, total = x_star, 0.0
+    def _flight(self, pt, t, state, on, n_max, s=-1.0):
+        """Every extremum from (t, state, s) until a stick or ``n_max`` maxima;
+        (kind, t, x, result): kind "max" (x the n_max-th maximum, result the smallest
+        x and the integral of x since t), "stick" (result the stick-slip cycle's row,
+        for a flight from breakaway), "rest" or "fail"."""
+        xmax = xmin = state[X]
+        total, n, reload, t_start = 0.0, 0, True, t
         while True:
-            oc, _h0, _h1, steps = ta.propagate_until(10.0 * self.at_rest)[:4]
-            tr.steps += steps
-            ev = self._code(int(oc))
-            total += ta.state[2]
-            ta.state[2] = 0.0
-            if ev == XMIN:
-                xmin = min(xmin, ta.state[0])
-            elif ev == STOP:
-                ta.pars[0] = -ta.pars[0]
-            elif ev == XMAX and ta.time == 0.0:     # the point it started on
-                continue
-            elif ev == XMAX:
-                T = ta.time
-                return 0.5 * (max(x_star, ta.state[0]) - xmin), total / T, T, SLIP_CYCLE
-            else:
-                return math.nan, math.nan, math.nan, UNCONVERGED
+            ev, t, state = yield (t, state, s, on, reload)
+            reload = False
+            pt.t_end = t
+            total += state[Q]
+            state[Q] = 0.0                       # the integral's scale stays the state's
+            if ev == FAILED or t - t_start > self.t_max:
+                return "fail", t, math.nan, None
+            if ev == TIME_LIMIT:
+                return "rest", t, math.nan, None
+            x = state[X]
+            if ev == STOP:
+                if abs(pt.k * x) < pt.r_y:       # sticks: back to breakaway
+                    xmin = min(xmin, x)
+                    t_stick = (pt.xs - x) / pt.v
+                    T = t - t_start + t_stick
+                    return "stick", t, x, pt.row(
+                        0.5 * (xmax - xmin), (total + 0.5 * (x + pt.xs) * t_stick) / T, T,
+                        STICK_SLIP)
+                s = -s                           # slide-slide reversal
+            elif ev == XMIN:
+                xmin = min(xmin, x)
+            elif t > t_start:                    # a maximum (not the one it starts on)
+                xmax = max(xmax, x)
+                n += 1
+                pt.returns += 1
+                if n >= n_max:
+                    return "max", t, x, (xmin, total)
 
-    # ------------------------------------------------ the lanes
-    def _lane_event(self, la, j, tr, ev):
-        """Take the terminal event ``ev`` of lane j (track tr); True when done."""
-        t = la.time(j)
-        if ev == FAILED or ev == TIME_LIMIT or t - tr.t_b > self.t_max:
-            tr.failed()
-        elif ev == STOP:
-            tr.last = t
-            if abs(tr.k * la.x(j)) < tr.r_y:
-                tr.result = REDO                    # stuck after the first returns
-            else:
-                tr.s = -tr.s
-                la.par(j, 0, tr.s)
-        elif ev == SECTION:
-            if t == tr.ret.t[-1]:
-                return False                        # the return it was loaded at
-            tr.section(t, la.x(j))
-            ret = tr.ret
-            if tr.result is None and ret.K > 1:     # off until the K-th return is near
-                tr.section_on = False
-                la.par(j, 6, 0.0)
-                la.wind(j, 1.0 / ((ret.K - 0.5) * ret.period))
-            elif tr.result is None:
-                la.wind(j, 1.0 / self.at_rest)
-        elif ev == TIMER:
-            if tr.section_on:                       # no maximum for at_rest seconds
-                tr.at_rest()
-            else:
-                tr.section_on = True
-                la.par(j, 6, 1.0)
-                la.wind(j, 1.0 / self.at_rest)
-        return tr.result is not None
+    def _return(self, pt, x0):
+        """The next maximum of x from the section point x0 [cm]: (kind, P(x0),
+        P'(x0)), kind "max", "stick", "rest" or "fail"."""
+        state = np.array([x0, -pt.v, 0.0, 1.0, 0.0])
+        s, reload = -1.0, True
+        while True:
+            ev, t, state = yield (0.0, state, s, 0.0, reload)
+            reload = False
+            if ev == XMAX and t > 0.0:
+                pt.returns += 1
+                return "max", state[X], state[P]
+            if ev == STOP:
+                x = state[X]
+                if abs(pt.k * x) < pt.r_y:
+                    return "stick", math.nan, math.nan
+                before = -pt.km * x - pt.rm * s  # zdot on either side of the reversal
+                s = -s
+                state[W] *= (-pt.km * x - pt.rm * s) / before
+            elif ev == TIME_LIMIT:
+                return "rest", math.nan, math.nan
+            elif ev == FAILED:
+                return "fail", math.nan, math.nan
 
-    def _run_lanes(self, la, waiting, out):
-        """The transients of the waiting tracks [(index, track, t, state, pars)] on the
-        lanes of ``la``, each lane refilled as its point is done; the last tracks (a
-        quarter of the lanes or fewer) go on alone on the scalar integrator, where
-        they would otherwise leave the other lanes idle."""
-        B = la.lanes
-        queue = list(reversed(waiting))
-        lane = [None] * B
+    def _newton(self, pt, x):
+        """Newton's method on P(x) - x from the true orbit's maximum x [cm]: ("cycle",
+        x*), ("equilibrium",), ("sticks",) (the orbit from breakaway sticks) or
+        ("fail",)."""
+        lo, hi, hi_sticks = pt.x_eq, math.inf, False
+        true = True                              # x lies on the orbit from breakaway
+        for _ in range(self.max_iter):
+            if x - pt.x_eq <= self.eps_eq:
+                return ("equilibrium",)
+            kind, px, dp = yield from self._return(pt, x)
+            if kind == "rest":
+                return ("equilibrium",)
+            if kind == "fail":
+                return ("fail",)
+            if kind == "stick":
+                if true:
+                    return ("sticks",)
+                hi, hi_sticks = x, True
+                new = 0.5 * (lo + hi)
+            else:
+                f, d = px - x, 1.0 - dp
+                if f > 0.0:
+                    lo = max(lo, x)
+                elif x < hi:
+                    hi, hi_sticks = x, False
+                if d > 0.0:                      # Newton's step
+                    new, true = x + f / d, False
+                elif f < 0.0:                    # locally expanding: the orbit's next
+                    new = px                     # maximum
+                else:                            # growing slowly: double the amplitude
+                    new, true = pt.x_eq + 2.0 * (x - pt.x_eq), False
+                if not lo < new < hi:            # off the bracket: halve it
+                    new, true = 0.5 * (lo + hi) if hi < math.inf else \
+                        pt.x_eq + 2.0 * (x - pt.x_eq), False
+            if abs(new - x) <= self.xtol or hi - lo <= self.xtol:
+                if hi_sticks and hi - lo <= self.xtol:
+                    return ("sticks",)
+                return ("cycle", new) if new - pt.x_eq > self.eps_eq \
+                    else ("equilibrium",)
+            x = new
+        return ("fail",)
+
+    def _search(self, pt):
+        """The attractor of point pt: its row of ``COLUMNS``."""
+        zero = np.array([pt.xs, 0.0, 0.0, 0.0, 0.0])
+        kind, t, x, result = yield from self._flight(pt, pt.t_b, zero.copy(), 1.0, 2)
+        if kind == "stick":
+            return result
+        if kind == "rest":
+            return pt.equilibrium()
+        if kind == "fail":
+            return pt.failed()
+        found = yield from self._newton(pt, x)
+        if found[0] == "equilibrium":
+            return pt.equilibrium()
+        if found[0] == "sticks":                 # the stick-slip cycle, every extremum
+            kind, t, x, result = yield from self._flight(pt, pt.t_b, zero.copy(), 1.0,
+                                                         math.inf)
+            return result if kind == "stick" else pt.failed()
+        if found[0] == "fail":
+            return pt.failed()
+        x_star = found[1]                        # one period from the fixed point
+        kind, T, x1, res = yield from self._flight(
+            pt, 0.0, np.array([x_star, -pt.v, 0.0, 0.0, 0.0]), 1.0, 1)
+        if kind != "max":
+            return pt.failed()
+        xmin, total = res
+        return pt.row(0.5 * (max(x_star, x1) - xmin), total / T, T, SLIP_CYCLE)
+
+    # ------------------------------------------------ the drivers
+    def _scalar(self, gen, pars):
+        """Run a point's search on the scalar integrator; its row."""
+        ta = self.ta
+        ta.pars[:] = pars
+        req = next(gen)
+        while True:
+            t, state, s, on, reload = req
+            if reload:
+                ta.time = t
+            ta.state[:] = state
+            ta.pars[0], ta.pars[ON] = s, on
+            oc, _h0, _h1, n = ta.propagate_until(ta.time + self.at_rest)[:4]
+            self._pt.steps += n
+            try:
+                req = gen.send((self._code(oc), ta.time, ta.state.copy()))
+            except StopIteration as stop:
+                return stop.value
+
+    def _batch(self, P, out):
+        """Every point of P in the lanes, each lane refilled as its point is done.
+
+        A terminal event in one lane ends the batch step for every lane (heyoka's
+        rule); a lane stopped so (outcome ``success``) goes on with its flight."""
+        ta, B = self.ta, self.batch_size
+        queue = list(range(len(P)))[::-1]
+        lanes = [None] * B                       # [row, point, generator, request]
+        limits = np.zeros(B)
 
         def fill(j):
-            if not queue:                           # parked: a harmonic oscillator
-                lane[j] = None                      # whose events never fire
-                la.put(j, la.time(j), [0.3, -1.0, -1.0],
-                       [-1.0, 10.0, 2.0, 1.0, 0.0, 0.0, 0.0, 0.0])
-                return
-            i, tr, t, state, pars = queue.pop()
-            lane[j] = (i, tr)
-            la.put(j, t, state, pars)
+            if queue:
+                i = queue.pop()
+                pt = Point(*P[i])
+                gen = self._search(pt)
+                ta.pars[:, j] = pt.pars
+                lanes[j] = [i, pt, gen, next(gen)]
+            else:
+                lanes[j] = None
 
         for j in range(B):
             fill(j)
-        while True:
-            active = [j for j in range(B) if lane[j] is not None]
-            if not queue and len(active) <= B // 4:
-                for i, tr, t, state, pars in [lane[j] + la.get(j) for j in active]:
-                    self._run_one(i, tr, t, state, pars, out)
-                return
-            for j, res in enumerate(la.propagate(FAR)):
-                if lane[j] is not None and self._lane_step(la, j, lane[j][1], res):
-                    out[lane[j][0]] = self._finish(lane[j][1])
+        while any(lanes):
+            times = ta.time.copy()
+            for j, lane in enumerate(lanes):
+                if lane is None:
+                    limits[j] = times[j]         # parked: stops at once
+                elif lane[3] is not None:        # a new flight
+                    t, state, s, on, reload = lane[3]
+                    if reload:
+                        times[j] = t
+                    ta.state[:, j] = state
+                    ta.pars[0, j], ta.pars[ON, j] = s, on
+                    limits[j] = times[j] + self.at_rest
+                    lane[3] = None
+            ta.set_time(times)
+            ta.propagate_until(limits)
+            now = ta.time
+            for j, (lane, res) in enumerate(zip(lanes, ta.propagate_res)):
+                if lane is None:
+                    continue
+                lane[1].steps += res[3]
+                if int(res[0]) == self._success:
+                    continue
+                try:
+                    lane[3] = lane[2].send((self._code(res[0]), float(now[j]),
+                                            ta.state[:, j].copy()))
+                except StopIteration as stop:
+                    out[lane[0]] = stop.value
                     fill(j)
-
-    def _run_one(self, i, tr, t, state, pars, out, sparse=False):
-        """Track tr (row i) alone on the scalar lane integrator from (t, state, pars)
-        until its result, or with ``sparse`` until its section is sampled (the
-        lanes' work); None, or (i, tr, t, state, pars) where it left off."""
-        la = self.scalar
-        la.put(0, t, state, pars)
-        while not self._lane_step(la, 0, tr, la.propagate(FAR)[0]):
-            if sparse and tr.ret.K >= self.k_lanes:
-                return (i, tr) + la.get(0)
-        out[i] = self._finish(tr)
-        return None
-
-    def _lane_step(self, la, j, tr, res):
-        """Count the steps of lane j's propagation and take its event; True when its
-        track is done."""
-        oc, steps = res
-        tr.steps += steps
-        ev = self._code(oc)
-        return ev != NO_EVENT and self._lane_event(la, j, tr, ev)
 
     def points(self, P):
         """Attractors of the rows of P (m, k, r_y, v, alpha1, alpha2), each started
-        stuck on the belt at x = 0: the first two returns on the measure integrator,
-        every return on the scalar lane integrator until they are sampled, then (in
-        batch mode) the transient in the lanes, where events are rare enough that
-        heyoka's rule (one lane's terminal event stops all) costs little.
+        stuck on the belt at x = 0.
 
         Returns
         -------
         array (n, 7)
             the columns of ``COLUMNS``: amplitude [cm], mean [cm], period [s], regime
-            code, Taylor steps, simulated time [s], section returns
+            code, Taylor steps, simulated time of the last flight [s], returns to the
+            section integrated
         """
+        P = np.asarray(P, dtype=float)
         out = np.full((len(P), len(COLUMNS)), np.nan)
-        waiting = []
+        if self.batch_size:
+            self._batch(P, out)
+            return out
         for i, p in enumerate(P):
-            tr = Track(self, *p, 0.0)
-            left = self._start(tr)
-            if left is None:
-                out[i] = self._finish(tr)
-                continue
-            t, state, tr.s = left
-            pars = [tr.s] + tr.pars[1:] + [1.0, 1.0 / self.at_rest]
-            left = self._run_one(i, tr, t, [state[0], state[1], -1.0], pars, out,
-                                 sparse=self.lanes is not self.scalar)
-            if left is not None:
-                waiting.append(left)
-        if waiting:
-            self._run_lanes(self.lanes, waiting, out)
+            self._pt = Point(*p)
+            out[i] = self._scalar(self._search(self._pt), self._pt.pars)
         return out
 
     def point(self, m, k, r_y, v, alpha1, alpha2):
@@ -549,7 +390,7 @@ _PEERS = {}
 
 def _work(tol, batch_size, points):
     """One task of a worker process: (out, CPU seconds) of ``points``; the process's
-    integrators for (tol, batch_size) are compiled on its first task."""
+    integrator for (tol, batch_size) is compiled on its first task."""
     key = (tol, batch_size)
     if key not in _PEERS:
         _PEERS[key] = Peer(tol, batch_size=batch_size)
@@ -598,7 +439,7 @@ def solve(points, tol, batch_size=None, **kw):
     -------
     (out, cpu_s)
         out: array (n, 7) with the columns of ``COLUMNS``; cpu_s: this process's CPU
-        time for the points [s] (the integrators' compilation excluded).
+        time for the points [s] (the integrator's compilation excluded).
     """
     peer = Peer(tol, batch_size=batch_size, **kw)
     c0 = time.process_time()
