@@ -151,9 +151,7 @@ class Peer:
         """Event index of an outcome (heyoka writes -1 - index for a terminal event),
         TIME_LIMIT or FAILED (a non-finite state)."""
         oc = int(oc)
-        if -4 < oc < 0:
-            return -oc - 1
-        return self._codes.get(oc, FAILED)
+        return -oc - 1 if -4 < oc < 0 else self._codes.get(oc, FAILED)
 
     # ------------------------------------------------ a point's search
     # A flight is asked for by yielding (t, state, s, on, reload) and answered with
@@ -290,21 +288,22 @@ class Peer:
         return pt.row(0.5 * (max(x_star, x1) - xmin), total / T, T, SLIP_CYCLE)
 
     # ------------------------------------------------ the drivers
-    def _scalar(self, gen, pars):
+    def _scalar(self, gen, pt):
         """Run a point's search on the scalar integrator; its row."""
-        ta = self.ta
-        ta.pars[:] = pars
+        ta, state_view, pars = self.ta, self.ta.state, self.ta.pars   # views, kept
+        pars[:] = pt.pars
         req = next(gen)
         while True:
             t, state, s, on, reload = req
             if reload:
                 ta.time = t
-            ta.state[:] = state
-            ta.pars[0], ta.pars[ON] = s, on
+            if state is not state_view:
+                state_view[:] = state
+            pars[0], pars[ON] = s, on
             oc, _h0, _h1, n = ta.propagate_until(ta.time + self.at_rest)[:4]
-            self._pt.steps += n
-            try:
-                req = gen.send((self._code(oc), ta.time, ta.state.copy()))
+            pt.steps += n
+            try:                                 # the generator may edit the view
+                req = gen.send((self._code(oc), ta.time, state_view))
             except StopIteration as stop:
                 return stop.value
 
@@ -376,8 +375,8 @@ class Peer:
             self._batch(P, out)
             return out
         for i, p in enumerate(P):
-            self._pt = Point(*p)
-            out[i] = self._scalar(self._search(self._pt), self._pt.pars)
+            pt = Point(*p)
+            out[i] = self._scalar(self._search(pt), pt)
         return out
 
     def point(self, m, k, r_y, v, alpha1, alpha2):
