@@ -131,11 +131,13 @@ def run(profile, outdir, hopf_res=None):
             ladder.append(dict(tol=tol, mode="batch", **r, errors=e,
                                steps=float(steps.sum()),
                                steps_share_top1000=float(steps[-1000:].sum() / steps.sum()),
-                               returns=float(out[:, 6].sum())))
+                               returns=float(out[:, 6].sum()),
+                               events=float(out[:, 7].sum())))
             log(f"    heyoka tol {tol:g} batch: {r['wall_s']:.1f} s wall, {r['cpu_s']:.1f} "
                 f"CPU-s; max amp err {e['amp_err_max_all']:.2e} cm (every referenced "
                 f"point), {e['n_regime_mismatch']} regime mismatches, {e['n_unconverged']} "
-                f"unconverged; {steps.sum():.3g} Taylor steps")
+                f"unconverged; {steps.sum():.3g} Taylor steps, {out[:, 7].mean():.1f} "
+                f"events a point handled in Python")
         ok = [r for r in ladder if meets(r["errors"])]
         chosen = min(ok, key=lambda r: r["cpu_s"]) if ok else ladder[-1]
         tol = chosen["tol"]
@@ -154,6 +156,7 @@ def run(profile, outdir, hopf_res=None):
                                else None)
                 out = r.pop("out")
                 runs[mode].append(dict(r, steps=float(out[:, 4].sum()),
+                                       events=float(out[:, 7].sum()),
                                        amp_err_max_all=errors(P, out[:, 0], out[:, 3], ref,
                                                               hard)["amp_err_max_all"]))
                 log(f"    heyoka tol {tol:g} {mode}: {r['wall_s']:.1f} s wall, "

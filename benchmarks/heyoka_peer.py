@@ -60,7 +60,7 @@ import numpy as np
 # sweepcore's regime codes (docs/variables.md, "Regime codes"), written out so that
 # the worker processes import neither sweepcore nor numba
 EQUILIBRIUM, SLIP_CYCLE, STICK_SLIP, UNCONVERGED = 0, 1, 2, 6
-COLUMNS = ("amplitude", "mean", "period", "regime", "steps", "t_end", "returns")
+COLUMNS = ("amplitude", "mean", "period", "regime", "steps", "t_end", "returns", "events")
 STOP, XMAX, XMIN = 0, 1, 2            # the integrator's terminal events
 TIME_LIMIT, FAILED = -1, -2
 # the state: x [cm], z [cm/s], q = int x [cm s] since the last extremum, and the
@@ -101,10 +101,11 @@ class Point:
         self.pars = [-1.0, k / m, r_y / m, v, alpha1 / m, alpha2 / m, 1.0]
         self.xs, self.x_eq = r_y / k, (r_y - alpha1 * v + alpha2 * v ** 3) / k
         self.t_b = self.xs / v                   # breakaway at the end of the stick
-        self.steps, self.returns, self.t_end = 0, 0, 0.0
+        self.steps, self.returns, self.t_end, self.events = 0, 0, 0.0, 0
 
     def row(self, amplitude, mean, period, regime):
-        return (amplitude, mean, period, regime, self.steps, self.t_end, self.returns)
+        return (amplitude, mean, period, regime, self.steps, self.t_end, self.returns,
+                self.events)
 
     def equilibrium(self):
         return self.row(0.0, self.x_eq, math.nan, EQUILIBRIUM)
@@ -154,25 +155,28 @@ class Peer:
         return -oc - 1 if -4 < oc < 0 else self._codes.get(oc, FAILED)
 
     # ------------------------------------------------ a point's search
-    # A flight is asked for by yielding (t, state, s, on, reload) and answered with
-    # (event, t, state); ``reload`` False goes on from where the integrator stopped
-    # (a new s, or a state with q or w changed; heyoka's cooldown keeps the event
-    # just found from firing again at once).
+    # A flight is asked for by yielding (state, s, on, reload) and answered with
+    # (event, t, state), t the time since the flight's start [s]; ``reload`` False
+    # goes on from where the integrator stopped (a new s, or q or w changed). Time
+    # runs on through a point's flights, never back: heyoka's cooldown of the event
+    # just found keeps it from firing again at once, and a stale one (of an event at
+    # another time) can never hide an event. The integrator's time and cooldowns are
+    # reset for each point.
 
-    def _flight(self, pt, t, state, on, n_max, s=-1.0):
-        """Every extremum from (t, state, s) until a stick or ``n_max`` maxima;
+    def _flight(self, pt, state, on, n_max, s=-1.0):
+        """Every extremum from (state, s) until a stick or ``n_max`` maxima;
         (kind, t, x, result): kind "max" (x the n_max-th maximum, result the smallest
         x and the integral of x since t), "stick" (result the stick-slip cycle's row,
         for a flight from breakaway), "rest" or "fail"."""
         xmax = xmin = state[X]
-        total, n, reload, t_start = 0.0, 0, True, t
+        total, n, reload = 0.0, 0, True
         while True:
-            ev, t, state = yield (t, state, s, on, reload)
+            ev, t, state = yield (state, s, on, reload)
             reload = False
             pt.t_end = t
             total += state[Q]
             state[Q] = 0.0                       # the integral's scale stays the state's
-            if ev == FAILED or t - t_start > self.t_max:
+            if ev == FAILED or t > self.t_max:
                 return "fail", t, math.nan, None
             if ev == TIME_LIMIT:
                 return "rest", t, math.nan, None
@@ -181,14 +185,14 @@ class Peer:
                 if abs(pt.k * x) < pt.r_y:       # sticks: back to breakaway
                     xmin = min(xmin, x)
                     t_stick = (pt.xs - x) / pt.v
-                    T = t - t_start + t_stick
+                    T = t + t_stick
                     return "stick", t, x, pt.row(
                         0.5 * (xmax - xmin), (total + 0.5 * (x + pt.xs) * t_stick) / T, T,
                         STICK_SLIP)
                 s = -s                           # slide-slide reversal
             elif ev == XMIN:
                 xmin = min(xmin, x)
-            elif t > t_start:                    # a maximum (not the one it starts on)
+            elif t > 0.0:                        # a maximum (not the one it starts on)
                 xmax = max(xmax, x)
                 n += 1
                 pt.returns += 1
@@ -201,7 +205,7 @@ class Peer:
         state = np.array([x0, -pt.v, 0.0, 1.0, 0.0])
         s, reload = -1.0, True
         while True:
-            ev, t, state = yield (0.0, state, s, 0.0, reload)
+            ev, t, state = yield (state, s, 0.0, reload)
             reload = False
             if ev == XMAX and t > 0.0:
                 pt.returns += 1
@@ -263,7 +267,7 @@ class Peer:
     def _search(self, pt):
         """The attractor of point pt: its row of ``COLUMNS``."""
         zero = np.array([pt.xs, 0.0, 0.0, 0.0, 0.0])
-        kind, t, x, result = yield from self._flight(pt, pt.t_b, zero.copy(), 1.0, 2)
+        kind, t, x, result = yield from self._flight(pt, zero.copy(), 1.0, 2)
         if kind == "stick":
             return result
         if kind == "rest":
@@ -274,14 +278,13 @@ class Peer:
         if found[0] == "equilibrium":
             return pt.equilibrium()
         if found[0] == "sticks":                 # the stick-slip cycle, every extremum
-            kind, t, x, result = yield from self._flight(pt, pt.t_b, zero.copy(), 1.0,
-                                                         math.inf)
+            kind, t, x, result = yield from self._flight(pt, zero.copy(), 1.0, math.inf)
             return result if kind == "stick" else pt.failed()
         if found[0] == "fail":
             return pt.failed()
         x_star = found[1]                        # one period from the fixed point
         kind, T, x1, res = yield from self._flight(
-            pt, 0.0, np.array([x_star, -pt.v, 0.0, 0.0, 0.0]), 1.0, 1)
+            pt, np.array([x_star, -pt.v, 0.0, 0.0, 0.0]), 1.0, 1)
         if kind != "max":
             return pt.failed()
         xmin, total = res
@@ -292,18 +295,21 @@ class Peer:
         """Run a point's search on the scalar integrator; its row."""
         ta, state_view, pars = self.ta, self.ta.state, self.ta.pars   # views, kept
         pars[:] = pt.pars
-        req = next(gen)
+        ta.time = 0.0
+        ta.reset_cooldowns()
+        req, t0 = next(gen), 0.0
         while True:
-            t, state, s, on, reload = req
+            state, s, on, reload = req
             if reload:
-                ta.time = t
+                t0 = ta.time
             if state is not state_view:
                 state_view[:] = state
             pars[0], pars[ON] = s, on
             oc, _h0, _h1, n = ta.propagate_until(ta.time + self.at_rest)[:4]
             pt.steps += n
+            pt.events += 1
             try:                                 # the generator may edit the view
-                req = gen.send((self._code(oc), ta.time, state_view))
+                req = gen.send((self._code(oc), ta.time - t0, state_view))
             except StopIteration as stop:
                 return stop.value
 
@@ -315,7 +321,7 @@ class Peer:
         ta, B = self.ta, self.batch_size
         queue = list(range(len(P)))[::-1]
         lanes = [None] * B                       # [row, point, generator, request]
-        limits = np.zeros(B)
+        t0, limits = np.zeros(B), np.zeros(B)
 
         def fill(j):
             if queue:
@@ -323,6 +329,10 @@ class Peer:
                 pt = Point(*P[i])
                 gen = self._search(pt)
                 ta.pars[:, j] = pt.pars
+                times = ta.time.copy()
+                times[j] = 0.0
+                ta.set_time(times)
+                ta.reset_cooldowns(j)
                 lanes[j] = [i, pt, gen, next(gen)]
             else:
                 lanes[j] = None
@@ -330,19 +340,18 @@ class Peer:
         for j in range(B):
             fill(j)
         while any(lanes):
-            times = ta.time.copy()
+            now = ta.time
             for j, lane in enumerate(lanes):
                 if lane is None:
-                    limits[j] = times[j]         # parked: stops at once
+                    limits[j] = now[j]           # parked: stops at once
                 elif lane[3] is not None:        # a new flight
-                    t, state, s, on, reload = lane[3]
+                    state, s, on, reload = lane[3]
                     if reload:
-                        times[j] = t
+                        t0[j] = now[j]
                     ta.state[:, j] = state
                     ta.pars[0, j], ta.pars[ON, j] = s, on
-                    limits[j] = times[j] + self.at_rest
+                    limits[j] = now[j] + self.at_rest
                     lane[3] = None
-            ta.set_time(times)
             ta.propagate_until(limits)
             now = ta.time
             for j, (lane, res) in enumerate(zip(lanes, ta.propagate_res)):
@@ -351,8 +360,9 @@ class Peer:
                 lane[1].steps += res[3]
                 if int(res[0]) == self._success:
                     continue
+                lane[1].events += 1
                 try:
-                    lane[3] = lane[2].send((self._code(res[0]), float(now[j]),
+                    lane[3] = lane[2].send((self._code(res[0]), float(now[j] - t0[j]),
                                             ta.state[:, j].copy()))
                 except StopIteration as stop:
                     out[lane[0]] = stop.value
@@ -364,10 +374,10 @@ class Peer:
 
         Returns
         -------
-        array (n, 7)
+        array (n, 8)
             the columns of ``COLUMNS``: amplitude [cm], mean [cm], period [s], regime
             code, Taylor steps, simulated time of the last flight [s], returns to the
-            section integrated
+            section integrated, events handled in Python (flights to an event)
         """
         P = np.asarray(P, dtype=float)
         out = np.full((len(P), len(COLUMNS)), np.nan)
@@ -412,7 +422,7 @@ def run_map(executor, points, tol, batch_size=None, chunk=256, seed=7):
     Returns
     -------
     dict
-        out (n, 7) in the order of ``points``; wall_s of the whole call; cpu_s, the
+        out (n, 8) in the order of ``points``; wall_s of the whole call; cpu_s, the
         workers' CPU time summed over the tasks (compilation excluded); compile_s,
         the largest first-task compilation of the integrators [s].
     """
@@ -437,7 +447,7 @@ def solve(points, tol, batch_size=None, **kw):
     Returns
     -------
     (out, cpu_s)
-        out: array (n, 7) with the columns of ``COLUMNS``; cpu_s: this process's CPU
+        out: array (n, 8) with the columns of ``COLUMNS``; cpu_s: this process's CPU
         time for the points [s] (the integrator's compilation excluded).
     """
     peer = Peer(tol, batch_size=batch_size, **kw)
