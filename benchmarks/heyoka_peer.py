@@ -45,7 +45,8 @@ gives away:
 Each point's search is a generator that asks for one flight to the next event at a
 time; the same code runs on the scalar integrator or in the lanes of the batch one
 (every lane refilled with the next point as its point is done), so Python handles
-each event once, about 20 a point, and never a section return it does not use.
+each event once (the ``events`` column counts them) and never a section return it
+does not use.
 
 Units: kN, cm, s (the package's). Written from heyoka.py's documented API; shares no
 code with sweepcore (the workers import neither sweepcore nor numba).

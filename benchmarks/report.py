@@ -490,8 +490,12 @@ def _heyoka(Hy):
                     sc_steps=g(Hy["sweepcore_steps"]), hy_steps=g(chosen["steps"]),
                     top1000=f"{100 * chosen['steps_share_top1000']:.0f} %"))
     med, rat, runs = Hy["median"], Hy["ratios"], Hy["runs"]
+    per_point = _events(Hy)
     out.append(fill("heyoka_ratios", tol=f"{Hy['chosen_tol']:g}", n_sc=len(runs["sweepcore"]),
                     n_scalar=len(runs["scalar"]), n_batch=len(runs.get("batch", [])),
+                    events=per_point.get("scalar", "?"), events_batch=per_point.get("batch", "?"),
+                    faster=min(("scalar", "batch"), key=lambda m: med.get(m, {}).get(
+                        "cpu", math.inf)),
                     compile=f"{max(r['compile_s'] for v in runs.values() for r in v if 'compile_s' in r):.2f}"))
     rows = [["sweepcore (kernel, 2 threads, tol 1e-8)", s(med["sweepcore"]["wall"]),
              s(med["sweepcore"]["cpu"]), "1", "1"]]
@@ -718,6 +722,15 @@ def _load_range(R):
     return f"{R['load_before']:.1f}-{R['load_after']:.1f}"
 
 
+def _events(Hy):
+    """Events handled in Python a point, by mode, as text (runs without the count,
+    saved before the peer counted them, give none)."""
+    n = Hy["grid"]["nv"] * Hy["grid"]["na"]
+    return {mode: f"{common.median([r['events'] for r in v]) / n:.1f}"
+            for mode, v in Hy["runs"].items() if mode != "sweepcore" and v
+            and all("events" in r for r in v)}
+
+
 def _heyoka_rows(Hy):
     """The README's rows of the heyoka section (none when it did not run)."""
     if not Hy or "skipped" in Hy:
@@ -739,10 +752,11 @@ def _heyoka_rows(Hy):
              f"{modes}; sweepcore in the same run {_cpu_wall(med['sweepcore'])}; heyoka's "
              f"max amplitude error {g(e['amp_err_max_all'])} cm on every point with a "
              f"reference (run of {Hy['machine']['date'][:10]}, {Hy['machine']['cpu_model']}, "
-             f"load {_load_range(Hy)} on 2 cores). An upper bound of the gap: this peer "
-             "still handles its first section returns and every transient's terminal "
-             "event in Python (about 25 a point), which a peer written wholly in "
-             "compiled events would not"]]
+             f"load {_load_range(Hy)} on 2 cores). The peer finds each slip cycle by "
+             "Newton's method on the return map (its slope from heyoka's variational "
+             "state), as sweepcore does; Python handles "
+             f"{_events(Hy).get('scalar', '?')} events a point (scalar mode), each a "
+             "flight to heyoka's next terminal event"]]
 
 
 def _pybasin_rows(Pb):

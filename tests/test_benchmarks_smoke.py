@@ -136,6 +136,26 @@ def test_heyoka_peer_meets_the_target_next_to_the_hopf_point(batch_size):
     assert abs(out[0, 0] - slip["amplitude"]) < 1e-6
 
 
+@pytest.mark.parametrize("batch_size", [None, 8])
+def test_heyoka_peer_points_do_not_depend_on_the_points_before(batch_size):
+    """Four neighbours of the map in its order on one integrator: three equilibria,
+    then the slip cycle with slide-slide reversals at v = 9.963, alpha2 = 1e-3
+    (3.82 cm). Heyoka's event cooldowns outlive a point; when each flight's clock
+    restarted at 0, a cooldown left by the points before hid this cycle's minimum at
+    tol 1e-11 and its amplitude came out 0. Each point against sweepcore's dopri5 at
+    tol 1e-12, an independent integrator (no timing)."""
+    pytest.importorskip("heyoka", reason="heyoka is in the bench extra, not in test")
+    import numpy as np
+    from benchmarks import common
+    from benchmarks.heyoka_compare import _points
+    from benchmarks.heyoka_peer import solve
+    P = common.rows(*common.map_axes(256, 256))[65021:65025]
+    ref = common.attractor_map(P, "dopri5", 1e-12)
+    out, _cpu = solve(_points(P), 1e-11, batch_size=batch_size)
+    assert list(out[:, 3]) == list(ref[:, common.OB_REGIME]) == [0, 0, 0, 1]
+    assert np.all(np.abs(out[:, 0] - ref[:, common.OB_AMPLITUDE]) < 1e-6)
+
+
 def test_pybasin_runs_its_friction_case_in_its_own_environment():
     """pybasin's case as a subprocess of its own interpreter, 200 starts at v = 1.5
     (the published fraction there is 0.304); skipped without that environment."""
