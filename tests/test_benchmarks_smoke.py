@@ -119,8 +119,8 @@ def test_heyoka_peer_meets_the_target_next_to_the_hopf_point(batch_size):
     amplified in the fixed point. The integral of x (the mean) carried as a state
     through the transient grows to ~1e4 cm s, loosens heyoka's error control
     (relative to the largest state component) and put this amplitude 1.3e-5 cm off
-    at tol 1e-13; the peer integrates it only where the mean is measured, reset at
-    every extremum, and must meet the map's target, 1e-6 cm, against the scipy
+    at tol 1e-13; the peer resets it at every extremum and at the start of each
+    Newton return, and must meet the map's target, 1e-6 cm, against the scipy
     shooting of tests/reference.py (no timing)."""
     pytest.importorskip("heyoka", reason="heyoka is in the bench extra, not in test")
     import numpy as np
