@@ -30,7 +30,9 @@ intervals; the rest is numba's own typing and lowering), and how many functions
 numba compiled on the way, with the names compiled for more than one signature.
 With ``NUMBA_OPT=0`` in the environment LLVM does not optimise: the drop bounds
 what optimisation costs (the kernels' speed is then not the shipped one).
-``--breakdown suite`` compiles what the default test run compiles, in its order.
+``--breakdown suite`` compiles what the default test run compiles, in its order;
+``--save`` after the triples stores the lines in ``results/compile.json`` (key
+``breakdown``), whose paragraph in benchmarks/README.md quotes them.
 
 ``python benchmarks/compile_probe.py --warm OUT.npz SIDE [CHECKOUT]`` times, warm
 and on one thread, the maps of ``benchmarks/forced.py`` (two forced maps and the
@@ -241,6 +243,24 @@ def breakdown_fresh(args, opt=None):
             raise RuntimeError(f"the breakdown process failed ({child.returncode})")
 
 
+def save_breakdown(args, save, path=None):
+    """Print ``breakdown_fresh(args)``'s lines as they come; with ``save``, store them
+    with the machine and the load in ``results/compile.json`` (key ``breakdown``)."""
+    from benchmarks import common
+    res = {"command": "python benchmarks/compile_probe.py --breakdown " + " ".join(args),
+           "machine": common.machine(), "load_before": common.load(), "entries": []}
+    for line in breakdown_fresh(args):
+        print(json.dumps(line), flush=True)
+        res["entries"].append(line)
+    res["load_after"] = common.load()
+    if save:
+        path = Path(path or common.RESULTS / "compile.json")
+        stored = json.loads(path.read_text()) if path.is_file() else {}
+        stored["breakdown"] = res
+        common.save_json(stored, path)
+        common.log(f"written {path}")
+
+
 def warm(path, side=48):
     """The warm maps of ``benchmarks.forced`` (see the module's docstring): prints
     one JSON line of CPU seconds per map and saves the outputs to ``path``."""
@@ -337,13 +357,33 @@ def stored_section(path=None) -> str:
     m = R["machine"]
     return fill("compile_kinds", date=m["date"], commit=m["git_commit"][:10],
                 load=f"{R['load_before']:.1f}-{R['load_after']:.1f}", kinds=". ".join(parts),
-                main=main)
+                main=main, breakdown=_breakdown_text(R.get("breakdown")))
+
+
+def _breakdown_text(B) -> str:
+    """The sentences of a stored ``--breakdown`` (empty where none is stored)."""
+    if not B:
+        return ""
+    from benchmarks.report import s
+    each = "; ".join(
+        f"`{e['entry']}` ({e['method']}, {e['kind']}) {s(e['cpu_s'])} CPU, "
+        f"{s(e['llvm_lock_cpu_s'])} of it in LLVM, {e['functions_compiled']} functions"
+        for e in B["entries"])
+    m = B["machine"]
+    return (f"\n\nWhere a compilation's time goes: `{B['command']} --save` "
+            f"({m['date']}, commit `{m['git_commit'][:10]}`, 1-minute load "
+            f"{B['load_before']:.1f}-{B['load_after']:.1f}) compiles those entry kernels "
+            "in turn in one fresh process with an empty cache (a kernel another one "
+            "already compiled is loaded, not compiled again) and records numba's compile "
+            "events: the CPU seconds of each, the part spent under LLVM's lock "
+            "(optimisation and machine code; the rest is numba's typing and lowering), "
+            f"and how many functions numba compiled on the way: {each}.")
 
 
 if __name__ == "__main__":
     if sys.argv[1:2] in (["-h"], ["--help"]):
-        print("usage: compile_probe.py [-h] [--kinds | --breakdown ENTRY METHOD KIND ... | "
-              "NV NA [map]]\n")
+        print("usage: compile_probe.py [-h] [--kinds | --breakdown ENTRY METHOD KIND ... "
+              "[--save] | --warm OUT.npz SIDE [CHECKOUT] | NV NA [map]]\n")
         print(__doc__)
     elif sys.argv[1:2] == ["--kinds"]:
         kinds()
@@ -352,14 +392,14 @@ if __name__ == "__main__":
             sys.path.insert(0, str(Path(sys.argv[4]).resolve()))
         warm(sys.argv[2], int(sys.argv[3]))
     elif sys.argv[1:2] in (["--breakdown"], ["--breakdown-here"]):
-        args = sys.argv[2:]
+        args = [a for a in sys.argv[2:] if a != "--save"]
+        save = "--save" in sys.argv[2:]
         if args == ["suite"]:
             args = [a for t in SUITE for a in t]
         if len(args) % 3 or not args:
             sys.exit("--breakdown takes ENTRY METHOD KIND triples (or 'suite')")
         if sys.argv[1] == "--breakdown":
-            for line in breakdown_fresh(args):
-                print(json.dumps(line), flush=True)
+            save_breakdown(args, save)
         else:
             breakdown([tuple(args[i:i + 3]) for i in range(0, len(args), 3)])
     else:
