@@ -19,6 +19,27 @@ less the second is what compiling cost. Then the main job (``sweepcore run
 studies/hopf_map.toml``) from an empty cache and warm, back to back (the same
 measurement as the Hopf-map section's). ``python -m benchmarks.report`` and a full
 run put the paragraph of ``stored_section`` into benchmarks/README.md.
+
+``python benchmarks/compile_probe.py --breakdown ENTRY METHOD KIND [...]`` (ENTRY a
+key of ``sweepcore._kernels.entries.FACTORIES``, METHOD a method name, KIND a law
+kind; several triples in turn) compiles those entry kernels, in that order, in one
+fresh process with an empty kernel cache and prints one JSON line per entry: the
+CPU seconds of its compilation, the part of them spent holding numba's LLVM lock
+(LLVM's optimisation and machine code, the union of the ``numba:llvm_lock`` event
+intervals; the rest is numba's own typing and lowering), and how many functions
+numba compiled on the way, with the names compiled for more than one signature.
+With ``NUMBA_OPT=0`` in the environment LLVM does not optimise: the drop bounds
+what optimisation costs (the kernels' speed is then not the shipped one).
+``--breakdown suite`` compiles what the default test run compiles, in its order;
+``--save`` after the triples stores the lines in ``results/compile.json`` (key
+``breakdown``), whose paragraph in benchmarks/README.md quotes them.
+
+``python benchmarks/compile_probe.py --warm OUT.npz SIDE [CHECKOUT]`` times, warm
+and on one thread, the maps of ``benchmarks/forced.py`` (two forced maps and the
+Hopf map, SIDE x SIDE; CPU seconds, once each after a warm-up run) on the sweepcore
+and benchmarks of CHECKOUT (default: this one) and saves their output arrays to
+OUT.npz: run it alternately on two checkouts to compare a change's warm cost, and
+compare the arrays for bit-identity.
 """
 import json
 import os
@@ -114,6 +135,153 @@ def probe(nv, na, run_map):
     print(json.dumps(res))
 
 
+# the entry kernels the default test run compiles, in the order it first calls them
+# (the conftest's warm-up first); each compiled on an empty cache by --breakdown suite
+SUITE = (("attractor_rows", "dop853", "polynomial"), ("trajectory", "dop853", "polynomial"),
+         ("forced_rows", "dop853", "polynomial"), ("forced_rows", "dop853", "stribeck"),
+         ("forced_rows", "dop853", "table"), ("forced_rows", "dop853", "leine"),
+         ("attractor_rows", "dop853", "stribeck"), ("attractor_rows", "dop853", "table"),
+         ("attractor_rows", "dop853", "leine"), ("slip_cycles_rows", "dop853", "polynomial"),
+         ("slip_cycles_rows", "dop853", "stribeck"), ("slip_cycles_rows", "dop853", "table"),
+         ("attractor_rows", "exact", "polynomial"), ("attractor_rows", "dopri5", "polynomial"),
+         ("attractor_rows", "rk4", "polynomial"), ("attractor_rows", "gps", "polynomial"))
+
+
+def _entry_arguments(name, kind):
+    """Arrays of the types the Python side calls entry ``name`` with for ``kind``."""
+    import numpy as np
+    from sweepcore import compiled
+    from sweepcore._kernels import layout
+    from sweepcore._kernels import laws as kernel_laws
+    from sweepcore.excitations import harmonic
+    lw = kernel_laws.SAMPLES[kind]
+    if name == "forced_rows":
+        return (np.zeros((1, layout.NP)), lw, harmonic.DATA, np.zeros(layout.NO),
+                np.zeros((1, layout.NFOB)))
+    if name == "forced_trajectory":
+        f, i = np.zeros(1), np.zeros(1, np.int64)
+        return (np.zeros(layout.NP), lw, harmonic.DATA, np.zeros(layout.NO), f, f, f, i,
+                f, i, f, f, np.zeros(layout.NA))
+    return compiled._arguments(name, lw)
+
+
+def breakdown(triples):
+    """Compile each (entry, method, kind) in turn here (the caller gives this process
+    an empty cache); one JSON line each (see the module's docstring)."""
+    import collections
+    from numba import typeof
+    from numba.core import event
+    from sweepcore._kernels import codes, entries
+
+    class Record(event.Listener):
+        """numba's compile events: the LLVM lock's CPU time, every function compiled,
+        and each one's own CPU time (its compilation less the nested ones)."""
+
+        def __init__(self):
+            self.lock, self.depth, self.start, self.sigs = 0.0, 0, 0.0, []
+            self.stack, self.own = [], collections.Counter()
+
+        def on_start(self, ev):
+            if ev.kind == "numba:llvm_lock":
+                if self.depth == 0:
+                    self.start = time.process_time()
+                self.depth += 1
+                return
+            d = ev.data.get("dispatcher")
+            fn = getattr(getattr(d, "py_func", None), "__qualname__", str(d))
+            self.sigs.append((fn, str(ev.data.get("args"))))
+            self.stack.append([fn, time.process_time(), 0.0])
+
+        def on_end(self, ev):
+            if ev.kind == "numba:llvm_lock":
+                self.depth -= 1
+                if self.depth == 0:
+                    self.lock += time.process_time() - self.start
+                return
+            fn, t0, nested = self.stack.pop()
+            took = time.process_time() - t0
+            self.own[fn] += took - nested
+            if self.stack:
+                self.stack[-1][2] += took
+
+    for name, method, kind in triples:
+        rec = Record()
+        event.register("numba:llvm_lock", rec)
+        event.register("numba:compile", rec)
+        c0 = time.process_time()
+        entries.entry(name, codes.METHOD_CODES[method]).compile(
+            tuple(typeof(a) for a in _entry_arguments(name, kind)))
+        cpu = time.process_time() - c0
+        event.unregister("numba:llvm_lock", rec)
+        event.unregister("numba:compile", rec)
+        per = collections.Counter(n for n, _ in rec.sigs)
+        print(json.dumps({"entry": name, "method": method, "kind": kind,
+                          "cpu_s": round(cpu, 2), "llvm_lock_cpu_s": round(rec.lock, 2),
+                          "numba_opt": os.environ.get("NUMBA_OPT", "default"),
+                          "functions_compiled": len(rec.sigs),
+                          "compiled_more_than_once": {n: c for n, c in per.items() if c > 1},
+                          "own_cpu_s_top": {n: round(t, 2)
+                                            for n, t in rec.own.most_common(12)}}),
+              flush=True)
+
+
+def breakdown_fresh(args, opt=None):
+    """``breakdown`` in a fresh process with an empty cache: yields its JSON lines,
+    parsed, as they come."""
+    with tempfile.TemporaryDirectory(prefix="sweepcore-breakdown-") as tmp:
+        env = {k: v for k, v in os.environ.items() if k != "NUMBA_CACHE_DIR"}
+        env["SWEEPCORE_CACHE_DIR"] = tmp
+        if opt is not None:
+            env["NUMBA_OPT"] = str(opt)
+        with subprocess.Popen([sys.executable, __file__, "--breakdown-here", *args],
+                              env=env, cwd=ROOT, stdout=subprocess.PIPE,
+                              stderr=subprocess.DEVNULL, text=True) as child:
+            for line in child.stdout:
+                if line.startswith("{"):
+                    yield json.loads(line)
+        if child.returncode != 0:
+            raise RuntimeError(f"the breakdown process failed ({child.returncode})")
+
+
+def save_breakdown(args, save, path=None):
+    """Print ``breakdown_fresh(args)``'s lines as they come; with ``save``, store them
+    with the machine and the load in ``results/compile.json`` (key ``breakdown``)."""
+    from benchmarks import common
+    res = {"command": "python benchmarks/compile_probe.py --breakdown " + " ".join(args),
+           "machine": common.machine(), "load_before": common.load(), "entries": []}
+    for line in breakdown_fresh(args):
+        print(json.dumps(line), flush=True)
+        res["entries"].append(line)
+    res["load_after"] = common.load()
+    if save:
+        path = Path(path or common.RESULTS / "compile.json")
+        stored = json.loads(path.read_text()) if path.is_file() else {}
+        stored["breakdown"] = res
+        common.save_json(stored, path)
+        common.log(f"written {path}")
+
+
+def warm(path, side=48):
+    """The warm maps of ``benchmarks.forced`` (see the module's docstring): prints
+    one JSON line of CPU seconds per map and saves the outputs to ``path``."""
+    import numba
+    import numpy as np
+    import sweepcore
+    from benchmarks import forced
+    from sweepcore.options import make_options
+    numba.set_num_threads(1)
+    grids, hopf = forced.grids(side)
+    grids["hopf"] = hopf
+    o = make_options("auto", tol=1e-8)
+    cpu, outs = {}, {}
+    for name, grid in grids.items():
+        forced.run(grid, o)
+        cpu[name], outs[name] = forced.run(grid, o)
+    np.savez(path, **outs)
+    print(json.dumps({"sweepcore": str(Path(sweepcore.__file__).parent), "side": side,
+                      "cpu_s": cpu, "load": os.getloadavg()[0]}), flush=True)
+
+
 def first_use(kind, timeout=3600):
     """The first use of law ``kind`` in a fresh process with an empty kernel cache:
     the child's timings, its CPU seconds with its children (the second compiler),
@@ -189,14 +357,50 @@ def stored_section(path=None) -> str:
     m = R["machine"]
     return fill("compile_kinds", date=m["date"], commit=m["git_commit"][:10],
                 load=f"{R['load_before']:.1f}-{R['load_after']:.1f}", kinds=". ".join(parts),
-                main=main)
+                main=main, breakdown=_breakdown_text(R.get("breakdown")))
+
+
+def _breakdown_text(B) -> str:
+    """The sentences of a stored ``--breakdown`` (empty where none is stored)."""
+    if not B:
+        return ""
+    from benchmarks.report import s
+    each = "; ".join(
+        f"`{e['entry']}` ({e['method']}, {e['kind']}) {s(e['cpu_s'])} CPU, "
+        f"{s(e['llvm_lock_cpu_s'])} of it in LLVM, {e['functions_compiled']} functions"
+        for e in B["entries"])
+    m = B["machine"]
+    return (f"\n\nWhere a compilation's time goes: `{B['command']} --save` "
+            f"({m['date']}, commit `{m['git_commit'][:10]}`, 1-minute load "
+            f"{B['load_before']:.1f}-{B['load_after']:.1f}) compiles those entry kernels "
+            "in turn in one fresh process with an empty cache (a kernel another one "
+            "already compiled is loaded, not compiled again) and records numba's compile "
+            "events: the CPU seconds of each, the part spent under LLVM's lock "
+            "(optimisation and machine code; the rest is numba's typing and lowering), "
+            f"and how many functions numba compiled on the way: {each}.")
 
 
 if __name__ == "__main__":
     if sys.argv[1:2] in (["-h"], ["--help"]):
-        print("usage: compile_probe.py [-h] [--kinds | NV NA [map]]\n")
+        print("usage: compile_probe.py [-h] [--kinds | --breakdown ENTRY METHOD KIND ... "
+              "[--save] | --warm OUT.npz SIDE [CHECKOUT] | NV NA [map]]\n")
         print(__doc__)
     elif sys.argv[1:2] == ["--kinds"]:
         kinds()
+    elif sys.argv[1:2] == ["--warm"]:
+        if sys.argv[4:5]:
+            sys.path.insert(0, str(Path(sys.argv[4]).resolve()))
+        warm(sys.argv[2], int(sys.argv[3]))
+    elif sys.argv[1:2] in (["--breakdown"], ["--breakdown-here"]):
+        args = [a for a in sys.argv[2:] if a != "--save"]
+        save = "--save" in sys.argv[2:]
+        if args == ["suite"]:
+            args = [a for t in SUITE for a in t]
+        if len(args) % 3 or not args:
+            sys.exit("--breakdown takes ENTRY METHOD KIND triples (or 'suite')")
+        if sys.argv[1] == "--breakdown":
+            save_breakdown(args, save)
+        else:
+            breakdown([tuple(args[i:i + 3]) for i in range(0, len(args), 3)])
     else:
         probe(int(sys.argv[1]), int(sys.argv[2]), len(sys.argv) > 3 and sys.argv[3] == "map")

@@ -121,6 +121,7 @@ def test_mirror_symmetry():
         assert x == pytest.approx(y, abs=1e-7 * L)
 
 
+@pytest.mark.slow   # compiles the forced kernels for the table and Leine kinds once more
 def test_every_law_kind_gives_the_coulomb_response():
     """Constant friction written three ways (the analytic law, a constant table,
     Leine's law with a vanishing delta): one forced response."""

@@ -30,7 +30,7 @@ import numpy as np
 from . import codes
 from .excitation import coefficients, forcing_period
 from .forced_driver import advance_forced, initial_forced
-from .jit import kernel
+from .jit import kernel, runtime
 from .law import anti_damped, length_scale
 from .layout import (A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN,
                      K, M, NA, NFOB, NO, NP, NS, O_LV, O_LX, O_MAX_STEPS, O_MAX_TIME,
@@ -107,7 +107,8 @@ def _image(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, measure):
     vw[0, 3] = 1.0
     if measure:
         fresh(acc)
-    status = run_periods(work, p, lw, fa, fb, om, o, acc, ws, vw, T, n, measure, True)
+    status = run_periods(work, p, lw, fa, fb, om, o, acc, ws, vw, T, n, measure,
+                         runtime(True))
     u[S_N] = work[S_N]
     return status
 
@@ -186,7 +187,8 @@ def measure(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out):
     the status and the distance [L] of the end from u."""
     work[:] = u
     fresh(acc)
-    status = run_periods(work, p, lw, fa, fb, om, o, acc, ws, vw, T, n, True, False)
+    status = run_periods(work, p, lw, fa, fb, om, o, acc, ws, vw, T, n, runtime(True),
+                         runtime(False))
     u[S_N] = work[S_N]
     if status != codes.OK:
         return status, np.inf
@@ -214,8 +216,8 @@ def lyapunov(u, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out):
             vw[0, 1] = 0.0
             vw[0, 2] = 0.0
             vw[0, 3] = 1.0
-            status = run_periods(work, p, lw, fa, fb, om, o, acc, ws, vw, T, 1, True,
-                                 True)
+            status = run_periods(work, p, lw, fa, fb, om, o, acc, ws, vw, T, runtime(1),
+                                 runtime(True), runtime(True))
             if status != codes.OK:
                 return status
             dx = vw[0, 0] * wx * lx + vw[0, 1] * wz * lv
@@ -288,7 +290,8 @@ def forced_point(meth, p, lw, ex, o_in, out):
     cooldown = np.zeros(nmax + 1)
     tries = np.zeros(nmax + 1)
     for j in range(1, jmax + 1):
-        status = run_periods(st, p, lw, fa, fb, om, o, acc, ws, vw, T, 1, False, False)
+        status = run_periods(st, p, lw, fa, fb, om, o, acc, ws, vw, T, runtime(1),
+                             runtime(False), runtime(False))
         if status == codes.OK and st[S_N] >= o[O_MAX_STEPS]:
             status = codes.STEP_BUDGET
         if status != codes.OK:
@@ -332,7 +335,7 @@ def forced_point(meth, p, lw, ex, o_in, out):
                 # a multiplier 1 and no isolated fixed point: a neutral family (at
                 # Omega/omega = 1/(2 n), c = 0), whose member the start picks
                 _answer(u if ok else st.copy(), n, j, mu1, p, lw, fa, fb, om, o, acc, ws,
-                        vw, T, work, out, tol, False)
+                        vw, T, work, out, tol, runtime(False))
                 if out[OB_REGIME] != codes.R_STUCK:   # stuck throughout: exact
                     out[OB_REGIME] = codes.R_NEUTRAL
                     out[OB_STATUS] = codes.UNRESOLVED
@@ -383,7 +386,7 @@ def _least_period(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, tol, mu1, ou
     for m in range(1, n):
         if n % m != 0:
             continue
-        status = _image(u, m, p, lw, fa, fb, om, o, acc, ws, vw, T, work, False)
+        status = _image(u, m, p, lw, fa, fb, om, o, acc, ws, vw, T, work, runtime(False))
         if status != codes.OK:
             return n, False, mu1, status
         if _dist(work, u, o[O_LX], o[O_LV]) <= max(1e2 * tol, 1e4 * o[O_RTOL]):

@@ -30,7 +30,7 @@ from . import codes
 from .driver import _note_x
 from .events import cubic, zd_event
 from .forced_step import forced_accel, forced_step, load
-from .jit import kernel
+from .jit import kernel, runtime
 from .law import constants, field_slope, static_limits, step_bound
 from .layout import (A_DT, A_IX, A_NSTICK, A_NSTOP, A_TSTICK, C, K, M, O_LV, O_LX,
                      O_MAX_STEPS, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
@@ -193,7 +193,7 @@ def initial_forced(st, x0, xd0, p, lw, fa, fb, om, o):
 def _at(x, zd, t, tau, s, p, lw, cf, fa, fb, om, o, ws, vw):
     """The re-stepped state at t + tau (dense output is the stepper itself)."""
     return forced_step(x, zd, t, tau, s, p, lw, cf, fa, fb, om, o, ws, vw[0], vw[1],
-                       False, False)
+                       runtime(False), runtime(False))
 
 
 @kernel
@@ -263,12 +263,12 @@ def _extrema(x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, hk, z1, a0, a1, acc,
     xd0 = zd + v
     xd1 = z1 + v
     if xd0 != 0.0 and (xd0 > 0.0) != (xd1 > 0.0):
-        _h, xx, zx = _polish(1, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, 0.0, hk,
-                             xd0, hk * xd0 / (xd0 - xd1), st)
+        _h, xx, zx = _polish(runtime(1), x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw,
+                             0.0, hk, xd0, hk * xd0 / (xd0 - xd1), st)
         _note_x(acc, xx, zx + v)
     if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
-        _h, xv, zv = _polish(2, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, 0.0, hk,
-                             a0, hk * a0 / (a0 - a1), st)
+        _h, xv, zv = _polish(runtime(2), x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw,
+                             0.0, hk, a0, hk * a0 / (a0 - a1), st)
         _note_x(acc, xv, zv + v)
 
 
@@ -323,20 +323,21 @@ def slide_forced(st, p, lw, fa, fb, om, o, acc, ws, vw, t_stop, measure, track):
         d0 = s * a0 * h
         d1 = s * a1 * h
         if kind == 1:
-            tau, xe, ze = _polish(0, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, ta * h,
-                                  tb * h, 1.0, _cubic_root(g0, g1, d0, d1, ta, tb) * h, st)
+            tau, xe, ze = _polish(runtime(0), x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw,
+                                  ta * h, tb * h, 1.0,
+                                  _cubic_root(g0, g1, d0, d1, ta, tb) * h, st)
             if s * ze <= gtol:
                 h_ev = tau
         if kind == 2 or (kind == 1 and h_ev < 0.0 and s * a0 < 0.0 < s * a1):
             lo = 0.5 * (ta + tc) * h if kind == 2 else 0.0
             hi = 0.5 * (tc + tb) * h if kind == 2 else h
             guess = tc * h if kind == 2 else h * a0 / (a0 - a1)
-            tau, xc, zc = _polish(2, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, lo, hi,
-                                  -s, guess, st)
+            tau, xc, zc = _polish(runtime(2), x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw,
+                                  lo, hi, -s, guess, st)
             if s * zc <= gtol:
                 if s * zc < 0.0:        # a double crossing: the first root
-                    tau, xc, zc = _polish(0, x, zd, t, s, p, lw, cf, fa, fb, om, o, ws,
-                                          vw, 0.0, tau, 1.0, 0.5 * tau, st)
+                    tau, xc, zc = _polish(runtime(0), x, zd, t, s, p, lw, cf, fa, fb, om, o,
+                                          ws, vw, 0.0, tau, 1.0, 0.5 * tau, st)
                 h_ev = tau
         if h_ev < 0.0 and armed and 0.0 < g1 <= gtol and g1 < g0:
             h_ev = h                     # the step ends on a touch

@@ -6,7 +6,7 @@ from . import codes
 from .excitation import coefficients, forcing_period
 from .forced_attractor import forced_options
 from .forced_driver import advance_forced, initial_forced
-from .jit import kernel
+from .jit import kernel, runtime
 from .layout import NS, S_MODE, S_N, S_T, S_X, S_ZD, X0, XD0
 
 
@@ -28,7 +28,8 @@ def run_forced_trajectory(p, lw, ex, o_in, t_samples, out_x, out_zd, out_mode, e
     for i in range(t_samples.shape[0]):
         ts = t_samples[i]
         while st[S_T] < ts and status == codes.OK:
-            ev, status = advance_forced(st, p, lw, fa, fb, om, o, acc, ws, vw, ts, True, False)
+            ev, status = advance_forced(st, p, lw, fa, fb, om, o, acc, ws, vw, ts,
+                                        runtime(True), runtime(False))
             if ev == codes.EV_SLIP or ev == codes.EV_STICK or \
                     ev == codes.EV_NORMAL_STOP or ev == codes.EV_ABNORMAL_STOP:
                 if n_ev < cap:

@@ -12,6 +12,11 @@
   each other, and the wrapper that unboxes Python arguments is code numba would
   generate and compile for every one of them (~12 % of a cold compilation).
   ``python_callable`` gives a test a callable copy of an internal kernel.
+* a kernel called from another is compiled for the types of that call's
+  arguments, and a constant argument (``True``, ``1``) is typed as its literal
+  value: each distinct constant compiles the whole callee, and all it calls, once
+  more. ``runtime(value)`` passes a constant as a plain value where one compiled
+  copy is to serve every value (a branch on it stays a branch).
 
 Compile-time choices (the friction law's kind, the stepper) are made by numba's
 ``overload``: a call of an interface function (``law.py``, ``stepper.step``) is typed
@@ -41,6 +46,17 @@ def kernel(fn=None, entry=False, **options):
 def python_callable(fn):
     """A copy of the internal kernel ``fn`` that Python can call (for tests)."""
     return njit(cache=False, error_model="numpy")(fn.py_func)
+
+
+@intrinsic
+def runtime(typingctx, value):
+    """``value`` typed as a plain (non-literal) value: a kernel called with it is
+    compiled once for every value instead of once per constant (module docstring)."""
+    plain = types.unliteral(value)
+
+    def codegen(context, builder, sig, args):
+        return context.cast(builder, args[0], sig.args[0], sig.return_type)
+    return plain(value), codegen
 
 
 @intrinsic
