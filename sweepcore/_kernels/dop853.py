@@ -10,6 +10,8 @@ order). Errors are measured per component against ``rtol * (L + |y|)`` as in
 ``dopri5.py``; the stepper contract is ``stepper.py``'s. Fewer right-hand sides than
 dopri5 at equal error on the map's slip cycles: ``python benchmarks/pair_choice.py``.
 """
+import math
+
 from .jit import kernel
 
 from .dopri5 import EPS, TABLEAU_E
@@ -203,12 +205,15 @@ def dop853_step(x, zd, h, s, p, lw, o, want_q):
     sz = o[O_RTOL] * (o[O_LV] + max(abs(zd), abs(z_end))) + floor_z
     err = _error(h, sx, sz, (KX[0], KX[5], KX[6], KX[7], KX[8], KX[9], KX[10], KX[11]),
                  (KZ[0], KZ[5], KZ[6], KZ[7], KZ[8], KZ[9], KZ[10], KZ[11]))
+    # the slopes the continuous extension needs (``dop853_extend``): stages 1, 6-12
+    ks = (KX[0], KX[5], KX[6], KX[7], KX[8], KX[9], KX[10], KX[11],
+          KZ[0], KZ[5], KZ[6], KZ[7], KZ[8], KZ[9], KZ[10], KZ[11])
     if not want_q:
-        return x_end, z_end, 0.0, 0.0, 0.0, 0.0, err, True
+        return x_end, z_end, 0.0, 0.0, 0.0, 0.0, err, True, ks
     qx, qv, qw, ql = _quadratures(h, s, p, lw, cf, (x, X[0], X[1], X[2], X[3], X[4], X[5],
                                                     X[6]),
                                   (zd, Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]))
-    return x_end, z_end, qx, qv, qw, ql, err, True
+    return x_end, z_end, qx, qv, qw, ql, err, True, ks
 
 
 @kernel(inline="always")
@@ -297,7 +302,7 @@ def _error(h, sx, sz, KX, KZ):
     e5 = max(abs(e5x) / sx, abs(e5z) / sz)
     e3 = max(abs(e3x) / sx, abs(e3z) / sz)
     den = e5 * e5 + 0.01 * e3 * e3
-    return abs(h) * e5 * e5 / den ** 0.5 if den > 0.0 else 0.0
+    return abs(h) * e5 * e5 / math.sqrt(den) if den > 0.0 else 0.0
 
 
 @kernel(inline="always")
@@ -329,16 +334,24 @@ def _quadratures(h, s, p, lw, cf, X, Z):
 def dop853_dense(x, zd, h, s, p, lw, o):
     """DOP853's continuous extension over the step ``h`` from ``(x, zd)``: the
     coefficients ``(F0..F6 of x, F0..F6 of zdot)`` of its seventh-order interpolant
-    (``stepper.interpolate``). The step's stages are computed again (bit for bit the
-    step's), with the slope at its end and three more stages."""
+    (``stepper.interpolate``), from the step taken again (``dop853_extend``)."""
+    x_end, z_end, _qx, _qv, _qw, _ql, _err, _ok, ks = dop853_step(x, zd, h, s, p, lw, o,
+                                                                False)
+    return dop853_extend(x, zd, h, s, p, lw, x_end, z_end, ks)
+
+
+@kernel
+def dop853_extend(x, zd, h, s, p, lw, x_end, z_end, ks):
+    """The continuous extension of the step ``h`` from ``(x, zd)`` to ``(x_end,
+    z_end)`` from its slopes ``ks`` (stages 1, 6-12 of x, then of zdot, as
+    ``dop853_step`` returns them): the slope at the step's end and three more stages
+    (Hairer, Norsett & Wanner, section II.6, and their code DOP853's contd8)."""
     v = p[V]
     k = p[K]
     im = 1.0 / p[M]
     cf = constants(p, lw, s)
-    KX, KZ, X, Z = _stages(x, zd, h, s, p, lw, cf)
-    k1x, k2x, k3x, k4x, k5x, k6x, k7x, k8x, k9x, k10x, k11x, k12x = KX
-    k1z, k2z, k3z, k4z, k5z, k6z, k7z, k8z, k9z, k10z, k11z, k12z = KZ
-    x_end, z_end = X[7], Z[7]
+    (k1x, k6x, k7x, k8x, k9x, k10x, k11x, k12x,
+     k1z, k6z, k7z, k8z, k9z, k10z, k11z, k12z) = ks
     k13x = z_end + v
     k13z = zdd_of(x_end, z_end, s, cf, lw, k, im)
     x14 = x + h * (A14_1 * k1x + A14_7 * k7x + A14_8 * k8x + A14_9 * k9x + A14_10 * k10x

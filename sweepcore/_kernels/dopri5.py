@@ -101,7 +101,9 @@ def dopri5_step(x, zd, h, s, p, lw, o, want_q):
         ql = h * (B1 * integrand(lw, cf, zd) + B3 * integrand(lw, cf, z3)
                   + B4 * integrand(lw, cf, z4) + B5 * integrand(lw, cf, z5)
                   + B6 * integrand(lw, cf, z6))
-    return x1, zd1, qx, qv, qw, ql, err, True
+    # the slopes the continuous extension needs (``dopri5_extend``)
+    ks = (k1x, k3x, k4x, k5x, k6x, k7x, k1z, k3z, k4z, k5z, k6z, k7z)
+    return x1, zd1, qx, qv, qw, ql, err, True, ks
 
 
 @kernel(inline="always")
@@ -152,11 +154,17 @@ D1, D3, D4, D5, D6, D7 = (-12715105075 / 11282082432, 87487479700 / 32700410799,
 def dopri5_dense(x, zd, h, s, p, lw, o):
     """The continuous extension over the step ``h`` from ``(x, zd)``: the
     coefficients ``(F0..F6 of x, F0..F6 of zdot)`` of its interpolant
-    (``stepper.interpolate``; F4..F6 are 0 here). The step's stages are computed
-    again, bit for bit the step's; the seventh is the slope at its end."""
-    cf = constants(p, lw, s)
-    k1x, k3x, k4x, k5x, k6x, k7x, k1z, k3z, k4z, k5z, k6z, k7z, x1, zd1, _X, _Z = \
-        _stages(x, zd, h, s, p, lw, cf)
+    (``stepper.interpolate``; F4..F6 are 0 here), from the step taken again."""
+    x1, zd1, _qx, _qv, _qw, _ql, _err, _ok, ks = dopri5_step(x, zd, h, s, p, lw, o, False)
+    return dopri5_extend(x, zd, h, s, p, lw, x1, zd1, ks)
+
+
+@kernel
+def dopri5_extend(x, zd, h, s, p, lw, x1, zd1, ks):
+    """The continuous extension of the step ``h`` from ``(x, zd)`` to ``(x1, zd1)``
+    from its slopes ``ks`` (as ``dopri5_step`` returns them; the seventh is the
+    slope at the step's end): no stage beyond the step's."""
+    k1x, k3x, k4x, k5x, k6x, k7x, k1z, k3z, k4z, k5z, k6z, k7z = ks
     dx = x1 - x
     dz = zd1 - zd
     f3x = h * (D1 * k1x + D3 * k3x + D4 * k4x + D5 * k5x + D6 * k6x + D7 * k7x)
