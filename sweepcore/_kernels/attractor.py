@@ -53,8 +53,11 @@ from .return_map import return_slope
 from .stepper import ADAPTIVE, CLOSED_FORM
 
 EPS = np.finfo(np.float64).eps
+# floats of ``attractor_point``'s workspace: options, driver state, search, accumulators
+WORKSPACE = NO + NS + NW + NACC * NA
 
-__all__ = ["RTOL_FLOOR", "attractor_point", "resolve_options", "method_status"]
+__all__ = ["RTOL_FLOOR", "WORKSPACE", "attractor_point", "resolve_options",
+           "method_status"]
 
 
 # ------------------------------------------------------------- the answers
@@ -141,6 +144,13 @@ def resolve_options(meth, p, lw, o_in):
     point before the call, ``sweepcore.compiled.methods_of``), default dt and GPS
     shift resolved."""
     o = o_in.copy()
+    resolve_into(meth, p, lw, o)
+    return o
+
+
+@kernel
+def resolve_into(meth, p, lw, o):
+    """``resolve_options`` in place on ``o``, a copy of the option row."""
     omega = math.sqrt(p[K] / p[M])
     lx, lv = scales(p, lw)
     o[O_METHOD] = meth
@@ -150,7 +160,6 @@ def resolve_options(meth, p, lw, o_in):
     o[O_LV] = lv
     if np.isnan(o[O_GPS_A]):
         o[O_GPS_A] = lx
-    return o
 
 
 @kernel
@@ -384,11 +393,14 @@ def finish(action, value, st, p, lw, w, acc, out):
 
 # ------------------------------------------------------------- entry points
 @kernel(inline="always")
-def attractor_point(meth, p, lw, o_in, out):
+def attractor_point(meth, p, lw, o_in, out, ws):
     """Fill ``out`` (layout OB_*) with the attractor observables of one point.
 
     ``p``: parameter row (length ``layout.NP``); ``o_in``: option row (``layout.NO``);
-    rows of another length are refused with status ``bad_kernel_row``."""
+    rows of another length are refused with status ``bad_kernel_row``. ``ws``: a
+    workspace of ``WORKSPACE`` floats for the search's state (its caller's: one
+    allocation per call, not per point, and a view without reference count,
+    ``jit.unowned``, so that the many kernels the state passes through count none)."""
     for i in range(NOBS):
         out[i] = np.nan
     out[OB_NSTEPS] = 0.0
@@ -396,15 +408,18 @@ def attractor_point(meth, p, lw, o_in, out):
         out[OB_REGIME] = codes.R_FAILED
         out[OB_STATUS] = codes.BAD_ROW
         return
-    o = resolve_options(meth, p, lw, o_in)
+    o = ws[:NO]
+    o[:] = o_in
+    resolve_into(meth, p, lw, o)
     refused = method_status(meth, p, lw, o)
     if refused != codes.OK:
         out[OB_REGIME] = codes.R_FAILED
         out[OB_STATUS] = refused
         return
-    st = np.zeros(NS)
-    w = np.empty(NW)
-    acc = np.empty((NACC, NA))
+    st = ws[NO:NO + NS]
+    st[:] = 0.0
+    w = ws[NO + NS:NO + NS + NW]
+    acc = ws[NO + NS + NW:WORKSPACE].reshape((NACC, NA))
     setup(meth, p, lw, o, st, w, acc)
     if p[V] == 0.0 and st[S_MODE] == codes.STICK:
         answer_rest(out, st[S_X], 0.0, codes.R_STUCK, True, 0.0)

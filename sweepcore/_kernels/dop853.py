@@ -10,6 +10,8 @@ order). Errors are measured per component against ``rtol * (L + |y|)`` as in
 ``dopri5.py``; the stepper contract is ``stepper.py``'s. Fewer right-hand sides than
 dopri5 at equal error on the map's slip cycles: ``python benchmarks/pair_choice.py``.
 """
+import math
+
 from .jit import kernel
 
 from .dopri5 import EPS, TABLEAU_E
@@ -203,12 +205,15 @@ def dop853_step(x, zd, h, s, p, lw, o, want_q):
     sz = o[O_RTOL] * (o[O_LV] + max(abs(zd), abs(z_end))) + floor_z
     err = _error(h, sx, sz, (KX[0], KX[5], KX[6], KX[7], KX[8], KX[9], KX[10], KX[11]),
                  (KZ[0], KZ[5], KZ[6], KZ[7], KZ[8], KZ[9], KZ[10], KZ[11]))
+    # the slopes the continuous extension needs (``dop853_extend``): stages 1, 6-12
+    ks = (KX[0], KX[5], KX[6], KX[7], KX[8], KX[9], KX[10], KX[11],
+          KZ[0], KZ[5], KZ[6], KZ[7], KZ[8], KZ[9], KZ[10], KZ[11])
     if not want_q:
-        return x_end, z_end, 0.0, 0.0, 0.0, 0.0, err, True
+        return x_end, z_end, 0.0, 0.0, 0.0, 0.0, err, True, ks
     qx, qv, qw, ql = _quadratures(h, s, p, lw, cf, (x, X[0], X[1], X[2], X[3], X[4], X[5],
                                                     X[6]),
                                   (zd, Z[0], Z[1], Z[2], Z[3], Z[4], Z[5], Z[6]))
-    return x_end, z_end, qx, qv, qw, ql, err, True
+    return x_end, z_end, qx, qv, qw, ql, err, True, ks
 
 
 @kernel(inline="always")
@@ -218,64 +223,82 @@ def _stages(x, zd, h, s, p, lw, cf):
     v = p[V]
     k = p[K]
     im = 1.0 / p[M]
+    # the newest slope of each stage enters last, by h A precomputed: the
+    # chain from one stage to the next is then one product and one sum
+    hA3_2 = h * A3_2
+    hA4_3 = h * A4_3
+    hA5_4 = h * A5_4
+    hA6_5 = h * A6_5
+    hA7_6 = h * A7_6
+    hA8_7 = h * A8_7
+    hA9_8 = h * A9_8
+    hA10_9 = h * A10_9
+    hA11_10 = h * A11_10
+    hA12_11 = h * A12_11
     k1x = zd + v
     k1z = zdd_of(x, zd, s, cf, lw, k, im)
     x2 = x + h * (A2_1 * k1x)
     z2 = zd + h * (A2_1 * k1z)
     k2x = z2 + v
     k2z = zdd_of(x2, z2, s, cf, lw, k, im)
-    x3 = x + h * (A3_1 * k1x + A3_2 * k2x)
-    z3 = zd + h * (A3_1 * k1z + A3_2 * k2z)
+    x3 = x + h * (A3_1 * k1x) + hA3_2 * k2x
+    z3 = zd + h * (A3_1 * k1z) + hA3_2 * k2z
     k3x = z3 + v
     k3z = zdd_of(x3, z3, s, cf, lw, k, im)
-    x4 = x + h * (A4_1 * k1x + A4_3 * k3x)
-    z4 = zd + h * (A4_1 * k1z + A4_3 * k3z)
+    x4 = x + h * (A4_1 * k1x) + hA4_3 * k3x
+    z4 = zd + h * (A4_1 * k1z) + hA4_3 * k3z
     k4x = z4 + v
     k4z = zdd_of(x4, z4, s, cf, lw, k, im)
-    x5 = x + h * (A5_1 * k1x + A5_3 * k3x + A5_4 * k4x)
-    z5 = zd + h * (A5_1 * k1z + A5_3 * k3z + A5_4 * k4z)
+    x5 = x + h * (A5_1 * k1x + A5_3 * k3x) + hA5_4 * k4x
+    z5 = zd + h * (A5_1 * k1z + A5_3 * k3z) + hA5_4 * k4z
     k5x = z5 + v
     k5z = zdd_of(x5, z5, s, cf, lw, k, im)
-    x6 = x + h * (A6_1 * k1x + A6_4 * k4x + A6_5 * k5x)
-    z6 = zd + h * (A6_1 * k1z + A6_4 * k4z + A6_5 * k5z)
+    x6 = x + h * (A6_1 * k1x + A6_4 * k4x) + hA6_5 * k5x
+    z6 = zd + h * (A6_1 * k1z + A6_4 * k4z) + hA6_5 * k5z
     k6x = z6 + v
     k6z = zdd_of(x6, z6, s, cf, lw, k, im)
-    x7 = x + h * (A7_1 * k1x + A7_4 * k4x + A7_5 * k5x + A7_6 * k6x)
-    z7 = zd + h * (A7_1 * k1z + A7_4 * k4z + A7_5 * k5z + A7_6 * k6z)
+    x7 = x + h * (A7_1 * k1x + A7_4 * k4x + A7_5 * k5x) + hA7_6 * k6x
+    z7 = zd + h * (A7_1 * k1z + A7_4 * k4z + A7_5 * k5z) + hA7_6 * k6z
     k7x = z7 + v
     k7z = zdd_of(x7, z7, s, cf, lw, k, im)
-    x8 = x + h * (A8_1 * k1x + A8_4 * k4x + A8_5 * k5x + A8_6 * k6x + A8_7 * k7x)
-    z8 = zd + h * (A8_1 * k1z + A8_4 * k4z + A8_5 * k5z + A8_6 * k6z + A8_7 * k7z)
+    x8 = x + h * (A8_1 * k1x + A8_4 * k4x + A8_5 * k5x + A8_6 * k6x) + hA8_7 * k7x
+    z8 = zd + h * (A8_1 * k1z + A8_4 * k4z + A8_5 * k5z + A8_6 * k6z) + hA8_7 * k7z
     k8x = z8 + v
     k8z = zdd_of(x8, z8, s, cf, lw, k, im)
-    x9 = x + h * (A9_1 * k1x + A9_4 * k4x + A9_5 * k5x + A9_6 * k6x + A9_7 * k7x +
-                  A9_8 * k8x)
-    z9 = zd + h * (A9_1 * k1z + A9_4 * k4z + A9_5 * k5z + A9_6 * k6z + A9_7 * k7z +
-                   A9_8 * k8z)
+    x9 = (x + h * (A9_1 * k1x + A9_4 * k4x + A9_5 * k5x + A9_6 * k6x + A9_7 * k7x)
+          + hA9_8 * k8x)
+    z9 = (zd + h * (A9_1 * k1z + A9_4 * k4z + A9_5 * k5z + A9_6 * k6z + A9_7 * k7z)
+          + hA9_8 * k8z)
     k9x = z9 + v
     k9z = zdd_of(x9, z9, s, cf, lw, k, im)
-    x10 = x + h * (A10_1 * k1x + A10_4 * k4x + A10_5 * k5x + A10_6 * k6x + A10_7 * k7x +
-                   A10_8 * k8x + A10_9 * k9x)
-    z10 = zd + h * (A10_1 * k1z + A10_4 * k4z + A10_5 * k5z + A10_6 * k6z + A10_7 * k7z +
-                    A10_8 * k8z + A10_9 * k9z)
+    x10 = (x + h * (A10_1 * k1x + A10_4 * k4x + A10_5 * k5x + A10_6 * k6x +
+                    A10_7 * k7x + A10_8 * k8x)
+           + hA10_9 * k9x)
+    z10 = (zd + h * (A10_1 * k1z + A10_4 * k4z + A10_5 * k5z + A10_6 * k6z +
+                     A10_7 * k7z + A10_8 * k8z)
+           + hA10_9 * k9z)
     k10x = z10 + v
     k10z = zdd_of(x10, z10, s, cf, lw, k, im)
-    x11 = x + h * (A11_1 * k1x + A11_4 * k4x + A11_5 * k5x + A11_6 * k6x + A11_7 * k7x +
-                   A11_8 * k8x + A11_9 * k9x + A11_10 * k10x)
-    z11 = zd + h * (A11_1 * k1z + A11_4 * k4z + A11_5 * k5z + A11_6 * k6z + A11_7 * k7z +
-                    A11_8 * k8z + A11_9 * k9z + A11_10 * k10z)
+    x11 = (x + h * (A11_1 * k1x + A11_4 * k4x + A11_5 * k5x + A11_6 * k6x +
+                    A11_7 * k7x + A11_8 * k8x + A11_9 * k9x)
+           + hA11_10 * k10x)
+    z11 = (zd + h * (A11_1 * k1z + A11_4 * k4z + A11_5 * k5z + A11_6 * k6z +
+                     A11_7 * k7z + A11_8 * k8z + A11_9 * k9z)
+           + hA11_10 * k10z)
     k11x = z11 + v
     k11z = zdd_of(x11, z11, s, cf, lw, k, im)
-    x12 = x + h * (A12_1 * k1x + A12_4 * k4x + A12_5 * k5x + A12_6 * k6x + A12_7 * k7x +
-                   A12_8 * k8x + A12_9 * k9x + A12_10 * k10x + A12_11 * k11x)
-    z12 = zd + h * (A12_1 * k1z + A12_4 * k4z + A12_5 * k5z + A12_6 * k6z + A12_7 * k7z +
-                    A12_8 * k8z + A12_9 * k9z + A12_10 * k10z + A12_11 * k11z)
+    x12 = (x + h * (A12_1 * k1x + A12_4 * k4x + A12_5 * k5x + A12_6 * k6x +
+                    A12_7 * k7x + A12_8 * k8x + A12_9 * k9x + A12_10 * k10x)
+           + hA12_11 * k11x)
+    z12 = (zd + h * (A12_1 * k1z + A12_4 * k4z + A12_5 * k5z + A12_6 * k6z +
+                     A12_7 * k7z + A12_8 * k8z + A12_9 * k9z + A12_10 * k10z)
+           + hA12_11 * k11z)
     k12x = z12 + v
     k12z = zdd_of(x12, z12, s, cf, lw, k, im)
     x_end = x + h * (B1 * k1x + B6 * k6x + B7 * k7x + B8 * k8x + B9 * k9x + B10 * k10x +
                      B11 * k11x + B12 * k12x)
-    z_end = zd + h * (B1 * k1z + B6 * k6z + B7 * k7z + B8 * k8z + B9 * k9z + B10 * k10z +
-                      B11 * k11z + B12 * k12z)
+    z_end = zd + h * (B1 * k1z + B6 * k6z + B7 * k7z + B8 * k8z + B9 * k9z +
+                      B10 * k10z + B11 * k11z + B12 * k12z)
     return ((k1x, k2x, k3x, k4x, k5x, k6x, k7x, k8x, k9x, k10x, k11x, k12x),
             (k1z, k2z, k3z, k4z, k5z, k6z, k7z, k8z, k9z, k10z, k11z, k12z),
             (x6, x7, x8, x9, x10, x11, x12, x_end), (z6, z7, z8, z9, z10, z11, z12, z_end))
@@ -297,7 +320,7 @@ def _error(h, sx, sz, KX, KZ):
     e5 = max(abs(e5x) / sx, abs(e5z) / sz)
     e3 = max(abs(e3x) / sx, abs(e3z) / sz)
     den = e5 * e5 + 0.01 * e3 * e3
-    return abs(h) * e5 * e5 / den ** 0.5 if den > 0.0 else 0.0
+    return abs(h) * e5 * e5 / math.sqrt(den) if den > 0.0 else 0.0
 
 
 @kernel(inline="always")
@@ -329,16 +352,24 @@ def _quadratures(h, s, p, lw, cf, X, Z):
 def dop853_dense(x, zd, h, s, p, lw, o):
     """DOP853's continuous extension over the step ``h`` from ``(x, zd)``: the
     coefficients ``(F0..F6 of x, F0..F6 of zdot)`` of its seventh-order interpolant
-    (``stepper.interpolate``). The step's stages are computed again (bit for bit the
-    step's), with the slope at its end and three more stages."""
+    (``stepper.interpolate``), from the step taken again (``dop853_extend``)."""
+    x_end, z_end, _qx, _qv, _qw, _ql, _err, _ok, ks = dop853_step(x, zd, h, s, p, lw, o,
+                                                                False)
+    return dop853_extend(x, zd, h, s, p, lw, x_end, z_end, ks)
+
+
+@kernel
+def dop853_extend(x, zd, h, s, p, lw, x_end, z_end, ks):
+    """The continuous extension of the step ``h`` from ``(x, zd)`` to ``(x_end,
+    z_end)`` from its slopes ``ks`` (stages 1, 6-12 of x, then of zdot, as
+    ``dop853_step`` returns them): the slope at the step's end and three more stages
+    (Hairer, Norsett & Wanner, section II.6, and their code DOP853's contd8)."""
     v = p[V]
     k = p[K]
     im = 1.0 / p[M]
     cf = constants(p, lw, s)
-    KX, KZ, X, Z = _stages(x, zd, h, s, p, lw, cf)
-    k1x, k2x, k3x, k4x, k5x, k6x, k7x, k8x, k9x, k10x, k11x, k12x = KX
-    k1z, k2z, k3z, k4z, k5z, k6z, k7z, k8z, k9z, k10z, k11z, k12z = KZ
-    x_end, z_end = X[7], Z[7]
+    (k1x, k6x, k7x, k8x, k9x, k10x, k11x, k12x,
+     k1z, k6z, k7z, k8z, k9z, k10z, k11z, k12z) = ks
     k13x = z_end + v
     k13z = zdd_of(x_end, z_end, s, cf, lw, k, im)
     x14 = x + h * (A14_1 * k1x + A14_7 * k7x + A14_8 * k8x + A14_9 * k9x + A14_10 * k10x

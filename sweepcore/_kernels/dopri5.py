@@ -101,7 +101,9 @@ def dopri5_step(x, zd, h, s, p, lw, o, want_q):
         ql = h * (B1 * integrand(lw, cf, zd) + B3 * integrand(lw, cf, z3)
                   + B4 * integrand(lw, cf, z4) + B5 * integrand(lw, cf, z5)
                   + B6 * integrand(lw, cf, z6))
-    return x1, zd1, qx, qv, qw, ql, err, True
+    # the slopes the continuous extension needs (``dopri5_extend``)
+    ks = (k1x, k3x, k4x, k5x, k6x, k7x, k1z, k3z, k4z, k5z, k6z, k7z)
+    return x1, zd1, qx, qv, qw, ql, err, True, ks
 
 
 @kernel(inline="always")
@@ -111,26 +113,32 @@ def _stages(x, zd, h, s, p, lw, cf):
     v = p[V]
     k = p[K]
     im = 1.0 / p[M]
+    # the newest slope of each stage enters last, by h A precomputed: the
+    # chain from one stage to the next is then one product and one sum
+    hA32 = h * A32
+    hA43 = h * A43
+    hA54 = h * A54
+    hA65 = h * A65
     k1x = zd + v
     k1z = zdd_of(x, zd, s, cf, lw, k, im)
     x2 = x + h * A21 * k1x
     z2 = zd + h * A21 * k1z
     k2x = z2 + v
     k2z = zdd_of(x2, z2, s, cf, lw, k, im)
-    x3 = x + h * (A31 * k1x + A32 * k2x)
-    z3 = zd + h * (A31 * k1z + A32 * k2z)
+    x3 = x + h * (A31 * k1x) + hA32 * k2x
+    z3 = zd + h * (A31 * k1z) + hA32 * k2z
     k3x = z3 + v
     k3z = zdd_of(x3, z3, s, cf, lw, k, im)
-    x4 = x + h * (A41 * k1x + A42 * k2x + A43 * k3x)
-    z4 = zd + h * (A41 * k1z + A42 * k2z + A43 * k3z)
+    x4 = x + h * (A41 * k1x + A42 * k2x) + hA43 * k3x
+    z4 = zd + h * (A41 * k1z + A42 * k2z) + hA43 * k3z
     k4x = z4 + v
     k4z = zdd_of(x4, z4, s, cf, lw, k, im)
-    x5 = x + h * (A51 * k1x + A52 * k2x + A53 * k3x + A54 * k4x)
-    z5 = zd + h * (A51 * k1z + A52 * k2z + A53 * k3z + A54 * k4z)
+    x5 = x + h * (A51 * k1x + A52 * k2x + A53 * k3x) + hA54 * k4x
+    z5 = zd + h * (A51 * k1z + A52 * k2z + A53 * k3z) + hA54 * k4z
     k5x = z5 + v
     k5z = zdd_of(x5, z5, s, cf, lw, k, im)
-    x6 = x + h * (A61 * k1x + A62 * k2x + A63 * k3x + A64 * k4x + A65 * k5x)
-    z6 = zd + h * (A61 * k1z + A62 * k2z + A63 * k3z + A64 * k4z + A65 * k5z)
+    x6 = x + h * (A61 * k1x + A62 * k2x + A63 * k3x + A64 * k4x) + hA65 * k5x
+    z6 = zd + h * (A61 * k1z + A62 * k2z + A63 * k3z + A64 * k4z) + hA65 * k5z
     k6x = z6 + v
     k6z = zdd_of(x6, z6, s, cf, lw, k, im)
     x1 = x + h * (B1 * k1x + B3 * k3x + B4 * k4x + B5 * k5x + B6 * k6x)
@@ -152,11 +160,17 @@ D1, D3, D4, D5, D6, D7 = (-12715105075 / 11282082432, 87487479700 / 32700410799,
 def dopri5_dense(x, zd, h, s, p, lw, o):
     """The continuous extension over the step ``h`` from ``(x, zd)``: the
     coefficients ``(F0..F6 of x, F0..F6 of zdot)`` of its interpolant
-    (``stepper.interpolate``; F4..F6 are 0 here). The step's stages are computed
-    again, bit for bit the step's; the seventh is the slope at its end."""
-    cf = constants(p, lw, s)
-    k1x, k3x, k4x, k5x, k6x, k7x, k1z, k3z, k4z, k5z, k6z, k7z, x1, zd1, _X, _Z = \
-        _stages(x, zd, h, s, p, lw, cf)
+    (``stepper.interpolate``; F4..F6 are 0 here), from the step taken again."""
+    x1, zd1, _qx, _qv, _qw, _ql, _err, _ok, ks = dopri5_step(x, zd, h, s, p, lw, o, False)
+    return dopri5_extend(x, zd, h, s, p, lw, x1, zd1, ks)
+
+
+@kernel
+def dopri5_extend(x, zd, h, s, p, lw, x1, zd1, ks):
+    """The continuous extension of the step ``h`` from ``(x, zd)`` to ``(x1, zd1)``
+    from its slopes ``ks`` (as ``dopri5_step`` returns them; the seventh is the
+    slope at the step's end): no stage beyond the step's."""
+    k1x, k3x, k4x, k5x, k6x, k7x, k1z, k3z, k4z, k5z, k6z, k7z = ks
     dx = x1 - x
     dz = zd1 - zd
     f3x = h * (D1 * k1x + D3 * k3x + D4 * k4x + D5 * k5x + D6 * k6x + D7 * k7x)

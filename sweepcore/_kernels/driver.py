@@ -40,10 +40,11 @@ from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDM
                      O_METHOD, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_TOUCH, S_X, S_ZD,
                      V)
 from .events import F_XD, F_ZD, F_ZDD, cubic, polish, zd_event
-from .stepper import (ADAPTIVE, EXPONENT, TOUCH_FACTOR, dense, has_dense, proposal,
-                      state_at, step)
+from .stepper import (ADAPTIVE, EXPONENT, TOUCH_FACTOR, extend, has_dense, proposal,
+                      state_at, step, step_kept)
 
 EPS = np.finfo(np.float64).eps
+NO_PART = (np.nan,) * 6        # no partial step taken yet (``_finish_zero``)
 # ---------------------------------------------------------------- small pieces
 @kernel
 def touch_tol(p, o):
@@ -201,15 +202,19 @@ def _book(acc, qx, qv, qw, ql, h):
 
 
 @kernel
-def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched, a0, cf, dc, H):
+def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched, a0, cf, dc, H,
+                 part):
     """Book the partial step to a zdot = 0 event at h and apply the stop rules;
     ``touched``: the event is a tangential touch (``st[S_TOUCH]``), whose stop or
     stick the integrator decided within its touch tolerance only. ``a0``: zdd at
     the step's start, for an extremum of xdot before the event (an overshoot past
     the belt speed that turns back and sticks within the step). ``dc``: the
-    interpolant of the step ``H`` that holds the event."""
-    xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, x0, zd0, h, s, p, lw, o, True)
-    st[S_N] += 1.0
+    interpolant of the step ``H`` that holds the event. ``part``: the partial step
+    ``(x, zdot, quadratures)`` when already taken (``_confirmed``), else NaNs."""
+    xr, zr, qx, qv, qw, ql = part
+    if xr != xr:
+        xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, x0, zd0, h, s, p, lw, o, True)
+        st[S_N] += 1.0
     _book(acc, qx, qv, qw, ql, h)
     _velocity_extremum(meth, st, p, lw, o, acc, x0, zd0, s, h, a0,
                        accel(xe, 0.0, s, cf, lw, p[K], p[M]), dc, H)
@@ -247,7 +252,7 @@ def _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, d0, d1, ta, tb, dc, 
         return -1.0, x
     ca = ta
     cb = tb
-    for _ in range(40):
+    for _ in range(12):     # a start for polish's Newton steps: 2.4e-4 of the bracket
         cm = 0.5 * (ca + cb)
         if cubic(g0, g1, d0, d1, cm) > 0.0:
             ca = cm
@@ -371,7 +376,7 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
                 return codes.EV_STOP_TIME, codes.STEP_UNDERFLOW
             st[S_T] = t_stop
             return codes.EV_STOP_TIME, codes.OK
-        x1, z1, qx, qv, qw, ql, err, ok = step(meth, x, zd, h, s, p, lw, o, True)
+        x1, z1, qx, qv, qw, ql, err, ok, ks = step_kept(meth, x, zd, h, s, p, lw, o, True)
         st[S_N] += 1.0
         if not ok:                  # GPS denominator guard: halve the step
             ok, h, x1, z1, qx, qv, qw, ql = _halved(meth, st, p, lw, o, x, zd, s, h, omega)
@@ -394,25 +399,27 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
                                            st[S_ARMED] > 0.0, near)
         st[S_ARMED] = 1.0 if armed else 0.0
         h_ev, xe, touched = -1.0, x1, False
+        part = NO_PART
         sec = v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0)
         turns = a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0)
         ends = _ends_on_touch(g0, g1, s * a1 * h, gtol, armed)
         dc = (0.0,) * 14
         if kind != 0 or sec or turns or ends:
-            # something to locate inside the step: its interpolant, once
-            dc = dense(meth, x, zd, h, s, p, lw, o)
-            if has_dense(meth):
-                st[S_N] += 1.0
+            # something to locate inside the step: its interpolant, from the slopes
+            # the step kept (no stepper call)
+            dc = extend(meth, x, zd, h, s, p, lw, x1, z1, ks)
         if kind != 0:
             h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0,
                                              g1, kind, ta, tb, tc, gtol, cf, dc, h)
-            if has_dense(meth) and h_ev >= 0.0 and not touched and \
-                    not _confirmed(meth, st, p, lw, o, x, zd, s, h_ev, cf):
-                # the interpolant cannot place this crossing (a layer of the law
-                # at zdot = 0 that its polynomial does not resolve): on re-steps
-                h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1,
-                                                 g0, g1, kind, ta, tb, tc, gtol, cf, dc,
-                                                 0.0)
+            if has_dense(meth) and h_ev >= 0.0 and not touched:
+                good, part = _confirmed(meth, st, p, lw, o, x, zd, s, h_ev, cf)
+                if not good:
+                    # the interpolant cannot place this crossing (a layer of the law
+                    # at zdot = 0 that its polynomial does not resolve): on re-steps
+                    part = NO_PART
+                    h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0,
+                                                     a1, g0, g1, kind, ta, tb, tc, gtol,
+                                                     cf, dc, 0.0)
         if h_ev < 0.0 and ends:
             h_ev, xe, touched = h, x1, True
         # --- extremum of x (Poincare section) inside the step
@@ -422,7 +429,7 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
                 return ev, codes.OK
         if h_ev >= 0.0:
             return _finish_zero(meth, st, p, lw, o, acc, x, zd, s, h_ev, xe,
-                                touched, a0, cf, dc, h), codes.OK
+                                touched, a0, cf, dc, h, part), codes.OK
         _book(acc, qx, qv, qw, ql, h)
         if turns:
             _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1, dc, h)
@@ -460,8 +467,17 @@ def _next_step(h, err, expo):
     """The controller's next step [s] after a step h with scaled error err: shrunk
     (at least 5x) after a rejection, grown at most 5x after an acceptance."""
     if not (err <= 1.0):
-        return h * (0.2 if not (err < 1e300) else max(0.2, 0.9 * err ** expo))
-    return h * min(5.0, max(0.2, 0.9 * (err + 1e-300) ** expo))
+        return h * (0.2 if not (err < 1e300) else max(0.2, 0.9 * _power(err, expo)))
+    return h * min(5.0, max(0.2, 0.9 * _power(err + 1e-300, expo)))
+
+
+@kernel(inline="always")
+def _power(e, expo):
+    """``e ** expo`` for e > 0: dop853's -1/8 by three square roots (a call of
+    ``pow`` was 5 % of the map's kernel time)."""
+    if expo == -0.125:
+        return 1.0 / math.sqrt(math.sqrt(math.sqrt(e)))
+    return e ** expo
 
 
 @kernel
@@ -492,15 +508,17 @@ def _confirmed(meth, st, p, lw, o, x, zd, s, h, cf):
     """Whether the integrator confirms a zero of zdot found on the interpolant at
     ``h``: one Newton step in time from its state there lands where the acceleration
     has changed so little that the step's neglected second-order term moves zdot by
-    under 1e-3 of its tolerance ``rtol lv``."""
-    xr, zr, _a, _b, _c, _l, _e, _ok = step(meth, x, zd, h, s, p, lw, o, False)
+    under 1e-3 of its tolerance ``rtol lv``. Returns ``(confirmed, the partial
+    step: x, zdot and its quadratures)``, the step kept for ``_finish_zero``."""
+    xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, x, zd, h, s, p, lw, o, True)
     st[S_N] += 1.0
+    part = (xr, zr, qx, qv, qw, ql)
     a = accel(xr, zr, s, cf, lw, p[K], p[M])
     if a == 0.0:
-        return False
+        return False, part
     dt = -zr / a
     a1 = accel(xr + (zr + p[V]) * dt, 0.0, s, cf, lw, p[K], p[M])
-    return abs(a1 - a) * abs(dt) <= 1e-3 * o[O_RTOL] * o[O_LV]
+    return abs(a1 - a) * abs(dt) <= 1e-3 * o[O_RTOL] * o[O_LV], part
 
 
 @kernel

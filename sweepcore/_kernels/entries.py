@@ -11,6 +11,8 @@ Every entry releases the GIL: Python threads share a call's rows
 """
 import functools
 
+import numpy as np
+
 from . import attractor, cycles, forced_attractor, forced_trajectory, trajectory
 from .jit import kernel, unowned
 from .law import borrowed
@@ -21,8 +23,11 @@ def _attractor_rows(meth):
     def attractor_rows(P, lw, o, out):
         """The attractor of every row of P (serial: for dask tasks and threads)."""
         P, lw, o, out = unowned(P), borrowed(lw), unowned(o), unowned(out)
+        owner = np.empty(attractor.WORKSPACE)
+        ws = unowned(owner)
         for i in range(P.shape[0]):
-            attractor.attractor_point(meth, P[i], lw, o, out[i])
+            attractor.attractor_point(meth, P[i], lw, o, out[i], ws)
+        owner[0] = 0.0                  # the workspace lives until here
     return attractor_rows
 
 

@@ -378,10 +378,12 @@ def step_bound(x, zd, s, cf, lw, k, m, v, dz):
 
 
 # ------------------------------------------- the law in the field (generic)
-@kernel(inline="always")
+@interface()
 def zdd_of(x, zd, s, cf, lw, k, im):
     """Sliding acceleration [cm/s^2] (eq. 41) from ``cf``, with ``im = 1/m`` (no
-    division on the chain of stages)."""
+    division on the chain of stages): the steppers' right-hand side. A kind may
+    give its own form, arranged for the chain of dependent stages of a step (the
+    longest path from ``zd`` to the result is what a step's time is made of)."""
     return (-k * x - sliding_force(lw, cf, zd, s)) * im
 
 

@@ -17,7 +17,8 @@ with ``p`` the parameter row and ``lw`` the law's data (``law.py``).
    methods return 0.  ``ok`` is False when the step cannot be taken at this ``h``
    (the GPS denominator guard); the driver then halves ``h``.
 4. Dense output: the adaptive pairs carry their continuous extension
-   (``dense``: the coefficients of the interpolant over an accepted step, evaluated
+   (``extend``: the coefficients of the interpolant over a step just taken, from the
+   slopes ``step_kept`` returned with it, no stage taken again; evaluated
    by ``interpolate``; Hairer, Norsett & Wanner, Solving ODEs I, section II.6),
    seventh order for dop853, fourth for dopri5. For the other methods the dense
    output is the stepper itself: the state at ``t + theta h`` is
@@ -28,7 +29,9 @@ with ``p`` the parameter row and ``lw`` the law's data (``law.py``).
 The method is a compile-time constant: the entry kernels (``entries.py``) are
 compiled per method, and ``step`` and ``proposal`` resolve to the method's own
 functions when they are compiled (numba's ``overload`` on the method code), so a
-run compiles only the stepper it uses.
+run compiles only the stepper it uses. The dispatching functions are inlined
+where they are called (each is a line; as calls they cost a copy of the step's
+results and, with arrays, a reference count).
 
 Adding a stepper: its module and one row of ``METHODS`` (its step function, and its
 proposal rule).
@@ -39,8 +42,8 @@ from numba.extending import overload
 
 from .jit import OVERLOAD_OPTIONS, kernel
 
-from .dop853 import dop853_dense, dop853_step
-from .dopri5 import dopri5_dense, dopri5_step
+from .dop853 import dop853_dense, dop853_extend, dop853_step
+from .dopri5 import dopri5_dense, dopri5_extend, dopri5_step
 from .exact import exact_proposal, exact_step
 from .gps import gps_step
 from .rk4 import rk4_step
@@ -78,8 +81,11 @@ ADAPTIVE = tuple(row[2] for row in METHODS)
 EXPONENT = tuple(row[3] for row in METHODS)
 TOUCH_FACTOR = tuple(row[4] for row in METHODS)
 CLOSED_FORM = tuple(row[5] for row in METHODS)
-# the continuous extension of a method, by code (None: re-step from the start)
+# the continuous extension of a method, by code (None: re-step from the start):
+# from the step's start (DENSE, the step taken again) and from a step just taken
+# (EXTEND: its end and the slopes its step function returns after ``ok``)
 DENSE = (None, None, None, dopri5_dense, dop853_dense)
+EXTEND = (None, None, None, dopri5_extend, dop853_extend)
 
 
 def _method(meth):
@@ -94,13 +100,42 @@ def step(meth, x, zd, h, s, p, lw, o, want_q):
     """One step of method ``meth`` (a code of ``METHODS``; module docstring)."""
 
 
-@overload(step, prefer_literal=True, jit_options=OVERLOAD_OPTIONS)
+@overload(step, prefer_literal=True, inline="always",
+          jit_options=OVERLOAD_OPTIONS)
 def _step(meth, x, zd, h, s, p, lw, o, want_q):
-    fn = METHODS[_method(meth)][6]
+    code = _method(meth)
+    fn = METHODS[code][6]
     # bool(): want_q is a constant at every call site; as a literal it would compile
     # the stepper once per value, as a plain bool once (the branch costs nothing)
-    return lambda meth, x, zd, h, s, p, lw, o, want_q: fn(x, zd, h, s, p, lw, o,
-                                                          bool(want_q))
+    if EXTEND[code] is None:
+        return lambda meth, x, zd, h, s, p, lw, o, want_q: fn(x, zd, h, s, p, lw, o,
+                                                              bool(want_q))
+
+    def without_slopes(meth, x, zd, h, s, p, lw, o, want_q):
+        x1, z1, qx, qv, qw, ql, err, ok, _ks = fn(x, zd, h, s, p, lw, o, bool(want_q))
+        return x1, z1, qx, qv, qw, ql, err, ok
+    return without_slopes
+
+
+def step_kept(meth, x, zd, h, s, p, lw, o, want_q):
+    """``step`` and, after its eight results, what ``extend`` needs to build the
+    step's interpolant without taking it again (an empty tuple for a method without
+    a continuous extension)."""
+
+
+@overload(step_kept, prefer_literal=True, inline="always",
+          jit_options=OVERLOAD_OPTIONS)
+def _step_kept(meth, x, zd, h, s, p, lw, o, want_q):
+    code = _method(meth)
+    fn = METHODS[code][6]
+    if EXTEND[code] is not None:
+        return lambda meth, x, zd, h, s, p, lw, o, want_q: fn(x, zd, h, s, p, lw, o,
+                                                              bool(want_q))
+
+    def with_nothing(meth, x, zd, h, s, p, lw, o, want_q):
+        x1, z1, qx, qv, qw, ql, err, ok = fn(x, zd, h, s, p, lw, o, bool(want_q))
+        return x1, z1, qx, qv, qw, ql, err, ok, ()
+    return with_nothing
 
 
 def proposal(meth, x, zd, s, p, lw, o, h_prev):
@@ -108,7 +143,8 @@ def proposal(meth, x, zd, s, p, lw, o, h_prev):
     controller's for adaptive methods, the fixed ``dt`` otherwise."""
 
 
-@overload(proposal, prefer_literal=True, jit_options=OVERLOAD_OPTIONS)
+@overload(proposal, prefer_literal=True, inline="always",
+          jit_options=OVERLOAD_OPTIONS)
 def _proposal(meth, x, zd, s, p, lw, o, h_prev):
     code = _method(meth)
     if code == EXACT:
@@ -118,23 +154,25 @@ def _proposal(meth, x, zd, s, p, lw, o, h_prev):
     return lambda meth, x, zd, s, p, lw, o, h_prev: o[O_DT]
 
 
-def dense(meth, x, zd, h, s, p, lw, o):
+def extend(meth, x, zd, h, s, p, lw, x1, z1, ks):
     """The coefficients of method ``meth``'s interpolant over the step ``h`` from
-    ``(x, zd)`` (zeros for a method without one; module docstring, item 4)."""
+    ``(x, zd)`` to ``(x1, z1)``, with ``ks`` as ``step_kept`` returned it (zeros for
+    a method without one; module docstring, item 4)."""
 
 
-@overload(dense, prefer_literal=True, jit_options=OVERLOAD_OPTIONS)
-def _dense(meth, x, zd, h, s, p, lw, o):
-    fn = DENSE[_method(meth)]
+@overload(extend, prefer_literal=True, inline="always",
+          jit_options=OVERLOAD_OPTIONS)
+def _extend(meth, x, zd, h, s, p, lw, x1, z1, ks):
+    fn = EXTEND[_method(meth)]
     if fn is None:
-        return lambda meth, x, zd, h, s, p, lw, o: (0.0,) * 14
-    return lambda meth, x, zd, h, s, p, lw, o: fn(x, zd, h, s, p, lw, o)
+        return lambda meth, x, zd, h, s, p, lw, x1, z1, ks: (0.0,) * 14
+    return lambda meth, x, zd, h, s, p, lw, x1, z1, ks: fn(x, zd, h, s, p, lw, x1, z1, ks)
 
 
 @kernel(inline="always")
 def interpolate(dc, th, x, zd):
     """The state ``(x, zdot)`` at the fraction ``th`` of a step from ``(x, zd)`` on
-    its interpolant ``dc`` (``dense``): y0 + th (F0 + (1 - th) (F1 + th (F2 + ...))),
+    its interpolant ``dc`` (``extend``): y0 + th (F0 + (1 - th) (F1 + th (F2 + ...))),
     the nesting of DOP853's contd8."""
     u = 1.0 - th
     xi = x + th * (dc[0] + u * (dc[1] + th * (dc[2] + u * (dc[3] + th * (
@@ -150,7 +188,8 @@ def state_at(meth, x, zd, h, s, p, lw, o, dc, H, st):
     in ``st[S_N]``)."""
 
 
-@overload(state_at, prefer_literal=True, jit_options=OVERLOAD_OPTIONS)
+@overload(state_at, prefer_literal=True, inline="always",
+          jit_options=OVERLOAD_OPTIONS)
 def _state_at(meth, x, zd, h, s, p, lw, o, dc, H, st):
     code = _method(meth)
     if DENSE[code] is None:
@@ -168,7 +207,7 @@ def _state_at(meth, x, zd, h, s, p, lw, o, dc, H, st):
             return interpolate(dc, h / H, x, zd)
         # past the step (a touch's bracket may reach beyond it): no extrapolation
         st[S_N] += 1.0
-        x1, z1, _a, _b, _c, _l, _e, _ok = fn(x, zd, h, s, p, lw, o, False)
+        x1, z1, _a, _b, _c, _l, _e, _ok, _ks = fn(x, zd, h, s, p, lw, o, False)
         return x1, z1
     return on_interpolant
 
@@ -177,7 +216,8 @@ def has_dense(meth):
     """Whether method ``meth`` has a continuous extension (a compile-time bool)."""
 
 
-@overload(has_dense, prefer_literal=True, jit_options=OVERLOAD_OPTIONS)
+@overload(has_dense, prefer_literal=True, inline="always",
+          jit_options=OVERLOAD_OPTIONS)
 def _has_dense(meth):
     flag = DENSE[_method(meth)] is not None
     return lambda meth: flag

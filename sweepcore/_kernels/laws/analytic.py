@@ -67,17 +67,21 @@ def level(zd, p):
 
 @kernel(inline="always")
 def constants(p, lw, s):
-    """``(k, f0, f1, a1, a2, r_y, v_s, c, d)`` for a slide with sign s, with
-    ``f0 = r_y s + c v`` and ``f1 = c - alpha1`` (the damping folded in) and the
-    drop d (None for ``Polynomial``)."""
-    return (p[K], p[RY] * s + p[C] * p[V], p[C] - p[A1], p[A1], p[A2], p[RY], p[VS],
-            p[C], drop(lw, p))
+    """``(k, f0, f1, a1, a2, r_y, v_s, c, d, g0, gx, g1, g3)`` for a slide with sign
+    s, with ``f0 = r_y s + c v`` and ``f1 = c - alpha1`` (the damping folded in),
+    the drop d (None for ``Polynomial``) and the acceleration's coefficients
+    ``zdd = g0 + gx x + g1 zd + g3 zd^3`` of the polynomial law (``zdd_of``)."""
+    f0 = p[RY] * s + p[C] * p[V]
+    f1 = p[C] - p[A1]
+    im = 1.0 / p[M]
+    return (p[K], f0, f1, p[A1], p[A2], p[RY], p[VS], p[C], drop(lw, p),
+            -f0 * im, -p[K] * im, -f1 * im, -p[A2] * im)
 
 
 @kernel
 def _force(zd, s, cf, d):
     """``F(zd) + c (zd + v)`` [kN] from the constants ``cf``; ``d`` the drop."""
-    k, f0, f1, a1, a2, ry, vs, c, _d = cf
+    k, f0, f1, a1, a2, ry, vs, c, _d, _g0, _gx, _g1, _g3 = cf
     if d is not None:
         f0 += d * math.expm1(-abs(zd) / vs) * s
     return f0 + f1 * zd + a2 * zd * zd * zd
@@ -86,7 +90,7 @@ def _force(zd, s, cf, d):
 @kernel
 def _friction(zd, s, cf, d):
     """The friction force F(zd) [kN] alone (no damping): eq. (40) for d None."""
-    k, f0, f1, a1, a2, ry, vs, c, _d = cf
+    k, f0, f1, a1, a2, ry, vs, c, _d, _g0, _gx, _g1, _g3 = cf
     lev = ry
     if d is not None:
         lev = ry + d * math.expm1(-abs(zd) / vs)
@@ -130,6 +134,22 @@ def slope_bound(p, lw, lo, hi):
 @kernel(inline="always")
 def sliding_force(lw, cf, zd, s):
     return _force(zd, s, cf, cf[8])
+
+
+@kernel(inline="always")
+def zdd_of(x, zd, s, cf, lw, k, im):
+    return _zdd(x, zd, s, cf, k, im, cf[8])
+
+
+@kernel(inline="always")
+def _zdd(x, zd, s, cf, k, im, d):
+    """The sliding acceleration [cm/s^2]. Polynomial law: ``(g0 + gx x + g1 zd) +
+    (g3 zd) (zd zd)``, whose longest path from zd is three operations (the generic
+    ``(-k x - F(zd)) / m`` has six): a step's stages wait on it one after another.
+    It is v -> -v symmetric bit for bit (g0 changes sign, nothing else)."""
+    if d is not None:
+        return (-k * x - _force(zd, s, cf, d)) * im
+    return (cf[9] + cf[10] * x + cf[11] * zd) + (cf[12] * zd) * (zd * zd)
 
 
 @kernel(inline="always")
