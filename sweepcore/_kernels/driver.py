@@ -33,18 +33,17 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .law import (accel, breakaway, constants, friction_force, integrand, jerk,
-                  step_bound, stick_band)
+from .law import (accel, breakaway, constants, friction_force, integrand, step_bound,
+                  stick_band)
 from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
                      A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
                      O_METHOD, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_TOUCH, S_X, S_ZD,
                      V)
-from .events import F_XD, F_ZD, F_ZDD, cubic, polish, zd_event
+from .events import F_XD, F_ZDD, NO_PART, polish, zd_event, zero_in_step
 from .stepper import (ADAPTIVE, EXPONENT, TOUCH_FACTOR, extend, has_dense, proposal,
-                      state_at, step, step_kept)
+                      step, step_kept)
 
 EPS = np.finfo(np.float64).eps
-NO_PART = (np.nan,) * 6        # no partial step taken yet (``_finish_zero``)
 # ---------------------------------------------------------------- small pieces
 @kernel
 def touch_tol(p, o):
@@ -240,80 +239,6 @@ def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched, a0, cf, dc
 
 
 @kernel
-def _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, d0, d1, ta, tb, dc, H):
-    """The first root of zdot in the bracket [ta, tb] (fractions of the step h) of
-    the Hermite cubic of g = s zdot, if the integrator confirms it: ``(h_ev, x_ev)``
-    (h_ev < 0: none). Newton starts from the cubic's own root (bisection on it)."""
-    gb = g1
-    if tb < 1.0:
-        _xb, zb = state_at(meth, x, zd, tb * h, s, p, lw, o, dc, H, st)
-        gb = s * zb
-    if gb > 0.0:
-        return -1.0, x
-    ca = ta
-    cb = tb
-    for _ in range(12):     # a start for polish's Newton steps: 2.4e-4 of the bracket
-        cm = 0.5 * (ca + cb)
-        if cubic(g0, g1, d0, d1, cm) > 0.0:
-            ca = cm
-        else:
-            cb = cm
-    h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, tb * h, s,
-                            0.5 * (ca + cb) * h, st, dc, H)
-    return h_ev, xe
-
-
-@kernel
-def _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol,
-                 cf, dc, H):
-    """Where zdot = 0 inside the step from (x, zd), once the scan of the step's
-    Hermite cubic (``events.zd_event``) found a crossing (kind 1, bracketed in
-    [ta, tb]) or a turning point tc that may touch 0 (kind 2). Touches are placed at
-    the turning point, where they are well conditioned. Returns ``(h_ev, x_ev,
-    touched)``, h_ev < 0 when the integrator does not confirm it. ``dc``: the step's
-    interpolant, used for times up to ``H`` (``H = h``; 0: re-steps only).
-
-    A crossing of the cubic that the integrator does not confirm, in a step where
-    zdd turns towards 0 and back (g has an interior minimum), is checked at that
-    turning point as for kind 2: the cubic's error there can exceed a small
-    excursion past 0, and the step would otherwise pass a real stick or touch."""
-    v = p[V]
-    h_ev = -1.0
-    xe = x
-    crossing = False
-    lo, hi = 0.5 * (ta + tc), 0.5 * (tc + tb)      # the turning point's bracket
-    if kind == 1:
-        h_ev, xe = _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, s * a0 * h,
-                                  s * a1 * h, ta, tb, dc, H)
-        crossing = h_ev >= 0.0
-        if not crossing and s * a0 < 0.0 < s * a1:
-            kind, ta, tc, lo, hi = 2, 0.0, a0 / (a0 - a1), 0.0, 1.0
-    if kind == 2:                   # check the turning point on the integrator
-        # zdd has the sign -s where g falls towards the touch, +s after it
-        hc, xc, zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, lo * h, hi * h, -s, tc * h,
-                            st, dc, H)
-        gc = s * zc
-        if abs(gc) <= gtol:         # a touch
-            return hc, xc, True
-        if gc < 0.0:                # a real double crossing: the first root
-            h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, hc, s,
-                                   0.5 * (ta * h + hc), st, dc, H)
-            crossing = True
-    if crossing:
-        # A crossing whose excursion past 0 stays within the graze tolerance is a
-        # touch: its root is ill-conditioned (error ~ sqrt(eps)), its turning
-        # point (zdd = 0) is not, so the touch is placed there.
-        gp = s * accel(xe, 0.0, s, cf, lw, p[K], p[M])
-        gpp = s * jerk(xe, 0.0, s, cf, lw, p[K], p[M], v)
-        if gp < 0.0 and gpp > 0.0 and gp * gp <= 2.0 * gpp * gtol:
-            tau = -gp / gpp
-            h_ev, xe, _zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, h_ev, h_ev + 2.0 * tau,
-                                   -s, h_ev + tau, st, dc, H)
-            return h_ev, xe, True
-    return h_ev, xe, False
-
-
-@kernel
 def _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf, dc):
     """The extremum of x inside the step from (x, zd) (xdot changes sign): if it
     comes before the zdot = 0 event at h_ev (h_ev < 0: none), book the partial step
@@ -392,36 +317,8 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
         if a0 != a0:                # not taken by the step bound
             a0 = accel(x, zd, s, cf, lw, k, m)
         a1 = accel(x1, z1, s, cf, lw, k, m)
-        # --- zdot = 0: crossings, double crossings and touches inside the step
-        g0 = s * zd
-        g1 = s * z1
-        kind, ta, tb, tc, armed = zd_event(g0, g1, s * a0 * h, s * a1 * h,
-                                           st[S_ARMED] > 0.0, near)
-        st[S_ARMED] = 1.0 if armed else 0.0
-        h_ev, xe, touched = -1.0, x1, False
-        part = NO_PART
-        sec = v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0)
-        turns = a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0)
-        ends = _ends_on_touch(g0, g1, s * a1 * h, gtol, armed)
-        dc = (0.0,) * 14
-        if kind != 0 or sec or turns or ends:
-            # something to locate inside the step: its interpolant, from the slopes
-            # the step kept (no stepper call)
-            dc = extend(meth, x, zd, h, s, p, lw, x1, z1, ks)
-        if kind != 0:
-            h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0,
-                                             g1, kind, ta, tb, tc, gtol, cf, dc, h)
-            if has_dense(meth) and h_ev >= 0.0 and not touched:
-                good, part = _confirmed(meth, st, p, lw, o, x, zd, s, h_ev, cf)
-                if not good:
-                    # the interpolant cannot place this crossing (a layer of the law
-                    # at zdot = 0 that its polynomial does not resolve): on re-steps
-                    part = NO_PART
-                    h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0,
-                                                     a1, g0, g1, kind, ta, tb, tc, gtol,
-                                                     cf, dc, 0.0)
-        if h_ev < 0.0 and ends:
-            h_ev, xe, touched = h, x1, True
+        sec, turns, h_ev, xe, touched, part, dc = _scan(meth, st, p, lw, o, x, zd, x1, z1,
+                                                        s, h, a0, a1, ks, gtol, near, cf)
         # --- extremum of x (Poincare section) inside the step
         if sec:
             ev = _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, cf, dc)
@@ -430,15 +327,51 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
         if h_ev >= 0.0:
             return _finish_zero(meth, st, p, lw, o, acc, x, zd, s, h_ev, xe,
                                 touched, a0, cf, dc, h, part), codes.OK
-        _book(acc, qx, qv, qw, ql, h)
         if turns:
             _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1, dc, h)
-        st[S_T] = t + h if not last else t_stop
-        st[S_X] = x1
-        st[S_ZD] = z1
-        _note_x(acc, x1, z1 + v)
+        _accept(st, acc, t + h if not last else t_stop, h, x1, z1, v, qx, qv, qw, ql)
         if last:
             return codes.EV_STOP_TIME, codes.OK
+
+
+@kernel(inline="always")
+def _scan(meth, st, p, lw, o, x, zd, x1, z1, s, h, a0, a1, ks, gtol, near, cf):
+    """What the accepted step h from (x, zd) to (x1, z1) holds: ``(sec, turns, h_ev,
+    x_ev, touched, part, dc)``: whether x turns (a Poincare section when v != 0) and
+    xdot turns inside it, the first zdot = 0 event (crossings, double crossings and
+    touches; h_ev < 0: none; ``events.zero_in_step``), and the step's interpolant
+    ``dc``, built from the slopes ``ks`` it kept where something is to be located."""
+    v = p[V]
+    g0 = s * zd
+    g1 = s * z1
+    kind, ta, tb, tc, armed = zd_event(g0, g1, s * a0 * h, s * a1 * h,
+                                       st[S_ARMED] > 0.0, near)
+    st[S_ARMED] = 1.0 if armed else 0.0
+    h_ev, xe, touched, part = -1.0, x1, False, NO_PART
+    sec = v != 0.0 and zd + v != 0.0 and (zd + v > 0.0) != (z1 + v > 0.0)
+    turns = a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0)
+    ends = _ends_on_touch(g0, g1, s * a1 * h, gtol, armed)
+    dc = (0.0,) * 14
+    if kind != 0 or sec or turns or ends:
+        # something to locate inside the step: its interpolant (no stepper call)
+        dc = extend(meth, x, zd, h, s, p, lw, x1, z1, ks)
+    if kind != 0:
+        h_ev, xe, touched, part = zero_in_step(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0,
+                                               g1, kind, ta, tb, tc, gtol, cf, dc)
+    if h_ev < 0.0 and ends:
+        h_ev, xe, touched = h, x1, True
+    return sec, turns, h_ev, xe, touched, part, dc
+
+
+@kernel(inline="always")
+def _accept(st, acc, t1, h, x1, z1, v, qx, qv, qw, ql):
+    """Book a step h that holds no event and move the state to its end (x1, z1) at
+    the time t1."""
+    _book(acc, qx, qv, qw, ql, h)
+    st[S_T] = t1
+    st[S_X] = x1
+    st[S_ZD] = z1
+    _note_x(acc, x1, z1 + v)
 
 
 @kernel(inline="always")
@@ -501,24 +434,6 @@ def _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1, dc, H):
         _h, xv, zv = polish(meth, F_ZDD, x, zd, s, p, lw, o, 0.0, h, 1.0 if a0 > 0.0 else -1.0,
                              h * a0 / (a0 - a1), st, dc, H)
         _note_x(acc, xv, zv + p[V])
-
-
-@kernel
-def _confirmed(meth, st, p, lw, o, x, zd, s, h, cf):
-    """Whether the integrator confirms a zero of zdot found on the interpolant at
-    ``h``: one Newton step in time from its state there lands where the acceleration
-    has changed so little that the step's neglected second-order term moves zdot by
-    under 1e-3 of its tolerance ``rtol lv``. Returns ``(confirmed, the partial
-    step: x, zdot and its quadratures)``, the step kept for ``_finish_zero``."""
-    xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, x, zd, h, s, p, lw, o, True)
-    st[S_N] += 1.0
-    part = (xr, zr, qx, qv, qw, ql)
-    a = accel(xr, zr, s, cf, lw, p[K], p[M])
-    if a == 0.0:
-        return False, part
-    dt = -zr / a
-    a1 = accel(xr + (zr + p[V]) * dt, 0.0, s, cf, lw, p[K], p[M])
-    return abs(a1 - a) * abs(dt) <= 1e-3 * o[O_RTOL] * o[O_LV], part
 
 
 @kernel

@@ -14,9 +14,9 @@ import numpy as np
 
 from .jit import kernel
 
-from .law import zdd, zddd
-from .layout import V
-from .stepper import state_at
+from .law import accel, jerk, zdd, zddd
+from .layout import K, M, O_LV, O_RTOL, S_N, V
+from .stepper import has_dense, state_at, step
 
 EPS = np.finfo(np.float64).eps
 
@@ -26,6 +26,7 @@ EPS = np.finfo(np.float64).eps
 F_ZD = 0.0
 F_XD = 1.0
 F_ZDD = 2.0
+NO_PART = (np.nan,) * 6        # no partial step taken (``zero_in_step``)
 
 
 @kernel(inline="always")
@@ -175,3 +176,117 @@ def zd_event(g0, g1, d0, d1, armed, near):
             if 6.0 * a * tb + 2.0 * b > 0.0:       # local minimum of g
                 return 2, ta, pts[i + 2], tb, armed
     return 0, 0.0, 0.0, 0.0, armed
+
+
+# ------------------------------------------- zdot = 0 inside a step
+@kernel
+def zero_in_step(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol,
+                 cf, dc):
+    """Where zdot = 0 inside the step h from (x, zd), once ``zd_event`` found a
+    crossing or a possible touch (``kind``): ``(h_ev, x_ev, touched, part)``, h_ev < 0
+    when there is none, ``part`` the partial step to h_ev when it was taken to
+    confirm the root (``_confirmed``), else ``NO_PART``. Located on the step's
+    interpolant ``dc``; a crossing the integrator does not confirm there (a layer
+    of the law at zdot = 0 that the polynomial does not resolve) on re-steps."""
+    part = NO_PART
+    h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1,
+                                     kind, ta, tb, tc, gtol, cf, dc, h)
+    if has_dense(meth) and h_ev >= 0.0 and not touched:
+        good, part = _confirmed(meth, st, p, lw, o, x, zd, s, h_ev, cf)
+        if not good:
+            part = NO_PART
+            h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0,
+                                             g1, kind, ta, tb, tc, gtol, cf, dc, 0.0)
+    return h_ev, xe, touched, part
+
+
+@kernel
+def _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, d0, d1, ta, tb, dc, H):
+    """The first root of zdot in the bracket [ta, tb] (fractions of the step h) of
+    the Hermite cubic of g = s zdot, if the integrator confirms it: ``(h_ev, x_ev)``
+    (h_ev < 0: none). Newton starts from the cubic's own root (bisection on it)."""
+    gb = g1
+    if tb < 1.0:
+        _xb, zb = state_at(meth, x, zd, tb * h, s, p, lw, o, dc, H, st)
+        gb = s * zb
+    if gb > 0.0:
+        return -1.0, x
+    ca = ta
+    cb = tb
+    for _ in range(12):     # a start for polish's Newton steps: 2.4e-4 of the bracket
+        cm = 0.5 * (ca + cb)
+        if cubic(g0, g1, d0, d1, cm) > 0.0:
+            ca = cm
+        else:
+            cb = cm
+    h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, tb * h, s,
+                            0.5 * (ca + cb) * h, st, dc, H)
+    return h_ev, xe
+
+
+@kernel
+def _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol,
+                 cf, dc, H):
+    """Where zdot = 0 inside the step from (x, zd), once the scan of the step's
+    Hermite cubic (``events.zd_event``) found a crossing (kind 1, bracketed in
+    [ta, tb]) or a turning point tc that may touch 0 (kind 2). Touches are placed at
+    the turning point, where they are well conditioned. Returns ``(h_ev, x_ev,
+    touched)``, h_ev < 0 when the integrator does not confirm it. ``dc``: the step's
+    interpolant, used for times up to ``H`` (``H = h``; 0: re-steps only).
+
+    A crossing of the cubic that the integrator does not confirm, in a step where
+    zdd turns towards 0 and back (g has an interior minimum), is checked at that
+    turning point as for kind 2: the cubic's error there can exceed a small
+    excursion past 0, and the step would otherwise pass a real stick or touch."""
+    v = p[V]
+    h_ev = -1.0
+    xe = x
+    crossing = False
+    lo, hi = 0.5 * (ta + tc), 0.5 * (tc + tb)      # the turning point's bracket
+    if kind == 1:
+        h_ev, xe = _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, s * a0 * h,
+                                  s * a1 * h, ta, tb, dc, H)
+        crossing = h_ev >= 0.0
+        if not crossing and s * a0 < 0.0 < s * a1:
+            kind, ta, tc, lo, hi = 2, 0.0, a0 / (a0 - a1), 0.0, 1.0
+    if kind == 2:                   # check the turning point on the integrator
+        # zdd has the sign -s where g falls towards the touch, +s after it
+        hc, xc, zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, lo * h, hi * h, -s, tc * h,
+                            st, dc, H)
+        gc = s * zc
+        if abs(gc) <= gtol:         # a touch
+            return hc, xc, True
+        if gc < 0.0:                # a real double crossing: the first root
+            h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, hc, s,
+                                   0.5 * (ta * h + hc), st, dc, H)
+            crossing = True
+    if crossing:
+        # A crossing whose excursion past 0 stays within the graze tolerance is a
+        # touch: its root is ill-conditioned (error ~ sqrt(eps)), its turning
+        # point (zdd = 0) is not, so the touch is placed there.
+        gp = s * accel(xe, 0.0, s, cf, lw, p[K], p[M])
+        gpp = s * jerk(xe, 0.0, s, cf, lw, p[K], p[M], v)
+        if gp < 0.0 and gpp > 0.0 and gp * gp <= 2.0 * gpp * gtol:
+            tau = -gp / gpp
+            h_ev, xe, _zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, h_ev, h_ev + 2.0 * tau,
+                                   -s, h_ev + tau, st, dc, H)
+            return h_ev, xe, True
+    return h_ev, xe, False
+
+
+@kernel
+def _confirmed(meth, st, p, lw, o, x, zd, s, h, cf):
+    """Whether the integrator confirms a zero of zdot found on the interpolant at
+    ``h``: one Newton step in time from its state there lands where the acceleration
+    has changed so little that the step's neglected second-order term moves zdot by
+    under 1e-3 of its tolerance ``rtol lv``. Returns ``(confirmed, the partial
+    step: x, zdot and its quadratures)``, the step kept for ``_finish_zero``."""
+    xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, x, zd, h, s, p, lw, o, True)
+    st[S_N] += 1.0
+    part = (xr, zr, qx, qv, qw, ql)
+    a = accel(xr, zr, s, cf, lw, p[K], p[M])
+    if a == 0.0:
+        return False, part
+    dt = -zr / a
+    a1 = accel(xr + (zr + p[V]) * dt, 0.0, s, cf, lw, p[K], p[M])
+    return abs(a1 - a) * abs(dt) <= 1e-3 * o[O_RTOL] * o[O_LV], part
