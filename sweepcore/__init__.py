@@ -25,6 +25,7 @@ and are cached; each compilation is announced on stderr (a warning of the logger
 logging.ERROR)`` silences it). :func:`compile` compiles ahead of time.
 """
 import importlib
+import importlib.util
 import sys
 import types
 
@@ -79,6 +80,8 @@ def __getattr__(name):
         value = version()
     elif name in (laws := _law_classes()):
         value = laws[name]
+    elif not name.startswith("_") and importlib.util.find_spec(f"{__name__}.{name}"):
+        value = importlib.import_module(f".{name}", __name__)   # a subpackage, as scipy's
     else:
         from .options import did_you_mean
         raise AttributeError(f"module 'sweepcore' has no attribute {name!r}"
