@@ -171,7 +171,7 @@ def test_dop853_and_dopri5_agree_on_a_stick_slip_cycle():
 
 @pytest.mark.parametrize("method,order", [("dopri5", 4), ("dop853", 7)])
 def test_dense_output_order(method, order):
-    """The continuous extension that events are located on (``stepper.dense``) is of
+    """The continuous extension that events are located on (``stepper.extend``) is of
     the stated order inside the step: on a sliding arc of the linear law (alpha2 = 0:
     the field is affine, its flow a matrix exponential) the largest error at
     theta = 1/4, 1/2, 3/4 falls as h^(order + 1) over a ladder of steps, and the
@@ -181,7 +181,7 @@ def test_dense_output_order(method, order):
     from sweepcore._kernels import stepper
     from sweepcore._kernels.jit import python_callable
     from sweepcore.laws import ANALYTIC
-    dense = python_callable(stepper.DENSE[stepper.METHOD_CODES[method]])
+    extend = python_callable(stepper.EXTEND[stepper.METHOD_CODES[method]])
     interp = python_callable(stepper.interpolate)
     step = python_callable(stepper.METHODS[stepper.METHOD_CODES[method]][6])
     p = P0.row(0.0, 0.0)
@@ -195,14 +195,14 @@ def test_dense_output_order(method, order):
     hs = np.array([0.4, 0.2, 0.1, 0.05])
     err = []
     for h in hs:
-        dc = dense(x0, z0, h, s, p, lw, o)
+        x1, z1, *_q, ks = step(x0, z0, h, s, p, lw, o, False)
+        dc = extend(x0, z0, h, s, p, lw, x1, z1, ks)
         e = 0.0
         for th in (0.25, 0.5, 0.75):
             xi, zi = interp(dc, th, x0, z0)
             xe, ze, _ = expm(J * th * h) @ np.array([x0, z0, 1.0])
             e = max(e, abs(xi - xe), abs(zi - ze) / P0.omega)
         err.append(e)
-        x1, z1 = step(x0, z0, h, s, p, lw, o, False)[:2]
         assert interp(dc, 1.0, x0, z0) == pytest.approx((x1, z1), abs=1e-14)
         assert interp(dc, 0.0, x0, z0) == (x0, z0)
     assert order + 0.6 < slope(hs, err) < order + 1.6

@@ -349,16 +349,6 @@ def _quadratures(h, s, p, lw, cf, X, Z):
 
 
 @kernel
-def dop853_dense(x, zd, h, s, p, lw, o):
-    """DOP853's continuous extension over the step ``h`` from ``(x, zd)``: the
-    coefficients ``(F0..F6 of x, F0..F6 of zdot)`` of its seventh-order interpolant
-    (``stepper.interpolate``), from the step taken again (``dop853_extend``)."""
-    x_end, z_end, _qx, _qv, _qw, _ql, _err, _ok, ks = dop853_step(x, zd, h, s, p, lw, o,
-                                                                False)
-    return dop853_extend(x, zd, h, s, p, lw, x_end, z_end, ks)
-
-
-@kernel
 def dop853_extend(x, zd, h, s, p, lw, x_end, z_end, ks):
     """The continuous extension of the step ``h`` from ``(x, zd)`` to ``(x_end,
     z_end)`` from its slopes ``ks`` (stages 1, 6-12 of x, then of zdot, as

@@ -157,15 +157,6 @@ D1, D3, D4, D5, D6, D7 = (-12715105075 / 11282082432, 87487479700 / 32700410799,
 
 
 @kernel
-def dopri5_dense(x, zd, h, s, p, lw, o):
-    """The continuous extension over the step ``h`` from ``(x, zd)``: the
-    coefficients ``(F0..F6 of x, F0..F6 of zdot)`` of its interpolant
-    (``stepper.interpolate``; F4..F6 are 0 here), from the step taken again."""
-    x1, zd1, _qx, _qv, _qw, _ql, _err, _ok, ks = dopri5_step(x, zd, h, s, p, lw, o, False)
-    return dopri5_extend(x, zd, h, s, p, lw, x1, zd1, ks)
-
-
-@kernel
 def dopri5_extend(x, zd, h, s, p, lw, x1, zd1, ks):
     """The continuous extension of the step ``h`` from ``(x, zd)`` to ``(x1, zd1)``
     from its slopes ``ks`` (as ``dopri5_step`` returns them; the seventh is the

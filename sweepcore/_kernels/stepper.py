@@ -42,8 +42,8 @@ from numba.extending import overload
 
 from .jit import OVERLOAD_OPTIONS, kernel
 
-from .dop853 import dop853_dense, dop853_extend, dop853_step
-from .dopri5 import dopri5_dense, dopri5_extend, dopri5_step
+from .dop853 import dop853_extend, dop853_step
+from .dopri5 import dopri5_extend, dopri5_step
 from .exact import exact_proposal, exact_step
 from .gps import gps_step
 from .rk4 import rk4_step
@@ -81,10 +81,9 @@ ADAPTIVE = tuple(row[2] for row in METHODS)
 EXPONENT = tuple(row[3] for row in METHODS)
 TOUCH_FACTOR = tuple(row[4] for row in METHODS)
 CLOSED_FORM = tuple(row[5] for row in METHODS)
-# the continuous extension of a method, by code (None: re-step from the start):
-# from the step's start (DENSE, the step taken again) and from a step just taken
-# (EXTEND: its end and the slopes its step function returns after ``ok``)
-DENSE = (None, None, None, dopri5_dense, dop853_dense)
+# the continuous extension of a method, by code (None: re-step from the start),
+# built from a step just taken: its end and the slopes its step function returns
+# after ``ok``
 EXTEND = (None, None, None, dopri5_extend, dop853_extend)
 
 
@@ -192,7 +191,7 @@ def state_at(meth, x, zd, h, s, p, lw, o, dc, H, st):
           jit_options=OVERLOAD_OPTIONS)
 def _state_at(meth, x, zd, h, s, p, lw, o, dc, H, st):
     code = _method(meth)
-    if DENSE[code] is None:
+    if EXTEND[code] is None:
         fn = METHODS[code][6]
 
         def restep(meth, x, zd, h, s, p, lw, o, dc, H, st):
@@ -219,5 +218,5 @@ def has_dense(meth):
 @overload(has_dense, prefer_literal=True, inline="always",
           jit_options=OVERLOAD_OPTIONS)
 def _has_dense(meth):
-    flag = DENSE[_method(meth)] is not None
+    flag = EXTEND[_method(meth)] is not None
     return lambda meth: flag
