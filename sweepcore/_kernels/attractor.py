@@ -23,7 +23,7 @@ kernel below says what it reads and writes.
 import math
 
 import numpy as np
-from .jit import kernel
+from .jit import copy_into, kernel, runtime
 
 from . import codes
 from .dopri5 import scales
@@ -240,8 +240,8 @@ def _rested(st, p, lw, w, out):
     only), answer ``out`` with the equilibrium and return True."""
     if w[W_ODE] > 0.0 and st[S_MODE] != codes.STICK and \
             certified_rest(st[S_X], st[S_ZD], p, lw):
-        answer_rest(out, x_eq(p, lw), w[W_T_OFF] + st[S_T], codes.R_EQUILIBRIUM, False,
-                    st[S_N])
+        answer_rest(out, x_eq(p, lw), w[W_T_OFF] + st[S_T], codes.R_EQUILIBRIUM,
+                    runtime(False), st[S_N])
         return True
     return False
 
@@ -303,7 +303,7 @@ def on_event(meth, ev, st, p, lw, o, w, acc, out):
     if ev == codes.EV_STOP_TIME:
         return _rested(st, p, lw, w, out)
     if v == 0.0 and ev == codes.EV_STICK:
-        answer_rest(out, st[S_X], w[W_T_OFF] + t, codes.R_STUCK, True, st[S_N])
+        answer_rest(out, st[S_X], w[W_T_OFF] + t, codes.R_STUCK, runtime(True), st[S_N])
         return True
     if ev == codes.EV_STICK and st[S_TOUCH] > 0.0:
         w[W_TOUCHED] = 1.0
@@ -330,8 +330,8 @@ def on_event(meth, ev, st, p, lw, o, w, acc, out):
     else:
         return False
     if action == ACCEPT:
-        answer_cycle(out, acc[ACC_LAST], w[W_T_LAST], w[W_OMEGA], regime, np.nan, False, p,
-                     st[S_N])
+        answer_cycle(out, acc[ACC_LAST], w[W_T_LAST], w[W_OMEGA], regime, np.nan,
+                     runtime(False), p, st[S_N])
         return True
     return False
 
@@ -359,7 +359,7 @@ def slip_section(meth, st, p, lw, o, w, acc, out):
         if action == NF_JUMP:
             return False
         if action == REST:
-            return finish(REST, dP, st, p, lw, w, acc, out)
+            return finish(runtime(REST), dP, st, p, lw, w, acc, out)
     action, value, rtol, rest, err0 = newton_decision(
         w[W_A + 2], w[W_A + 3], dP, xe, w[W_E + 1], w[W_E + 2], w[W_RTOLH],
         w[W_RTOLH + 1], w[W_RTOL], w[W_TOL], w[W_LX], after_jump, w[W_ERR_JUMP],
@@ -379,12 +379,14 @@ def finish(action, value, st, p, lw, w, acc, out):
     last = acc[ACC_LAST]
     n = st[S_N]
     if action == REST:
-        answer_rest(out, x_eq(p, lw), w[W_T_OFF] + st[S_T], codes.R_EQUILIBRIUM, False, n)
+        answer_rest(out, x_eq(p, lw), w[W_T_OFF] + st[S_T], codes.R_EQUILIBRIUM,
+                    runtime(False), n)
     elif action == ACCEPT_NF:
         answer_cycle(out, last, w[W_T_LAST], w[W_OMEGA], codes.R_SLIP_CYCLE,
                      nf_multiplier(p, lw, last[A_DT]), w[W_NF_FLOOR] > 0.0, p, n)
     elif action == NEUTRAL:
-        answer_cycle(out, last, w[W_T_LAST], w[W_OMEGA], codes.R_UNCONVERGED, value, True, p, n)
+        answer_cycle(out, last, w[W_T_LAST], w[W_OMEGA], codes.R_UNCONVERGED, value,
+                     runtime(True), p, n)
     else:
         answer_cycle(out, last, w[W_T_LAST], w[W_OMEGA], codes.R_SLIP_CYCLE, value,
                      action == ACCEPT_FLOOR, p, n)
@@ -409,7 +411,7 @@ def attractor_point(meth, p, lw, o_in, out, ws):
         out[OB_STATUS] = codes.BAD_ROW
         return
     o = ws[:NO]
-    o[:] = o_in
+    copy_into(o, o_in)
     resolve_into(meth, p, lw, o)
     refused = method_status(meth, p, lw, o)
     if refused != codes.OK:
@@ -422,7 +424,7 @@ def attractor_point(meth, p, lw, o_in, out, ws):
     acc = ws[NO + NS + NW:WORKSPACE].reshape((NACC, NA))
     setup(meth, p, lw, o, st, w, acc)
     if p[V] == 0.0 and st[S_MODE] == codes.STICK:
-        answer_rest(out, st[S_X], 0.0, codes.R_STUCK, True, 0.0)
+        answer_rest(out, st[S_X], 0.0, codes.R_STUCK, runtime(True), 0.0)
         return
     status = codes.OK
     for _it in range(int(o[O_MAX_STEPS]) + 10):

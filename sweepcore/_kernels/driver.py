@@ -122,7 +122,7 @@ def initial_mode(x0, xd0, p, lw, gtol):
         return codes.SLIDE_POS, x0
     if zd0 < 0.0:
         return codes.SLIDE_NEG, x0
-    new, _ev, xn = classify_zero(x0, 0, p, lw, gtol)
+    new, _ev, xn = classify_zero(x0, 0.0, p, lw, gtol)
     return new, xn
 
 

@@ -30,7 +30,7 @@ import numpy as np
 from . import codes
 from .excitation import coefficients, forcing_period
 from .forced_driver import advance_forced, initial_forced
-from .jit import kernel, runtime
+from .jit import copy_into, kernel, runtime
 from .law import anti_damped, length_scale
 from .layout import (A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN,
                      K, M, NA, NFOB, NO, NP, NS, O_LV, O_LX, O_MAX_STEPS, O_MAX_TIME,
@@ -100,7 +100,7 @@ def _image(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, measure):
     """P^n of the state u into ``work``, with its Jacobian in ``vw[0]`` (row by
     row), and with ``measure`` the observables on line in ``acc`` (reset first);
     the steps spent are added to u's count. Returns the status."""
-    work[:] = u
+    copy_into(work, u)
     vw[0, 0] = 1.0
     vw[0, 1] = 0.0
     vw[0, 2] = 0.0
@@ -185,7 +185,7 @@ def newton(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, tol, out):
 def measure(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out):
     """Run n periods from u with the observables on; write them into out. Returns
     the status and the distance [L] of the end from u."""
-    work[:] = u
+    copy_into(work, u)
     fresh(acc)
     status = run_periods(work, p, lw, fa, fb, om, o, acc, ws, vw, T, n, runtime(True),
                          runtime(False))
@@ -204,7 +204,7 @@ def lyapunov(u, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out):
     the status."""
     lx = o[O_LX]
     lv = o[O_LV]
-    work[:] = u
+    copy_into(work, u)
     fresh(acc)
     per = LYAP_PERIODS // LYAP_BLOCKS
     sums = np.zeros(LYAP_BLOCKS)

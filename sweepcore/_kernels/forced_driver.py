@@ -30,7 +30,7 @@ from . import codes
 from .driver import _note_x
 from .events import cubic, zd_event
 from .forced_step import forced_accel, forced_step, load
-from .jit import kernel, runtime
+from .jit import copy_into, kernel, runtime
 from .law import constants, field_slope, static_limits, step_bound
 from .layout import (A_DT, A_IX, A_NSTICK, A_NSTOP, A_TSTICK, C, K, M, O_LV, O_LX,
                      O_MAX_STEPS, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_T, S_X, S_ZD, V)
@@ -348,7 +348,7 @@ def slide_forced(st, p, lw, fa, fb, om, o, acc, ws, vw, t_stop, measure, track):
             acc[A_IX] += qx
             _extrema(x, zd, t, s, p, lw, cf, fa, fb, om, o, ws, vw, h, z1, a0, a1, acc, st)
         if track:
-            vw[0, :] = vw[1, :]
+            copy_into(vw[0], vw[1])
         acc[A_DT] += h
         st[S_T] = t + h if not last else t_stop
         st[S_X] = x1
@@ -377,7 +377,7 @@ def _finish(st, p, lw, fa, fb, om, o, acc, ws, vw, cf, x, zd, t, s, h_ev, a0, ft
     st[S_T] = t + h_ev
     new, ev = classify_forced(xe, st[S_T], s, p, lw, fa, fb, om, ftol)
     if track:
-        vw[0, :] = vw[1, :]
+        copy_into(vw[0], vw[1])
         if new == codes.STICK:
             ratio = 0.0
         else:

@@ -40,7 +40,7 @@ from numba import types
 from numba.core.errors import TypingError
 from numba.extending import overload
 
-from .jit import OVERLOAD_OPTIONS, kernel
+from .jit import OVERLOAD_OPTIONS, kernel, runtime
 
 from .dop853 import dop853_extend, dop853_step
 from .dopri5 import dopri5_extend, dopri5_step
@@ -196,7 +196,7 @@ def _state_at(meth, x, zd, h, s, p, lw, o, dc, H, st):
 
         def restep(meth, x, zd, h, s, p, lw, o, dc, H, st):
             st[S_N] += 1.0
-            x1, z1, _a, _b, _c, _l, _e, _ok = fn(x, zd, h, s, p, lw, o, False)
+            x1, z1, _a, _b, _c, _l, _e, _ok = fn(x, zd, h, s, p, lw, o, runtime(False))
             return x1, z1
         return restep
     fn = METHODS[code][6]
@@ -206,7 +206,7 @@ def _state_at(meth, x, zd, h, s, p, lw, o, dc, H, st):
             return interpolate(dc, h / H, x, zd)
         # past the step (a touch's bracket may reach beyond it): no extrapolation
         st[S_N] += 1.0
-        x1, z1, _a, _b, _c, _l, _e, _ok, _ks = fn(x, zd, h, s, p, lw, o, False)
+        x1, z1, _a, _b, _c, _l, _e, _ok, _ks = fn(x, zd, h, s, p, lw, o, runtime(False))
         return x1, z1
     return on_interpolant
 
