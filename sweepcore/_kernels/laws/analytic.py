@@ -32,7 +32,7 @@ import numpy as np
 from numba import types
 from numba.extending import overload
 
-from ..jit import OVERLOAD_OPTIONS, kernel
+from ..jit import OVERLOAD_OPTIONS, kernel, runtime
 from ..law import damping_root, rest_radius
 from ..layout import A1, A2, C, K, M, RK, RY, V, VS
 
@@ -326,13 +326,14 @@ def hopf_speeds(p, lw):
     if d > 0.0:
         if g0 >= 0.0:
             return (1, 0.0, np.nan) if g0 == 0.0 else (0, np.nan, np.nan)
-        return 1, damping_root(p, lw, 0.0, hi, True), np.nan
+        return 1, damping_root(p, lw, 0.0, hi, runtime(True)), np.nan
     umin = _argmin(p, hi)
     if damping_at(p, lw, umin) >= 0.0:
         return 0, np.nan, np.nan
     if g0 <= 0.0:
-        return 1, damping_root(p, lw, umin, hi, True), np.nan
-    return 2, damping_root(p, lw, 0.0, umin, False), damping_root(p, lw, umin, hi, True)
+        return 1, damping_root(p, lw, umin, hi, runtime(True)), np.nan
+    return 2, damping_root(p, lw, 0.0, umin, runtime(False)), \
+        damping_root(p, lw, umin, hi, runtime(True))
 
 
 # --------------------------------------------------------------- normal form
