@@ -27,7 +27,9 @@ fresh process with an empty kernel cache and prints one JSON line per entry: the
 CPU seconds of its compilation, the part of them spent holding numba's LLVM lock
 (LLVM's optimisation and machine code, the union of the ``numba:llvm_lock`` event
 intervals; the rest is numba's own typing and lowering), and how many functions
-numba compiled on the way, with the names compiled for more than one signature.
+numba compiled on the way, with the names compiled for more than one signature
+(``kernels_compiled_more_than_once``: sweepcore's own, with those signatures: each
+is a recompilation of the kernel and of all it calls, ``sweepcore/_kernels/jit.py``).
 With ``NUMBA_OPT=0`` in the environment LLVM does not optimise: the drop bounds
 what optimisation costs (the kernels' speed is then not the shipped one).
 ``--breakdown suite`` compiles what the default test run compiles, in its order;
@@ -188,8 +190,10 @@ def breakdown(triples):
                 self.depth += 1
                 return
             d = ev.data.get("dispatcher")
-            fn = getattr(getattr(d, "py_func", None), "__qualname__", str(d))
-            self.sigs.append((fn, str(ev.data.get("args"))))
+            py = getattr(d, "py_func", None)
+            fn = getattr(py, "__qualname__", str(d))
+            self.sigs.append((fn, str(ev.data.get("args")),
+                              getattr(py, "__module__", "").startswith("sweepcore.")))
             self.stack.append([fn, time.process_time(), 0.0])
 
         def on_end(self, ev):
@@ -214,12 +218,16 @@ def breakdown(triples):
         cpu = time.process_time() - c0
         event.unregister("numba:llvm_lock", rec)
         event.unregister("numba:compile", rec)
-        per = collections.Counter(n for n, _ in rec.sigs)
+        per = collections.Counter(n for n, _, _ in rec.sigs)
         print(json.dumps({"entry": name, "method": method, "kind": kind,
                           "cpu_s": round(cpu, 2), "llvm_lock_cpu_s": round(rec.lock, 2),
                           "numba_opt": os.environ.get("NUMBA_OPT", "default"),
                           "functions_compiled": len(rec.sigs),
                           "compiled_more_than_once": {n: c for n, c in per.items() if c > 1},
+                          "kernels_compiled_more_than_once": {
+                              n: [a for m, a, _ in rec.sigs if m == n]
+                              for n, c in per.items() if c > 1 and
+                              any(m == n and ours for m, _, ours in rec.sigs)},
                           "own_cpu_s_top": {n: round(t, 2)
                                             for n, t in rec.own.most_common(12)}}),
               flush=True)

@@ -9,7 +9,9 @@ What is proven:
 * a truncated kernel cache file is recompiled with a line that says so, and the
   run's answer is the closed form's; later runs load it again;
 * a cache directory that cannot be written costs the cache only: no compiled file
-  is written anywhere else (numba's fallback was the package's ``__pycache__``).
+  is written anywhere else (numba's fallback was the package's ``__pycache__``);
+* (slow) compiling the main job's attractor kernel and a forced kernel from an
+  empty cache compiles none of sweepcore's kernels for a second signature.
 
 Each cold case runs in a subprocess with a fresh ``SWEEPCORE_CACHE_DIR``; the
 cheapest kernel serves (the derived quantities of a Leine law, ~10 s cold).
@@ -29,6 +31,7 @@ from sweepcore import compiled
 from sweepcore._kernels import derived, entries, layout
 
 PACKAGE = Path(sc.__file__).resolve().parent
+ROOT = PACKAGE.parent
 # the Hopf speed of Leine's law with damping c: c + F'(-u) = 0 with
 # F' = -f_s delta/(1 + delta u)^2, so u = (sqrt(f_s delta/c) - 1)/delta
 F_S, DELTA, C = 1.0, 3.0, 0.1
@@ -163,3 +166,23 @@ def test_the_compile_command_fills_the_cache(tmp_path):
                  "print(sc.simulate(p, t_end=5.0, method='rk4').attrs['status'])",
                  tmp_path)
     assert "compil" not in after.stderr
+
+
+@pytest.mark.slow
+def test_no_kernel_is_compiled_twice_in_one_entry():
+    """From an empty cache, the attractor kernel of the main job (``sweepcore run
+    studies/hopf_map.toml``: dop853, polynomial law) and the forced kernel compile
+    each of sweepcore's kernels for one signature. A second one (a constant typed as
+    its literal value, an int where other calls pass a float: ``_kernels/jit.py``)
+    compiles that kernel and everything it calls once more. numba's compile events,
+    recorded by ``benchmarks/compile_probe.py --breakdown`` in a fresh process
+    (~80 s of CPU)."""
+    if str(ROOT) not in sys.path:
+        sys.path.insert(0, str(ROOT))
+    from benchmarks import compile_probe
+    lines = list(compile_probe.breakdown_fresh(
+        ["attractor_rows", "dop853", "polynomial", "forced_rows", "dop853", "polynomial"]))
+    assert [line["entry"] for line in lines] == ["attractor_rows", "forced_rows"]
+    for line in lines:
+        assert line["functions_compiled"] > 10, line        # it did compile, cold
+        assert line["kernels_compiled_more_than_once"] == {}, line["entry"]

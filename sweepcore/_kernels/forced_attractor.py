@@ -285,7 +285,7 @@ def forced_point(meth, p, lw, ex, o_in, out):
     # the budget: max_periods natural periods, at least 4 nmax + 8 forcing periods
     omega = math.sqrt(p[K] / p[M])
     jmax = max(int(o[O_MAX_TIME] * 2.0 * math.pi / omega / T), 4 * nmax + 8)
-    hist[0] = st
+    copy_into(hist[0], st)
     status = codes.OK
     cooldown = np.zeros(nmax + 1)
     tries = np.zeros(nmax + 1)
@@ -296,7 +296,7 @@ def forced_point(meth, p, lw, ex, o_in, out):
             status = codes.STEP_BUDGET
         if status != codes.OK:
             break
-        hist[j % NH] = st
+        copy_into(hist[j % NH], st)
         for n in range(1, min(nmax, j) + 1):
             d = _dist(st, hist[(j - n) % NH], lx, lv)
             if not d <= TRY or cooldown[n] > j:
@@ -407,7 +407,7 @@ def _answer(u, n, j, mu1, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out, tol,
         status, gap = measure(u, n, p, lw, fa, fb, om, o, acc, ws, vw, T, work, out)
     out[OB_NSTEPS] = u[S_N]
     if status != codes.OK:
-        _failure(out, status, False)
+        _failure(out, status, runtime(False))
         return
     out[OB_MULTIPLICITY] = n
     out[OB_PERIOD] = n * T

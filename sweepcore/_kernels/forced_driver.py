@@ -182,7 +182,7 @@ def initial_forced(st, x0, xd0, p, lw, fa, fb, om, o):
     elif zd0 < 0.0:
         mode = codes.SLIDE_NEG
     else:
-        mode, _ev = classify_forced(x0, 0.0, 0, p, lw, fa, fb, om, 0.0)
+        mode, _ev = classify_forced(x0, 0.0, 0.0, p, lw, fa, fb, om, 0.0)
     st[S_MODE] = mode
     st[S_ZD] = 0.0 if mode == codes.STICK else zd0
     st[S_ARMED] = 1.0 if zd0 != 0.0 else 0.0
@@ -381,7 +381,8 @@ def _finish(st, p, lw, fa, fb, om, o, acc, ws, vw, cf, x, zd, t, s, h_ev, a0, ft
         if new == codes.STICK:
             ratio = 0.0
         else:
-            after = forced_accel(xe, 0.0, st[S_T], new, p, lw, constants(p, lw, new), fa,
+            sn = float(new)         # a side is a float (st[S_MODE]) at every call
+            after = forced_accel(xe, 0.0, st[S_T], sn, p, lw, constants(p, lw, sn), fa,
                                  fb, om)
             ratio = after / ae if ae != 0.0 else 1.0
         vw[0, 2] *= ratio

@@ -12,10 +12,10 @@
   each other, and the wrapper that unboxes Python arguments is code numba would
   generate and compile for every one of them (~12 % of a cold compilation).
   ``python_callable`` gives a test a callable copy of an internal kernel.
-* no array assigned to a slice (``a[:] = b``): numba checks the shapes, and the
-  error it would raise formats them, for which it compiles its string machinery
-  (str and repr of integers, concatenation, code points: ~4 s of CPU in a cold
-  entry). ``copy_into`` copies without it.
+* no array assigned to a slice or a row (``a[:] = b``, ``a[i] = b``): numba checks
+  the shapes, and the error it would raise formats them, for which it compiles its
+  string machinery (str and repr of integers, concatenation, code points: ~4 s of
+  CPU in a cold entry). ``copy_into`` copies without it.
 * a kernel called from another is compiled for the types of that call's
   arguments, and a constant argument (``True``, ``1``) is typed as its literal
   value: each distinct constant compiles the whole callee, and all it calls, once
