@@ -1,16 +1,17 @@
 """Compile half of a cold entry kernel in a second process (``python -m``).
 
 numba compiles single-threaded, and most of a cold start is compilation: the
-attractor kernel of one (method, law kind) is ~12 s of CPU. Its two halves are the
-driver (``attractor.next_event``, compiled first, as the entry is typed) and the
-attractor search (``attractor.on_event``, compiled after it); the derived quantities
-of the result (``derived.derived_rows``) come after the sweep. A second process started
-with the first call compiles the search and the derived quantities into numba's
-cache while this one compiles the driver, and this one then loads them from the
-cache: on two cores the cold start takes about the driver's time. Where the second
-process is late, or the signature below no longer matches the entry's (a test
-checks that it does), this process compiles them itself: never a wrong kernel,
-at worst no gain.
+attractor kernel of dop853 and the polynomial law is ~36 s of CPU (``python
+benchmarks/compile_probe.py --breakdown attractor_rows dop853 polynomial``). Its two
+halves are the driver (``attractor.next_event``, compiled first, as the entry is
+typed; about two thirds) and the attractor search (``attractor.on_event``, compiled
+after it); the derived quantities of the result (``derived.derived_rows``) come after
+the sweep. A second process started with the first call compiles the search and the
+derived quantities into numba's cache while this one compiles the driver, and this
+one then loads them from the cache: on two cores the cold start takes about the
+driver's time. Where the second process is late, or the signature below no longer
+matches the entry's (a test checks that it does), this process compiles them
+itself: never a wrong kernel, at worst no gain.
 
 Usage: ``python -m sweepcore._kernels.prefetch METHOD_CODE KIND_NAME``.
 """
