@@ -29,12 +29,14 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..jit import kernel, unowned
+from ..jit import kernel, runtime, unowned
 from ..law import damping_root
 from ..layout import C, V
 
 Table = namedtuple("Table", ("d",))
 HEAD = 5
+# the branch helpers below take the branch's offset and side as runtime(HEAD),
+# runtime(True): as literals each would compile them once more (jit.runtime)
 
 
 def pack(pos, neg, r_pos: float, r_neg: float, odd: bool) -> np.ndarray:
@@ -134,24 +136,24 @@ def force(lw, cf, zd, s):
     the field of one slide stays smooth where its last stages overshoot zd = 0."""
     d = lw.d
     if s > 0.0 or (s == 0.0 and zd > 0.0):
-        return _force_value(d, HEAD, int(d[0]), zd, True)
+        return _force_value(d, runtime(HEAD), int(d[0]), zd, runtime(True))
     if d[4] > 0.0:                               # odd: F(s) = -F(-s)
-        return -_force_value(d, HEAD, int(d[0]), -zd, True)
+        return -_force_value(d, runtime(HEAD), int(d[0]), -zd, runtime(True))
     b, n = _branch(d, False)
-    return _force_value(d, b, n, zd, False)
+    return _force_value(d, b, n, zd, runtime(False))
 
 
 @kernel(inline="always")
 def derivatives(p, lw, zd):
     d = lw.d
     if zd > 0.0:
-        _f, d1, d2, d3 = _value(d, HEAD, int(d[0]), zd, True)
+        _f, d1, d2, d3 = _value(d, runtime(HEAD), int(d[0]), zd, runtime(True))
         return d1, d2, d3
     if d[4] > 0.0:
-        _f, d1, d2, d3 = _value(d, HEAD, int(d[0]), -zd, True)
+        _f, d1, d2, d3 = _value(d, runtime(HEAD), int(d[0]), -zd, runtime(True))
         return d1, -d2, d3
     b, n = _branch(d, False)
-    _f, d1, d2, d3 = _value(d, b, n, zd, False)
+    _f, d1, d2, d3 = _value(d, b, n, zd, runtime(False))
     return d1, d2, d3
 
 
@@ -159,13 +161,13 @@ def derivatives(p, lw, zd):
 def branch_derivatives(p, lw, zd, s):
     d = lw.d
     if s > 0.0 or (s == 0.0 and zd > 0.0):
-        _f, d1, d2, _d3 = _value(d, HEAD, int(d[0]), zd, True)
+        _f, d1, d2, _d3 = _value(d, runtime(HEAD), int(d[0]), zd, runtime(True))
         return d1, d2
     if d[4] > 0.0:                               # odd: F(s) = -F(-s)
-        _f, d1, d2, _d3 = _value(d, HEAD, int(d[0]), -zd, True)
+        _f, d1, d2, _d3 = _value(d, runtime(HEAD), int(d[0]), -zd, runtime(True))
         return d1, -d2
     b, n = _branch(d, False)
-    _f, d1, d2, _d3 = _value(d, b, n, zd, False)
+    _f, d1, d2, _d3 = _value(d, b, n, zd, runtime(False))
     return d1, d2
 
 
@@ -175,12 +177,12 @@ def anti_damped(p, lw):
     slope at each branch's far end (0: the spline ends flat)."""
     d = lw.d
     n = int(d[0])
-    far = _value(d, HEAD, n, d[HEAD + n], True)[1]
+    far = _value(d, runtime(HEAD), n, d[HEAD + n], runtime(True))[1]
     if d[4] > 0.0:
         other = far
     else:
         b, m = _branch(d, False)
-        other = _value(d, b, m, d[b], False)[1]
+        other = _value(d, b, m, d[b], runtime(False))[1]
     return p[C] + far < 0.0 and p[C] + other < 0.0
 
 
@@ -218,14 +220,15 @@ def slope_bound(p, lw, lo, hi):
     d = lw.d
     least = np.inf
     if hi > 0.0:
-        least = _branch_bound(d, HEAD, int(d[0]), max(lo, 0.0), hi, True)
+        least = _branch_bound(d, runtime(HEAD), int(d[0]), max(lo, 0.0), hi,
+                              runtime(True))
     if lo < 0.0:
         if d[4] > 0.0:                           # odd: F'(s) = F'(-s)
-            other = _branch_bound(d, HEAD, int(d[0]), max(-hi, 0.0), -lo,
-                                  True)
+            other = _branch_bound(d, runtime(HEAD), int(d[0]), max(-hi, 0.0), -lo,
+                                  runtime(True))
         else:
             b, n = _branch(d, False)
-            other = _branch_bound(d, b, n, lo, min(hi, 0.0), False)
+            other = _branch_bound(d, b, n, lo, min(hi, 0.0), runtime(False))
         least = min(least, other)
     return least
 
@@ -314,7 +317,8 @@ def _knot_ahead(d, b, n, u, du, up):
     zero_end = (j == 0) if up else (j == n)
     if zero_end:
         return abs(d[b + j] - u), 0.0
-    return abs(d[b + j] - u), abs(_third(d, b, n, j, True) - _third(d, b, n, j, False))
+    return abs(d[b + j] - u), abs(_third(d, b, n, j, runtime(True))
+                                  - _third(d, b, n, j, runtime(False)))
 
 
 @kernel(inline="always")
@@ -338,12 +342,12 @@ def step_bound(x, zd, s, cf, lw, k, m, v, dz):
         return h, a
     d = lw.d
     if s > 0.0 or (s == 0.0 and zd > 0.0):
-        dist, jump = _knot_ahead(d, HEAD, int(d[0]), zd, a, True)
+        dist, jump = _knot_ahead(d, runtime(HEAD), int(d[0]), zd, a, runtime(True))
     elif d[4] > 0.0:                             # odd: the positive branch at -zd
-        dist, jump = _knot_ahead(d, HEAD, int(d[0]), -zd, -a, True)
+        dist, jump = _knot_ahead(d, runtime(HEAD), int(d[0]), -zd, -a, runtime(True))
     else:
         b, n = _branch(d, False)
-        dist, jump = _knot_ahead(d, b, n, zd, a, False)
+        dist, jump = _knot_ahead(d, b, n, zd, a, runtime(False))
     aa = abs(a)
     if jump > 0.0:
         cross = (24.0 * CROSS_SAFETY * dz * m / (jump * aa * aa * aa)) ** 0.25
