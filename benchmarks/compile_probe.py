@@ -377,6 +377,12 @@ def _breakdown_text(B) -> str:
         f"`{e['entry']}` ({e['method']}, {e['kind']}) {s(e['cpu_s'])} CPU, "
         f"{s(e['llvm_lock_cpu_s'])} of it in LLVM, {e['functions_compiled']} functions"
         for e in B["entries"])
+    twice = sorted({n for e in B["entries"]
+                    for n in e.get("kernels_compiled_more_than_once", {})})
+    if any("kernels_compiled_more_than_once" in e for e in B["entries"]):
+        each += (". Compiled for more than one signature within an entry: "
+                 + (", ".join(f"`{n}`" for n in twice) if twice else
+                    "none of sweepcore's kernels (numba's own helpers only)"))
     m = B["machine"]
     return (f"\n\nWhere a compilation's time goes: `{B['command']} --save` "
             f"({m['date']}, commit `{m['git_commit'][:10]}`, 1-minute load "
