@@ -26,6 +26,10 @@ EPS = np.finfo(np.float64).eps
 F_ZD = 0.0
 F_XD = 1.0
 F_ZDD = 2.0
+F_XDOT_EXTREMUM = 3.0   # zdd, as F_ZDD, for an extremum of xdot that is only noted
+# a simple root (x or xdot turning) is taken once Newton's step is below this share
+# of the bracket's end: the next step would be of its square (quadratic convergence)
+NEWTON_DONE = 1e-8
 NO_PART = (np.nan,) * 6        # no partial step taken (``zero_in_step``)
 
 
@@ -46,8 +50,17 @@ def polish(meth, which, x, zd, s, p, lw, o, lo, hi, sign_lo, guess, st, dc, H):
     where the method has one, else a re-step (``stepper.state_at``).
 
     Safeguarded Newton: Newton steps inside the bracket, bisection otherwise.
-    Returns (h, x1, zd1).
+    Returns (h, x1, zd1). The turning points of x and of a noted xdot (``F_XD``,
+    ``F_XDOT_EXTREMUM``) are simple roots: once a Newton step is below
+    ``NEWTON_DONE`` of the bracket, it is taken and the state moved to its end to
+    first order on the interpolant (both errors of the step's square, ~1e-16 h):
+    one evaluation fewer than confirming a step at rounding level. Roots of zdot
+    and its turning points near touches (double roots, linear convergence), and
+    every root of the methods without an interpolant (re-steps), are polished to
+    rounding.
     """
+    v = p[V]
+    simple = (which == F_XD or which == F_XDOT_EXTREMUM) and has_dense(meth)
     h = guess if lo < guess <= hi else 0.5 * (lo + hi)
     x1 = x
     z1 = zd
@@ -65,6 +78,9 @@ def polish(meth, which, x, zd, s, p, lw, o, lo, hi, sign_lo, guess, st, dc, H):
         hn = h - f / df if df != 0.0 else 0.5 * (lo + hi)
         if not (lo < hn < hi):
             hn = 0.5 * (lo + hi)
+        elif simple and abs(hn - h) <= NEWTON_DONE * hi:
+            dh = hn - h
+            return hn, x1 + dh * (z1 + v), z1 + dh * (df if which == F_XD else f)
         if abs(hn - h) <= 2.0 * EPS * hi:
             h = hn
             x1, z1 = state_at(meth, x, zd, h, s, p, lw, o, dc, H, st)
@@ -79,6 +95,26 @@ def cubic(f0, f1, d0, d1, th):
     a = 2.0 * (f0 - f1) + d0 + d1
     b = 3.0 * (f1 - f0) - 2.0 * d0 - d1
     return ((a * th + b) * th + d0) * th + f0
+
+
+@kernel(inline="always")
+def cubic_root(f0, f1, d0, d1):
+    """A root in (0, 1) of the Hermite cubic (values f, theta-derivatives d) whose
+    end values differ in sign: the secant's, improved by two Newton steps on the
+    cubic where they stay inside (0, 1). A start for ``polish`` within ~h^4 of the
+    root where the secant's is within ~h^2."""
+    th = f0 / (f0 - f1)
+    a = 2.0 * (f0 - f1) + d0 + d1
+    b = 3.0 * (f1 - f0) - 2.0 * d0 - d1
+    for _ in range(2):
+        df = (3.0 * a * th + 2.0 * b) * th + d0
+        if df == 0.0:
+            break
+        tn = th - (((a * th + b) * th + d0) * th + f0) / df
+        if not (0.0 < tn < 1.0):
+            break
+        th = tn
+    return th
 
 
 @kernel

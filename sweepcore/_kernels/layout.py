@@ -44,7 +44,8 @@ NO = 10
 # simulation state st
 S_T, S_X, S_ZD, S_MODE, S_ARMED, S_H, S_N = range(7)   # S_N: stepper calls so far
 S_TOUCH = 7     # 1 where the last zdot = 0 event was a tangential touch (driver)
-NS = 8
+S_SECTIONS = 8  # 1: stop at the section's extremum of x only (driver._section)
+NS = 9
 
 # accumulators acc (reset by the caller at the start of a measured interval)
 A_IX = 0        # int x dt                        [cm s]
