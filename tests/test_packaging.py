@@ -6,6 +6,7 @@ beside it (setuptools refuses both), the setuptools that reads it, and classifie
 every page the command's help names is a file of the package (``sweepcore/docs``)
 matched by the package-data globs, so an installed wheel holds it.
 """
+import argparse
 import fnmatch
 import re
 import sys
@@ -42,6 +43,19 @@ def help_texts():
     parser = build_parser()
     sub = next(a for a in parser._actions if a.dest == "command")
     return [parser.format_help()] + [p.format_help() for p in sub.choices.values()]
+
+
+def test_the_help_keeps_a_hyphenated_path_whole():
+    """A documentation path in a checkout whose directory has a hyphen is printed on
+    one line (argparse's own formatter breaks lines at hyphens)."""
+    from sweepcore.cli.parser import HelpFormatter
+    path = "/work/wt-some-checkout-with-hyphens/sweepcore/docs/variables.md"
+    parser = argparse.ArgumentParser(prog="x", formatter_class=HelpFormatter,
+                                     description="Output variables: " + path + ".",
+                                     epilog="Pages: " + path + " and more words here.")
+    parser.add_argument("--a", help="see " + path)
+    lines = parser.format_help().splitlines()
+    assert sum(path in line for line in lines) == 3, lines
 
 
 def test_every_page_the_help_names_ships_with_the_package():

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import textwrap
 from pathlib import Path
 
 
@@ -65,10 +66,25 @@ def doc(name: str) -> str:
 
 
 # ------------------------------------------------------------------- parser
+class HelpFormatter(argparse.HelpFormatter):
+    """argparse's formatter, but a line never breaks at a hyphen or inside a word:
+    the help prints the documentation pages' paths, which must survive a copy (a
+    checkout under ``/work/wt-x/`` was cut at its hyphen)."""
+
+    def _split_lines(self, text, width):
+        return textwrap.wrap(" ".join(text.split()), width, break_on_hyphens=False,
+                             break_long_words=False)
+
+    def _fill_text(self, text, width, indent):
+        return textwrap.fill(" ".join(text.split()), width, initial_indent=indent,
+                             subsequent_indent=indent, break_on_hyphens=False,
+                             break_long_words=False)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``sweepcore`` (the subcommands of :data:`SUBCOMMANDS`)."""
     parser = argparse.ArgumentParser(
-        prog="sweepcore",
+        prog="sweepcore", formatter_class=HelpFormatter,
         description="Parameter sweeps of the stick-slip friction oscillator (Liu): a "
                     "slider of mass m on a belt of speed v, spring k, friction "
                     "r_a = sgn(zdot) (r_k + (r_y - r_k) exp(-|zdot|/v_s)) - alpha1 zdot "
@@ -85,7 +101,8 @@ def build_parser() -> argparse.ArgumentParser:
                         help="show the version and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name, (summary, description, add_options) in SUBCOMMANDS.items():
-        p = sub.add_parser(name, help=summary, description=description)
+        p = sub.add_parser(name, help=summary, description=description,
+                           formatter_class=HelpFormatter)
         add_options(p)
         # before or after the subcommand alike: `sweepcore run --threads 1 S.toml`
         _add_global_options(p.add_argument_group("global options"), argparse.SUPPRESS)
