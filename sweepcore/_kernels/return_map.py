@@ -19,6 +19,7 @@ import math
 
 from .jit import kernel
 
+from . import codes
 from .law import log_jacobian, zdd
 from .layout import A_DT, A_ILAW, A_IXD2, V
 
@@ -31,7 +32,7 @@ def return_slope(p, lw, a0, a1, acc, log_salt):
     # int zdot^2 dt = int xdot^2 dt - 2 v (x(T) - x(0)) + v^2 T
     izd2 = acc[A_IXD2] - 2.0 * v * (a1 - a0) + v * v * T
     log_j = log_jacobian(p, lw, T, izd2, acc[A_ILAW]) + log_salt
-    s = -1.0 if v > 0.0 else 1.0       # SLIDE_NEG, SLIDE_POS as the float a mode is
+    s = float(codes.SLIDE_NEG if v > 0.0 else codes.SLIDE_POS)   # a side is a float
     f0 = zdd(a0, -v, s, p, lw)
     f1 = zdd(a1, -v, s, p, lw)
     if f1 == 0.0:
