@@ -28,6 +28,7 @@ import numpy as np
 from numba.core import event
 
 from ._kernels import codes, entries, layout, stepper
+from ._kernels import excitations as _kernel_excitations
 from ._kernels import laws as _kernel_laws
 from . import law as _law
 from .options import checked_keywords
@@ -59,10 +60,18 @@ def methods_of(P: np.ndarray, laws, o: np.ndarray) -> np.ndarray:
     return np.where(closed, stepper.EXACT, pair).astype(np.intp)
 
 
-def groups(P: np.ndarray, laws, o: np.ndarray):
+def forced_methods(P: np.ndarray, laws, o: np.ndarray) -> np.ndarray:
+    """The method code of every forced row: the option row's, dop853 for "auto" (the
+    stroboscopic search's Newton needs tight periods: the eighth-order pair)."""
+    method = int(o[layout.O_METHOD])
+    return np.full(P.shape[0], method if method >= 0 else stepper.DOP853, np.intp)
+
+
+def groups(P: np.ndarray, laws, o: np.ndarray, forced: bool = False):
     """``[(method, kind, rows, law data)]``: the rows of P (indices) that share a
-    method code and a law kind, with the kind's law data."""
-    method = methods_of(P, laws, o)
+    method code and a law kind, with the kind's law data (``forced``: the methods of
+    forced rows)."""
+    method = forced_methods(P, laws, o) if forced else methods_of(P, laws, o)
     which = P[:, layout.LAW].astype(np.intp)
     out = []
     for i, law in enumerate(laws):
@@ -102,6 +111,24 @@ def attractors(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray,
             out[rows] = sub
 
 
+def responses(P: np.ndarray, laws, loads, o: np.ndarray, out: np.ndarray,
+              parallel: bool = False) -> None:
+    """The steady forced response of every row of P into ``out`` (n, NFOB): the
+    rows grouped by method, law kind and load (``layout.LOAD`` indexes ``loads``),
+    each group on the method's ``forced_rows`` entry, shared out as
+    :func:`attractors`."""
+    which = P[:, layout.LOAD].astype(np.intp)
+    for meth, kind, rows, lw in groups(P, laws, o, forced=True):
+        for j in np.unique(which[rows]):
+            mine = rows[which[rows] == j]
+            sub = _sub(out, mine, P.shape[0])
+            with compiling("forced response", meth, kind):
+                _batched("forced_rows", meth, _sub(P, mine, P.shape[0]), lw, o, (sub,),
+                         parallel, (loads[j].data(),))
+            if sub is not out:
+                out[mine] = sub
+
+
 def cycles(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray, found: np.ndarray,
            parallel: bool = False) -> None:
     """Every slip cycle of the rows of P (``out`` (n, MAX_CYCLES, NOBS), ``found``
@@ -117,7 +144,7 @@ def cycles(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray, found: np.ndarra
             found[rows] = sub_found
 
 
-def _batched(name: str, meth: int, P, lw, o, outs, parallel: bool) -> None:
+def _batched(name: str, meth: int, P, lw, o, outs, parallel: bool, extra=()) -> None:
     """The entry ``name`` over the rows of P; with ``parallel``, on
     ``numba.get_num_threads()`` Python threads (the kernels release the GIL).
 
@@ -126,16 +153,18 @@ def _batched(name: str, meth: int, P, lw, o, outs, parallel: bool) -> None:
     a stick-slip point) takes fewer blocks: the load balances itself. Rows are
     contiguous in P, so a block is a view, not a copy; every point is computed on
     its own, so the result does not depend on the split. (One compiled kernel
-    serves this path, the serial one and dask's.)"""
+    serves this path, the serial one and dask's.) ``extra``: the arguments the
+    entry takes between the law data and the options (a forced entry's
+    excitation data)."""
     n = P.shape[0]
     kernel = entries.entry(name, meth)
     threads = min(numba.get_num_threads(), n) if parallel else 1
     if threads <= 1:
-        kernel(P, lw, o, *outs)
+        kernel(P, lw, *extra, o, *outs)
         return
     if not _POOL or _POOL[0][0] != threads:
         _POOL[:] = [(threads, ThreadPoolExecutor(threads, thread_name_prefix="sweepcore"))]
-    kernel(P[:1], lw, o, *(a[:1] for a in outs))       # compile once, not per thread
+    kernel(P[:1], lw, *extra, o, *(a[:1] for a in outs))   # compile once, not per thread
     block = max(1, min(BLOCK, (n - 1) // (4 * threads)))
     starts = itertools.count(1, block)
     P = np.ascontiguousarray(P)
@@ -145,29 +174,44 @@ def _batched(name: str, meth: int, P, lw, o, outs, parallel: bool) -> None:
             if a >= n:
                 return
             b = min(a + block, n)
-            kernel(P[a:b], lw, o, *(x[a:b] for x in outs))
+            kernel(P[a:b], lw, *extra, o, *(x[a:b] for x in outs))
     list(_POOL[0][1].map(work, range(threads)))
 
 
 BLOCK = 32      # rows a thread takes at a time
 
 
-def trajectory(row: np.ndarray, law, o: np.ndarray, *arrays):
+def trajectory(row: np.ndarray, law, load, o: np.ndarray, *arrays):
     """One run of the driver (``sweepcore._kernels.trajectory``) from ``row``, with
-    the law object ``law``; returns ``(n_events, status, n_steps, method)``."""
+    the law object ``law`` and the excitation ``load`` (a
+    :class:`~sweepcore.PeriodicLoad`, or None: none); returns ``(n_events, status,
+    n_steps, method)``."""
     P = row[None, :]
-    ((meth, kind, _rows, lw),) = groups(P, (law,), o)
+    ex = _excitation(row, load)
+    ((meth, kind, _rows, lw),) = groups(P, (law,), o, forced=ex is not _UNFORCED)
     with compiling("trajectory", meth, kind):
-        n_ev, status, n_steps = entries.entry("trajectory", meth)(row, lw, o, *arrays)
+        n_ev, status, n_steps = entries.entry("trajectory", meth)(row, lw, ex, o, *arrays)
     return n_ev, status, n_steps, meth
 
 
-def options(row: np.ndarray, law, o: np.ndarray):
+def options(row: np.ndarray, law, load, o: np.ndarray):
     """``(option row, a-priori status)`` of one point: "auto" resolved, the default
     dt and GPS shift filled in (``attractor.resolve_options``)."""
-    ((meth, kind, _rows, lw),) = groups(row[None, :], (law,), o)
+    ex = _excitation(row, load)
+    ((meth, kind, _rows, lw),) = groups(row[None, :], (law,), o, forced=ex is not _UNFORCED)
     with compiling("options", meth, kind):
-        return entries.entry("options", meth)(row, lw, o)
+        return entries.entry("options", meth)(row, lw, ex, o)
+
+
+_UNFORCED = _kernel_excitations.UNFORCED
+
+
+def _excitation(row: np.ndarray, load):
+    """The kernel excitation data of one row: none (F0 = Y0 = 0) or its load's."""
+    from . import excitations
+    if excitations.kinds(row[None, :])[0] == 0:
+        return _UNFORCED
+    return (load if load is not None else excitations.HARMONIC).data()
 
 
 # ------------------------------------------------------- a second compiler

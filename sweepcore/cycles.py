@@ -299,13 +299,13 @@ def cycle_polygon(row: np.ndarray, cycle: np.ndarray, o: np.ndarray, points: int
     if not (math.isfinite(period) and period > 0.0 and math.isfinite(p[layout.X0])):
         nan = np.full(points, np.nan)
         return nan, nan, math.nan, False
-    oo, _status = compiled.options(p, law, o)
+    oo, _status = compiled.options(p, law, None, o)
     t = np.linspace(0.0, period, points + 1)
     x = np.empty(points + 1)
     zd = np.empty(points + 1)
     mode = np.empty(points + 1, np.int64)
     ev = [np.empty(4), np.empty(4, np.int64), np.empty(4), np.empty(4)]
-    n_ev, status, _n, _m = compiled.trajectory(p, law, oo, t, x, zd, mode, *ev,
+    n_ev, status, _n, _m = compiled.trajectory(p, law, None, oo, t, x, zd, mode, *ev,
                                                fresh_acc())
     xd = zd + v
     gap = float(np.hypot(x[-1] - x[0], xd[-1] - xd[0]))

@@ -1,12 +1,13 @@
-"""The forced response: the steady motion of an excited slider, on the forced kernels.
+"""The forced response: the steady motion of an excited slider.
 
 Rows whose excitation is ``none`` (F0 = Y0 = 0) run on the autonomous attractor
-kernel exactly as without an excitation (``sweepcore.execute.attractors``); the
-others on ``sweepcore/_kernels/forced_attractor.py`` (the stroboscopic map's fixed
-point of least period n <= ``periods``), compiled for the (law kind, excitation
-kind) a call uses and only then. Both fill rows of the forced layout
-(``layout.NFOB``): the autonomous columns first, then multiplicity, stops per
-period and the Lyapunov exponent with its error (NaN for an unforced row).
+search exactly as without an excitation (``sweepcore.execute.attractors``); the
+others on the stroboscopic search (``sweepcore/_kernels/strobe.py``: the fixed point
+of least period n <= ``periods`` of the stroboscopic map), both over the one driver,
+compiled for the (method, law kind) a call uses and only then (a new load shape is
+data). Both fill rows of the forced layout (``layout.NFOB``): the autonomous columns
+first, then multiplicity, stops per period, the Lyapunov exponent with its error and
+the periodic point (NaN for an unforced row).
 """
 from __future__ import annotations
 
@@ -14,40 +15,31 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from . import compiled, excitations, variables
-from ._kernels import codes, layout, stepper
+from . import excitations, variables
+from ._kernels import codes, layout
 
-METHODS = ("auto", "dop853")
-METHOD = stepper.DOP853
+# every method but the closed-form arcs, whose law is autonomous ("auto": dop853)
+METHODS = tuple(m for m in ("auto",) + tuple(codes.METHOD_CODES) if m != "exact")
 
 
 def check_method(method: str) -> None:
-    """Refuse a method the forced kernels do not have, by name."""
+    """Refuse a method the forced slider cannot use, by name."""
     if method not in METHODS:
         raise ValueError(f"method {method!r} is not available for a forced slider "
-                         f"(F0 or Y0 given): its response is integrated with dop853 "
-                         f"(method 'auto' or 'dop853')")
+                         f"(F0 or Y0 given): the closed-form arcs need the autonomous "
+                         f"field; use one of {', '.join(METHODS)}")
 
 
-def responses(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray,
+def responses(P: np.ndarray, laws, loads, o: np.ndarray, out: np.ndarray,
               parallel: bool = False) -> None:
     """The steady response of every row of P into ``out`` (n, NFOB): each
-    excitation kind's rows by its module (``sweepcore.excitations``)."""
+    excitation kind's rows by its module (``sweepcore.excitations``); ``loads``: the
+    call's load shapes (``layout.LOAD`` indexes them)."""
     for module, rows in excitations.groups(P):
         block = np.ascontiguousarray(P[rows]) if rows.size < P.shape[0] else P
         res = np.empty((rows.size, layout.NFOB))
-        module.run(block, laws, o, res, parallel)
+        module.run(block, laws, loads, o, res, parallel)
         out[rows] = res
-
-
-def trajectory(row: np.ndarray, law, o: np.ndarray, *arrays):
-    """One run of the forced driver from ``row``: ``(n_events, status, n_steps,
-    method)``, as ``sweepcore.compiled.trajectory``."""
-    P = row[None, :]
-    ((module, _rows),) = excitations.groups(P)
-    ((_meth, kind, _r, lw),) = compiled.groups(P, (law,), o)
-    n_ev, status, n_steps = module.trajectory(row, lw, kind, o, *arrays)
-    return n_ev, status, n_steps, METHOD
 
 
 @dataclass(frozen=True)
@@ -58,7 +50,9 @@ class Response:
     ``converged`` is True only for status "ok": the numbers are within the asked
     tolerance of the response a long simulation from the start settles on. An
     aperiodic response has NaN multiplicity and period, and its Lyapunov exponent
-    with an error. ``omega``, ``v_star`` and ``x_eq`` are the unforced slider's.
+    with an error. ``x_section``, ``xdot_section`` are the periodic point: the state
+    at t = 0 mod n T (the stroboscopic map's fixed point, to check with any
+    integrator). ``omega``, ``v_star`` and ``x_eq`` are the unforced slider's.
     """
 
     multiplicity: float
@@ -76,6 +70,8 @@ class Response:
     lyapunov: float
     lyapunov_error: float
     t_settle: float
+    x_section: float
+    xdot_section: float
     n_steps: int
     regime: str
     status: str
@@ -92,7 +88,7 @@ def response(params, row: np.ndarray, o: np.ndarray) -> Response:
     """The steady response from the start in ``row`` (``sweepcore.attractor`` for a
     forced slider)."""
     out = np.empty((1, layout.NFOB))
-    responses(row[None, :], (params.friction_law,), o, out, parallel=False)
+    responses(row[None, :], (params.friction_law,), params.loads, o, out, parallel=False)
     out = out[0]
     status = int(out[layout.OB_STATUS])
     vals = {name: float(out[col]) for name, (col, *_r) in

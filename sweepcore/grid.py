@@ -17,6 +17,7 @@ import xarray as xr
 
 from . import excitations, law
 from ._kernels import layout
+from .excitations import LOAD_DIM
 from .laws import ANALYTIC, LAW_DIM
 from .laws import analytic as _analytic
 from .options import checked_keywords
@@ -155,6 +156,12 @@ class Grid:
         analytic parameters r_y, alpha1, alpha2, r_k, v_s (which are then not
         given); a list of them is a dimension ``law``, first, labelled by the laws'
         names (distinct).
+    F0, Omega, phi, Y0 : float or 1-D array
+        The excitation (:class:`sweepcore.Params`): the load ``F0 p(Omega t + phi)``
+        [kN] (phi in radians) and the anchor's motion ``Y0 cos(Omega t)`` [cm].
+    load : PeriodicLoad or list of them, optional
+        The load's shape p (default one cosine); a list of them is a dimension
+        ``load``, after ``law``, labelled by the shapes' names (distinct).
     mode : {"product", "points"}
         "product" (default): the array axes span an outer product, one dimension per
         array axis in the order of the parameters above. "points": the array axes
@@ -187,6 +194,7 @@ class Grid:
     Omega: object = None
     phi: object = 0.0
     Y0: object = 0.0
+    load: object = None
     mode: str = field(default="product", kw_only=True)
 
     def __post_init__(self):
@@ -209,6 +217,13 @@ class Grid:
             value = _check_axis(name, getattr(self, name), unique=self.mode == "product")
             object.__setattr__(self, name, value)
         excitations.check("Grid", {n: getattr(self, n) for n in excitations.KEYWORDS})
+        object.__setattr__(self, "load", excitations.check_loads("Grid", self.load))
+        if self.load is not None and not np.any(np.asarray(self.F0) != 0.0):
+            raise ValueError("Grid: load given but F0 = 0 at every point: the load's "
+                             "amplitude F0 [kN] is needed")
+        if isinstance(self.load, tuple) and self.mode == "points":
+            raise ValueError("Grid.points takes one load; sweep several loads with "
+                             "Grid(..., load=[...]) (a load dimension)")
         if self.mode == "points":
             lengths = {n: len(self.axis(n)) for n in self.swept}
             if len(set(lengths.values())) > 1:
@@ -264,6 +279,14 @@ class Grid:
         return self.law if isinstance(self.law, tuple) else (self.law,)
 
     @property
+    def loads(self) -> tuple:
+        """The load shapes of the grid's rows (``layout.LOAD`` indexes them): one
+        cosine, the one given, or the load dimension's."""
+        if self.load is None:
+            return (excitations.HARMONIC,)
+        return self.load if isinstance(self.load, tuple) else (self.load,)
+
+    @property
     def forced(self) -> bool:
         """Whether any point is excited (F0 or Y0 not 0): the grid's result is a
         forced response's (``sweepcore.variables.FORCED_OBSERVABLES``)."""
@@ -279,13 +302,13 @@ class Grid:
     @classmethod
     def points(cls, m, k, r_y=None, v=None, alpha1=None, alpha2=None, x0=0.0, xdot0=None,
                c=0.0, r_k=None, v_s=None, law=None, F0=0.0, Omega=None, phi=0.0,
-               Y0=0.0) -> Grid:
+               Y0=0.0, load=None) -> Grid:
         """Scattered parameter sets: equal-length 1-D arrays, read index by index.
 
         Scalars are shared by every point. The result has one dimension, ``point``.
         """
         return cls(m, k, r_y, v, alpha1, alpha2, x0, xdot0, c, r_k, v_s, law, F0, Omega,
-                   phi, Y0, mode="points")
+                   phi, Y0, load, mode="points")
 
     # ------------------------------------------------------------------ shape
     def axis(self, name: str):
@@ -293,15 +316,20 @@ class Grid:
         law dimension: its tuple of laws)."""
         if name == LAW_DIM and isinstance(self.law, tuple):
             return self.law
+        if name == LOAD_DIM and isinstance(self.load, tuple):
+            return self.load
         if name not in AXES:
             raise KeyError(f"unknown axis {name!r}; axes are {AXES}")
         return getattr(self, name)
 
     @property
     def swept(self) -> tuple[str, ...]:
-        """Names of the array axes, in dimension order (``law`` first)."""
+        """Names of the array axes, in dimension order (``law`` first, then
+        ``load``)."""
         laws = (LAW_DIM,) if isinstance(self.law, tuple) else ()
-        return laws + tuple(n for n in self._axes if isinstance(self.axis(n), np.ndarray))
+        loads = (LOAD_DIM,) if isinstance(self.load, tuple) else ()
+        return laws + loads + tuple(n for n in self._axes
+                                    if isinstance(self.axis(n), np.ndarray))
 
     @property
     def fixed(self) -> tuple[str, ...]:
@@ -335,6 +363,9 @@ class Grid:
         if self.law is not None:
             parts.append(f"law={[one.name for one in self.laws]!r}"
                          if isinstance(self.law, tuple) else f"law={self.law!r}")
+        if self.load is not None:
+            parts.append(f"load={[one.name for one in self.loads]!r}"
+                         if isinstance(self.load, tuple) else f"load={self.load!r}")
         for name in self._axes:
             if self.law is not None and name in _analytic.PARAMETERS:
                 continue
@@ -382,6 +413,7 @@ class Grid:
             else:
                 P[:, col] = val
         P[:, layout.LAW] = index[LAW_DIM] if LAW_DIM in index else 0.0
+        P[:, layout.LOAD] = index[LOAD_DIM] if LOAD_DIM in index else 0.0
         return P
 
     def block(self, start: int, stop: int) -> tuple[Grid, int, int]:
@@ -395,7 +427,7 @@ class Grid:
             return self, start, stop
         cut = {n: self.axis(n)[start:stop] if n in self.swept else self.axis(n)
                for n in AXES}
-        return Grid.points(**cut, law=self.law), 0, stop - start
+        return Grid.points(**cut, law=self.law, load=self.load), 0, stop - start
 
     # ---------------------------------------------------------------- labels
     def coords(self) -> dict[str, xr.Variable]:
@@ -412,6 +444,10 @@ class Grid:
         if isinstance(self.law, tuple):
             out[LAW_DIM] = xr.Variable(LAW_DIM, np.array([one.name for one in self.law]),
                                        {"long_name": "friction law (sweepcore.laws)"})
+        if isinstance(self.load, tuple):
+            out[LOAD_DIM] = xr.Variable(
+                LOAD_DIM, np.array([one.name for one in self.load]),
+                {"long_name": "shape of the load (sweepcore.PeriodicLoad)"})
         for name in self._axes:
             val = self.axis(name)
             attrs = {"units": UNITS[name], "long_name": LONG_NAMES[name]}
@@ -433,6 +469,9 @@ class Grid:
         h = hashlib.sha256(self.mode.encode())
         for one in (self.laws if self.law is not None else ()):
             h.update(b"law")
+            h.update(one.fingerprint())
+        for one in (self.loads if self.load is not None else ()):
+            h.update(b"load")
             h.update(one.fingerprint())
         for name in self._axes:
             val = self.axis(name)

@@ -189,6 +189,31 @@ def stick_onset_estimate(coords, laws=(ANALYTIC,)) -> xr.DataArray:
 
 
 # ------------------------------------------------------------ the law of a result
+def load_labels(loads, many: bool):
+    """``(attrs, variables)`` of a forced result's load shapes: one shape's
+    coefficients as attributes (``load``, ``load_cos``, ``load_sin``,
+    ``load_truncation``); for a ``load`` dimension its coefficients as variables
+    ``load_cos``, ``load_sin`` over (load, load_harmonic), zero-padded."""
+    if not many:
+        return dict(loads[0].attrs()), {}
+    n = max(one.harmonics for one in loads)
+    cos = np.zeros((len(loads), n))
+    sin = np.zeros((len(loads), n))
+    for i, one in enumerate(loads):
+        cos[i, :one.harmonics] = one.cos
+        sin[i, :one.harmonics] = one.sin
+    dims = ("load", "load_harmonic")
+    return {}, {"load_cos": xr.Variable(dims, cos, {
+        "units": "1", "long_name": "cosine coefficients a_n of the load's shape",
+        "comment": "p(theta) = sum_n a_n cos(n theta) + b_n sin(n theta), n = 1 + "
+                   "load_harmonic"}),
+        "load_sin": xr.Variable(dims, sin, {
+            "units": "1", "long_name": "sine coefficients b_n of the load's shape"}),
+        "load_truncation": xr.Variable("load", np.array([one.truncation for one in loads]),
+                                       {"units": "1", "long_name": "largest difference "
+                                        "from the samples the shape was made from"})}
+
+
 def law_labels(laws) -> tuple[dict, dict]:
     """``(attrs, variables)`` that say which friction law a result used: for one law
     object its attributes (``FrictionLaw.attrs``) and its table (``law_speed``,

@@ -189,11 +189,15 @@ class Params:
         analytic family: then r_y, alpha1, alpha2, r_k and v_s are not given (the law
         holds its own data), and the damping c stays the slider's.
     F0, Omega, phi, Y0 : float, optional
-        The external excitation (``sweepcore.excitations``): a harmonic load
-        ``F0 cos(Omega t + phi)`` [kN] on the slider and a motion ``Y0 cos(Omega t)``
-        [cm] of the anchor of spring and damper (then the slider's equation is
-        ``m x'' + c (x' - y') + k (x - y) + r_a = F0 cos(Omega t + phi)``);
-        Omega [rad/s] > 0 is required with either. Default: none (F0 = Y0 = 0).
+        The external excitation (``sweepcore.excitations``): a load
+        ``F0 p(Omega t + phi)`` [kN] on the slider (phi in radians) and a motion
+        ``Y0 cos(Omega t)`` [cm] of the anchor of spring and damper (then the
+        slider's equation is ``m x'' + c (x' - y') + k (x - y) + r_a =
+        F0 p(Omega t + phi)``); Omega [rad/s] > 0 is required with either.
+        Default: none (F0 = Y0 = 0).
+    load : PeriodicLoad, optional
+        The load's shape p over one period (:class:`sweepcore.PeriodicLoad`: its
+        harmonics); default one cosine, p = cos.
 
     Raises
     ------
@@ -217,13 +221,21 @@ class Params:
     Omega: float | None = None
     phi: float = 0.0
     Y0: float = 0.0
+    load: object = None
 
     def __post_init__(self):
+        if isinstance(self.load, (list, tuple)):
+            raise TypeError("Params: load must be one sweepcore.PeriodicLoad (a sweep "
+                            "over several is Grid(..., load=[...]))")
+        excitations.check_loads("Params", self.load)
         for name in excitations.KEYWORDS:
             if getattr(self, name) is not None:
                 object.__setattr__(self, name, check_real(name, getattr(self, name),
                                                           **RULES[name]))
         excitations.check("Params", self.excitation_values())
+        if self.load is not None and not self.F0:
+            raise ValueError(f"Params: load={self.load.name!r} given but F0 = "
+                             f"{self.F0!r}: the load's amplitude F0 [kN] is needed")
         if self.v is None:
             raise TypeError("Params() missing the belt speed v [cm s-1]")
         for name in ("m", "k", "v", "c"):
@@ -264,6 +276,12 @@ class Params:
     def forced(self) -> bool:
         """Whether the slider is excited (F0 or Y0 not 0)."""
         return excitations.given(self.excitation_values())
+
+    @property
+    def loads(self) -> tuple:
+        """The load shapes of the kernel row (``layout.LOAD`` indexes them): the one
+        given, or one cosine."""
+        return (self.load if self.load is not None else excitations.HARMONIC,)
 
     @property
     def friction_law(self):

@@ -80,15 +80,10 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
         raise ValueError(f"max_events must be an integer >= 1, got {max_events!r}")
     if params.forced:
         forced.check_method(method)
-        o = make_options(method, tol=tol, dt=dt, max_steps=max_steps, gps_a=gps_a,
-                         graze=graze)
-        o[layout.O_METHOD] = forced.METHOD
-        run = forced.trajectory
     else:
         check_method(method, params)
-        o, _status = compiled.options(row, params.friction_law, make_options(
-            method, tol=tol, dt=dt, max_steps=max_steps, gps_a=gps_a, graze=graze))
-        run = compiled.trajectory
+    o, _status = compiled.options(row, params.friction_law, params.load, make_options(
+        method, tol=tol, dt=dt, max_steps=max_steps, gps_a=gps_a, graze=graze))
     t = np.arange(n) * output_dt
     if t[-1] < t_end:
         t = np.append(t, t_end)
@@ -99,8 +94,8 @@ def simulate(params: Params, t_end: float, x0: float = 0.0, xdot0: float | None 
         mode = np.empty(t.shape, np.int64)
         ev = [np.empty(cap), np.empty(cap, np.int64), np.empty(cap), np.empty(cap)]
         acc = fresh_acc()
-        n_ev, status, n_steps, _meth = run(row, params.friction_law, o, t, xs, zds, mode,
-                                           *ev, acc)
+        n_ev, status, n_steps, _meth = compiled.trajectory(
+            row, params.friction_law, params.load, o, t, xs, zds, mode, *ev, acc)
         if n_ev <= cap or cap >= max_events:
             break
         cap = min(max_events, 2 * n_ev)
@@ -129,7 +124,7 @@ FRICTION_WORK = {"units": "kN cm", "long_name": "work of the friction force on t
                  "comment": "integral of r_a xdot dt over the run; the slider's energy "
                             "k x^2/2 + m xdot^2/2 changes by -(friction_work + damping_work)"}
 LOAD = {"units": "kN", "long_name": "external force on the slider",
-        "comment": "F0 cos(Omega t + phi) + k y + c y' with y = Y0 cos(Omega t): the "
+        "comment": "F0 p(Omega t + phi) + k y + c y' with y = Y0 cos(Omega t): the "
                    "load and the anchor's motion as one force"}
 TIME_STUCK = {"units": "s", "long_name": "time stuck on the belt during the run"}
 
@@ -196,6 +191,7 @@ def _dataset(params, row, o, t, x, zd, mode, ev, status, n_steps):
     )
     if params.forced:
         ds["external_force"] = ("time", load, LOAD)
+        ds.attrs.update(params.loads[0].attrs())
     if status != codes.OK:
         ds.attrs["comment"] += (" The run stopped with status "
                                 f"{codes.STATUS_NAMES[status]}; samples after it are NaN.")

@@ -106,7 +106,7 @@ def _observables(grid: Grid, start: int, stop: int, o: np.ndarray,
     (:func:`sweepcore.execute.attractors`)."""
     out = np.empty((stop - start, width(grid)))
     if grid.forced:
-        forced.responses(grid.rows(start, stop), grid.laws, o, out, parallel)
+        forced.responses(grid.rows(start, stop), grid.laws, grid.loads, o, out, parallel)
     else:
         execute.attractors(grid.rows(start, stop), grid.laws, o, out, parallel)
     return out
@@ -406,6 +406,11 @@ def _dataset(grid: Grid, column, o: np.ndarray, method: str,
         law_variables["beyond_table"] = beyond
     ds.attrs.update(law_attrs)
     ds = ds.assign(law_variables)
+    if grid.forced:
+        load_attrs, load_variables = labels.load_labels(grid.loads,
+                                                        isinstance(grid.load, tuple))
+        ds.attrs.update(load_attrs)
+        ds = ds.assign(load_variables)
     labels.mark_spacing(ds)
     # the belt speed last: xarray's default 2-D plot puts the last dimension on x
     return ds.transpose(..., "v") if "v" in ds.dims else ds

@@ -80,9 +80,15 @@ FORCED_OBSERVABLES = {
     "t_settle": (layout.OB_T_SETTLE, "s", "settling time",
                  "time after which the response was found (forcing periods iterated "
                  "from the start)"),
+    "x_section": (layout.OB_X_SECTION, "cm", "position at the periodic point",
+                  "x of the response at t = 0 mod n 2 pi/Omega, where the stroboscopic "
+                  "map is taken (the load's phase phi there): a fixed point of P^n that "
+                  "any integrator can check; NaN for an aperiodic response"),
+    "xdot_section": (layout.OB_XDOT_SECTION, "cm s-1", "velocity at the periodic point",
+                     "xdot of the response at t = 0 mod n 2 pi/Omega (see x_section)"),
     "n_steps": (layout.OB_NSTEPS, "1", "integrator steps spent on the point",
                 "all stepper calls, including rejected steps, event polishing and the "
-                "Jacobian's re-runs"),
+                "tangent's re-steps"),
 }
 
 # observables stored as integers (int64), counts, so that they read as counts in

@@ -164,8 +164,8 @@ def test_excitation_needs_its_frequency():
 
 def test_forced_methods_refused_by_name():
     p = sc.Params(m=1.0, k=1.0, r_y=1.0, v=1.0, F0=1.0, Omega=1.0)
-    with pytest.raises(ValueError, match="rk4.*dop853"):
-        sc.attractor(p, method="rk4")
+    with pytest.raises(ValueError, match="exact.*autonomous.*dop853"):
+        sc.attractor(p, method="exact")
     with pytest.raises(ValueError, match="periods"):
         sc.attractor(p, periods=0)
 
@@ -208,12 +208,12 @@ def test_excitation_columns_read_by_excitation_modules_only():
     import pathlib
     import re
     root = pathlib.Path(sc.__file__).parent
-    allowed = {"_kernels/layout.py", "_kernels/excitations/harmonic.py",
-               "excitations/__init__.py", "excitations/harmonic.py",
+    allowed = {"_kernels/layout.py", "_kernels/excitations/periodic.py",
+               "excitations/__init__.py", "excitations/periodic.py",
                "excitations/none.py", "_kernels/excitations/none.py",
-               "_kernels/excitations/__init__.py"}
+               "_kernels/excitations/__init__.py", "_kernels/excitation.py"}
     pattern = re.compile(r"\[\s*(layout\.)?(F0|OMEGA|PHI|Y0)\s*[\],]|layout\.(F0|OMEGA|PHI|Y0)\b"
-                         r"|Harmonic\(\)|Unforced\(\)|excitations\.kinds\(")
+                         r"|Periodic\(|excitations\.kinds\(")
     offenders = [str(f.relative_to(root)) for f in root.rglob("*.py")
                  if str(f.relative_to(root)) not in allowed and pattern.search(f.read_text())]
     assert offenders == []

@@ -28,6 +28,8 @@ from .jit import copy_into, kernel, runtime
 from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
+from .excitation import forced, load_bound, top_frequency
+from .excitations.none import Unforced
 from .law import (anti_damped, breakaway, certified_rest, conservative,
                   normal_form_valid, piecewise_linear, x_eq)
 from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
@@ -139,23 +141,29 @@ def answer_failure(out, w, acc, status, n_steps, unbounded):
 
 # ------------------------------------------------------------------ set-up
 @kernel
-def resolve_options(meth, p, lw, o_in):
+def resolve_options(meth, p, lw, fx, o_in):
     """Per-point option row: the method (a compile-time code: "auto" is resolved per
     point before the call, ``sweepcore.compiled.methods_of``), default dt and GPS
-    shift resolved."""
+    shift resolved (``fx``: the excitation, prepared for the point)."""
     o = o_in.copy()
-    resolve_into(meth, p, lw, o)
+    resolve_into(meth, p, lw, fx, o)
     return o
 
 
 @kernel
-def resolve_into(meth, p, lw, o):
-    """``resolve_options`` in place on ``o``, a copy of the option row."""
+def resolve_into(meth, p, lw, fx, o):
+    """``resolve_options`` in place on ``o``, a copy of the option row. Under a load
+    the length scale grows by the load's bound over k, the velocity scale is at
+    least omega times it, and the default fixed step resolves the load's highest
+    frequency too."""
     omega = math.sqrt(p[K] / p[M])
     lx, lv = scales(p, lw)
+    if forced(fx):
+        lx = lx + load_bound(fx) / p[K]
+        lv = max(abs(p[V]), omega * lx)
     o[O_METHOD] = meth
     if not o[O_DT] > 0.0:
-        o[O_DT] = 2.0 * math.pi / omega / 50.0
+        o[O_DT] = 2.0 * math.pi / max(omega, top_frequency(fx)) / 50.0
     o[O_LX] = lx
     o[O_LV] = lv
     if np.isnan(o[O_GPS_A]):
@@ -163,13 +171,13 @@ def resolve_into(meth, p, lw, o):
 
 
 @kernel
-def method_status(meth, p, lw, o):
-    """A priori refusal: closed forms need a piecewise-linear law; fixed steps must
-    resolve 1/omega."""
-    if CLOSED_FORM[meth] and not piecewise_linear(p, lw):
+def method_status(meth, p, lw, fx, o):
+    """A priori refusal: closed forms need a piecewise-linear law and no load; fixed
+    steps must resolve 1/omega and the load's highest frequency."""
+    if CLOSED_FORM[meth] and (forced(fx) or not piecewise_linear(p, lw)):
         return codes.BAD_METHOD
     if (meth == codes.GPS or meth == codes.RK4) and \
-            o[O_DT] * math.sqrt(p[K] / p[M]) > 1.0:
+            o[O_DT] * max(math.sqrt(p[K] / p[M]), top_frequency(fx)) > 1.0:
         return codes.STEP_TOO_LARGE
     return codes.OK
 
@@ -198,7 +206,7 @@ def setup(meth, p, lw, o, st, w, acc):
     w[W_RTOL] = o[O_RTOL]
     for i in range(NACC):
         clear(acc[i])
-    init_state(st, p[X0], p[XD0], p, lw, o)
+    init_state(st, p[X0], p[XD0], p, lw, Unforced(), o)
     st[S_SECTIONS] = 1.0
     if v != 0.0 and st[S_ZD] == 0.0 and st[S_MODE] != codes.STICK and st[S_X] == w[W_XS]:
         w[W_RESET_SEEN] = 1.0
@@ -223,13 +231,13 @@ def next_event(meth, st, p, lw, o, w, acc):
     w[W_MODE0] = st[S_MODE]
     step_acc = acc[ACC_STEP]
     if st[S_MODE] == codes.STICK:
-        ev, status = advance(meth, st, p, lw, o, step_acc, np.inf)
+        ev, status = advance(meth, st, p, lw, Unforced(), o, step_acc, np.inf)
         if ev == codes.EV_SLIP:
             w[W_T_OFF] += st[S_T]
             st[S_T] = 0.0
     else:
         t_start = st[S_T]
-        ev, status = advance(meth, st, p, lw, o, step_acc,
+        ev, status = advance(meth, st, p, lw, Unforced(), o, step_acc,
                              t_start + min(1.5 * w[W_T_NAT], w[W_T_BUDGET] - w[W_T_SLIDE]))
         w[W_T_SLIDE] += st[S_T] - t_start
     _merge(acc[ACC_CYC], step_acc)
@@ -257,7 +265,7 @@ def on_reset(meth, st, p, o, w, acc, out, touched):
     starts measuring one. Returns True when answered.
 
     ``touched``: the reset is a tangential touch snapped to the breakaway point
-    (``driver.classify_zero``), which hides whether the motion stuck for an instant,
+    (``excitations/none.py``, ``zero_mode``), which hides whether the motion stuck for an instant,
     grazed, or passed below the belt speed by less than the touch tolerance (next to
     a fold, the last ends in steady sliding); or a stick of the period began at a
     touch (``W_TOUCHED``: placed at the turning point of zdot, its start and so the
@@ -416,8 +424,8 @@ def attractor_point(meth, p, lw, o_in, out, ws):
         return
     o = ws[:NO]
     copy_into(o, o_in)
-    resolve_into(meth, p, lw, o)
-    refused = method_status(meth, p, lw, o)
+    resolve_into(meth, p, lw, Unforced(), o)
+    refused = method_status(meth, p, lw, Unforced(), o)
     if refused != codes.OK:
         out[OB_REGIME] = codes.R_FAILED
         out[OB_STATUS] = refused

@@ -1,22 +1,26 @@
-"""The one hybrid stick/slide driver.
+"""The one hybrid stick/slide driver, for every excitation.
 
 It owns the phases and every rule that switches them; steppers (``stepper.py``) only
-advance the smooth sliding field. ``advance`` moves a state array ``st`` (layout in
-``layout.py``) to the next event or to ``t_stop`` and returns ``(event, status)``.
+advance the smooth sliding field, with time (``fun(t, y)``), and the excitation
+(``excitation.py``, its data ``fx`` beside the law's) says what its load adds.
+``advance`` moves a point's state row ``st`` (layout in ``layout.py``) to its next
+event or to ``t_stop`` and returns ``(event, status)``: everything a point needs to
+go on lives in its row.
 
 Rules (eq. numbers of Liu's paper):
 
-* stick: ``xdot = v``; slip when the holding force ``|k x + c v|`` reaches ``r_y`` at
-  the closed-form time of eq. (27), never by time stepping. The slip state is set to
-  the breakaway point ``(x_s, v)`` (``law.breakaway``) exactly, so every slip after a
-  stick starts from the same point.
+* stick: ``xdot = v``; the stick ends where the holding force leaves the static band
+  (the excitation's ``stick_exit``: for the autonomous belt the closed-form time of
+  eq. (27), under a load the exact first exit of ``holding.py``), never by time
+  stepping. The slip state is set there exactly (for the autonomous belt the
+  breakaway point ``(x_s, v)``, so every slip after a stick starts from it).
 * slide: ``zdot`` returns to 0 (located inside a step on its interpolant, then
-  re-stepped to the event so the state is the integrator's own: ``_on_root``). With the stick band ``[x_lo, x_hi]`` of
-  ``|k x + c v| <= r_y`` (``law.stick_band``) and ``v > 0``: ``x >= x_hi`` -> slide on
-  with ``zdot < 0`` (the slide-slide condition (22)); ``x < x_lo`` -> slide on with
-  ``zdot > 0``; otherwise stick. Sliding on in the same direction is an abnormal stop
-  (31), reversing a normal stop (30). ``v < 0`` is the mirror image; for ``v = 0``
-  the slider sticks inside the band.
+  re-stepped to the event so the state is the integrator's own: ``_on_root``); the
+  excitation's ``zero_mode`` decides what follows: stick where the holding force is
+  inside the band, else slide on (a zero-duration stop, the slide-slide condition
+  (22): on in the same direction an abnormal stop (31), reversing a normal stop
+  (30)). For the autonomous belt that is the stick band ``[x_lo, x_hi]`` of
+  ``|k x + c v| <= r_y`` (``law.stick_band``).
 * tangential touches (grazes): ``zdot`` touching 0 with ``zdd = 0`` (the constant-
   friction cycle's abnormal stop) is found at its turning point, not by a sign test,
   and a touch within the graze tolerance of the breakaway point ``x_s`` is snapped to
@@ -26,6 +30,9 @@ Rules (eq. numbers of Liu's paper):
   cycles and stiff springs keep their sticks and their growth.
 * after leaving the switching line (slip, stop) the event test is disarmed until
   ``zdot`` turns back towards 0, so the departure itself is never an event.
+* with ``st[S_TRACK]`` the tangent ``st[S_J]`` (the derivative of the state with
+  respect to a start) rides along: through each step (``variational.py``) and
+  through each switch's saltation matrix (``_salt_zero``, ``_salt_release``).
 """
 import math
 
@@ -33,16 +40,19 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .law import (accel, breakaway, certified_rest, constants, friction_force, integrand,
-                  step_bound, stick_band)
-from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_WF, A_XDMAX,
-                     A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX, O_MAX_STEPS,
-                     O_METHOD, O_RTOL, S_ARMED, S_H, S_MODE, S_N, S_SECTIONS, S_T,
-                     S_TOUCH, S_X, S_ZD, V)
+from .excitation import (capped, field_accel, load_rate, plus_load, stick_exit,
+                         top_frequency, zero_mode)
+from .jit import runtime
+from .law import (certified_rest, constants, friction_force, integrand, step_bound)
+from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_NSTOP, A_TSTICK, A_WF,
+                     A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX,
+                     O_MAX_STEPS, O_METHOD, O_RTOL, S_ARMED, S_H, S_J, S_MODE, S_N,
+                     S_SECTIONS, S_T, S_TOUCH, S_TRACK, S_X, S_ZD, V)
 from .events import (F_XD, F_XDOT_EXTREMUM, NO_PART, cubic_root, polish, zd_event,
                      zero_in_step)
 from .stepper import (ADAPTIVE, EXPONENT, TOUCH_FACTOR, extend, has_dense, proposal,
                       step, step_kept)
+from .variational import tangent
 
 EPS = np.finfo(np.float64).eps
 # ---------------------------------------------------------------- small pieces
@@ -72,58 +82,15 @@ def touch_tol(p, o):
 
 
 @kernel
-def classify_zero(x, s, p, lw, gtol):
-    """Mode after zdot reached 0 while sliding with sign s, and the event kind.
-
-    ``gtol`` is the touch tolerance [cm/s] (``touch_tol``). Returns
-    (new_mode, event, x_new): x_new is x, or the breakaway point when a zero within
-    ``tolx = gtol / omega`` of it is snapped there. Snapping skips a stick of at most
-    ``gtol / (omega |v|)``, a few rtol of a natural period (the state after it is the
-    same: the slip restarts from ``x_s``). That is a motion scale: ``r_y/k`` does not
-    enter (tiny v: a stick 1e-11 of ``x_s`` long is a stick). The floor is the
-    rounding of the band's edges.
-    """
-    v = p[V]
-    x_lo, x_hi = stick_band(p, lw)
-    tolx = gtol / math.sqrt(p[K] / p[M]) + 4.0 * EPS * max(abs(x_lo), abs(x_hi))
-    new = codes.STICK
-    xn = x
-    if v > 0.0:
-        if x >= x_hi - tolx:
-            new = codes.SLIDE_NEG
-            if x <= x_hi + tolx:
-                xn = x_hi
-        elif x < x_lo - tolx:
-            new = codes.SLIDE_POS
-    elif v < 0.0:
-        if x <= x_lo + tolx:
-            new = codes.SLIDE_POS
-            if x >= x_lo - tolx:
-                xn = x_lo
-        elif x > x_hi + tolx:
-            new = codes.SLIDE_NEG
-    else:
-        if x > x_hi + tolx:
-            new = codes.SLIDE_NEG
-        elif x < x_lo - tolx:
-            new = codes.SLIDE_POS
-    if new == codes.STICK:
-        return new, codes.EV_STICK, xn
-    if new == s:
-        return new, codes.EV_ABNORMAL_STOP, xn
-    return new, codes.EV_NORMAL_STOP, xn
-
-
-@kernel
-def initial_mode(x0, xd0, p, lw, gtol):
-    """Phase of a start (x0, xdot0): slide by the sign of zdot, else as at a stop
-    (``gtol``: touch tolerance [cm/s])."""
+def initial_mode(x0, xd0, p, lw, fx, gtol):
+    """Phase of a start (x0, xdot0) at t = 0: slide by the sign of zdot, else as at
+    a stop (``gtol``: touch tolerance [cm/s])."""
     zd0 = xd0 - p[V]
     if zd0 > 0.0:
         return codes.SLIDE_POS, x0
     if zd0 < 0.0:
         return codes.SLIDE_NEG, x0
-    new, _ev, xn = classify_zero(x0, 0.0, p, lw, gtol)
+    new, _ev, xn = zero_mode(fx, x0, 0.0, 0.0, p, lw, gtol)
     return new, xn
 
 
@@ -140,52 +107,49 @@ def _note_x(acc, x, xd):
 
 
 @kernel
-def init_state(st, x0, xd0, p, lw, o):
-    """Fill st for a start at t = 0; returns the start's mode."""
-    mode, xs = initial_mode(x0, xd0, p, lw, touch_tol(p, o))
+def init_state(st, x0, xd0, p, lw, fx, o):
+    """Fill st for a start at t = 0 (no tangent); returns the start's mode."""
+    mode, xs = initial_mode(x0, xd0, p, lw, fx, touch_tol(p, o))
     st[S_T] = 0.0
     st[S_X] = xs
     st[S_ZD] = 0.0 if mode == codes.STICK else xd0 - p[V]
     st[S_MODE] = mode
     st[S_ARMED] = 1.0 if st[S_ZD] != 0.0 else 0.0
     omega = math.sqrt(p[K] / p[M])
-    st[S_H] = 0.05 / omega
+    st[S_H] = 0.05 / max(omega, top_frequency(fx))
     st[S_N] = 0.0
     st[S_SECTIONS] = 0.0
+    st[S_TRACK] = 0.0
     return mode
 
 
 # ---------------------------------------------------------------- the phases
 @kernel
-def stick_until_slip(st, p, lw, acc, t_stop):
-    """Stick phase in closed form (x moves with the belt) until slip or t_stop."""
+def stick_until_slip(st, p, lw, fx, acc, t_stop):
+    """Stick phase in closed form (x moves with the belt) until the holding force
+    leaves the band (the excitation's ``stick_exit``) or t_stop."""
     v = p[V]
-    xs = breakaway(p, lw)
     t = st[S_T]
     x = st[S_X]
-    if v > 0.0:
-        dt_slip = max(xs - x, 0.0) / v
-    elif v < 0.0:
-        dt_slip = min(xs - x, 0.0) / v
-    else:
-        dt_slip = np.inf
-    slips = dt_slip <= t_stop - t
-    dt = dt_slip if slips else t_stop - t     # a duration, not a difference of times
+    dt, slips, mode, xs = stick_exit(fx, t, x, p, lw, t_stop)
     t1 = t + dt if slips else t_stop
     x1 = x + v * dt
     ix = dt * (x + 0.5 * v * dt)
     acc[A_IX] += ix
     acc[A_IXD2] += v * v * dt
-    acc[A_WF] += -p[K] * v * ix - p[C] * v * v * dt   # r_a = -(k x + c v) while stuck
+    # r_a = -(k x + c v) while stuck (and + e(t) under a load: not booked here)
+    acc[A_WF] += -p[K] * v * ix - p[C] * v * v * dt
     acc[A_TSTICK] += dt
     acc[A_DT] += dt
     st[S_T] = t1
     if slips:
         st[S_X] = xs
         st[S_ZD] = 0.0
-        st[S_MODE] = codes.SLIDE_NEG if v > 0.0 else codes.SLIDE_POS
+        st[S_MODE] = mode
         st[S_ARMED] = 0.0
         _note_x(acc, st[S_X], v)
+        if st[S_TRACK] > 0.0:
+            _salt_release(st, p, lw, fx)
         return codes.EV_SLIP, codes.OK
     st[S_X] = x1
     _note_x(acc, x1, v)
@@ -203,7 +167,7 @@ def _book(acc, qx, qv, qw, ql, h):
 
 
 @kernel
-def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched, a0, cf, dc, H,
+def _finish_zero(meth, st, p, lw, fx, o, acc, x0, zd0, s, h, xe, touched, a0, cf, dc, H,
                  part):
     """Book the partial step to a zdot = 0 event at h and apply the stop rules;
     ``touched``: the event is a tangential touch (``st[S_TOUCH]``), whose stop or
@@ -212,23 +176,28 @@ def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched, a0, cf, dc
     the belt speed that turns back and sticks within the step). ``dc``: the
     interpolant of the step ``H`` that holds the event. ``part``: the partial step
     ``(x, zdot, quadratures)`` when already taken (``_confirmed``), else NaNs."""
+    t0 = st[S_T]
     xr, zr, qx, qv, qw, ql = part
     if xr != xr:
-        xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, x0, zd0, h, s, p, lw, o, True)
+        xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, t0, x0, zd0, h, s, p, lw, fx, o, True)
         st[S_N] += 1.0
+    if st[S_TRACK] > 0.0:
+        _track_partial(meth, st, p, lw, fx, o, t0, x0, zd0, s, h)
     _book(acc, qx, qv, qw, ql, h)
-    _velocity_extremum(meth, st, p, lw, o, acc, x0, zd0, s, h, a0,
-                       accel(xe, 0.0, s, cf, lw, p[K], p[M]), dc, H)
+    _velocity_extremum(meth, st, p, lw, fx, o, acc, t0, x0, zd0, s, h, a0,
+                       field_accel(fx, t0 + h, xe, 0.0, s, cf, lw, p[K], p[M]), dc, H)
     if has_dense(meth):
         # located on the interpolant: the integrator's state there, and for a
         # crossing its own zero (a touch is placed at its turning point, where the
         # time of zdot = 0 is ill-conditioned)
         xe = xr
         if not touched:
-            xe, dt = _on_root(acc, xr, zr, 0.0, s, cf, lw, p)
+            xe, dt = _on_root(acc, xr, zr, 0.0, s, cf, lw, p, fx, t0 + h)
             h += dt
     st[S_T] += h
-    new, ev, xn = classify_zero(xe, s, p, lw, touch_tol(p, o))
+    new, ev, xn = zero_mode(fx, xe, st[S_T], s, p, lw, touch_tol(p, o))
+    if st[S_TRACK] > 0.0:
+        _salt_zero(st, p, lw, fx, xe, s, new)
     st[S_X] = xn
     st[S_ZD] = 0.0
     st[S_MODE] = new
@@ -236,40 +205,46 @@ def _finish_zero(meth, st, p, lw, o, acc, x0, zd0, s, h, xe, touched, a0, cf, dc
     st[S_TOUCH] = 1.0 if touched else 0.0
     if new == codes.STICK:
         acc[A_NSTICK] += 1.0
+    else:
+        acc[A_NSTOP] += 1.0
     _note_x(acc, xn, p[V])
     return ev
 
 
 @kernel
-def _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, a1, cf, dc):
+def _section(meth, st, p, lw, fx, o, acc, x, zd, z1, s, t, h, h_ev, a0, a1, cf, dc):
     """The extremum of x inside the step from (x, zd) (xdot changes sign): if it
     comes before the zdot = 0 event at h_ev (h_ev < 0: none), book the partial step
     to it and stop there, at the Poincare section (xdot = 0 exactly). Returns its
     event, or EV_NONE when the zdot event comes first.
 
-    With ``st[S_SECTIONS]`` (the attractor search) only the section's extremum
+    With ``st[S_SECTIONS]`` 1 (the attractor search) only the section's extremum
     stops the motion (the maximum for v > 0, the minimum for v < 0); the other is
     noted where the interpolant places it, and stops only where the equilibrium
     certificate holds there (the search answers an equilibrium half a period
-    sooner). A stop costs a partial step and a new start: ~2 stepper calls."""
+    sooner); with 2 (the stroboscopic search) none stops, each is noted. A stop
+    costs a partial step and a new start: ~2 stepper calls."""
     v = p[V]
     xd0 = zd + v
-    h_xe, xx, zx = polish(meth, F_XD, x, zd, s, p, lw, o, 0.0, h, 1.0 if xd0 > 0.0 else -1.0,
+    h_xe, xx, zx = polish(meth, F_XD, t, x, zd, s, p, lw, fx, o, 0.0, h,
+                          1.0 if xd0 > 0.0 else -1.0,
                           h * cubic_root(xd0, z1 + v, a0 * h, a1 * h), st, dc, h)
     if h_ev >= 0.0 and h_xe >= h_ev:
         return codes.EV_NONE
-    if st[S_SECTIONS] > 0.0 and (xd0 > 0.0) != (v > 0.0) and \
-            not certified_rest(xx, zx, p, lw):
+    if st[S_SECTIONS] > 1.0 or (st[S_SECTIONS] > 0.0 and (xd0 > 0.0) != (v > 0.0) and
+                                not certified_rest(xx, zx, p, lw)):
         _note_x(acc, xx, 0.0)
         return codes.EV_NONE
-    xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, x, zd, h_xe, s, p, lw, o, True)
+    xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, t, x, zd, h_xe, s, p, lw, fx, o, True)
     st[S_N] += 1.0
+    if st[S_TRACK] > 0.0:
+        _track_partial(meth, st, p, lw, fx, o, t, x, zd, s, h_xe)
     _book(acc, qx, qv, qw, ql, h_xe)
-    _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h_xe, a0,
-                       accel(xx, -v, s, cf, lw, p[K], p[M]), dc, h)
+    _velocity_extremum(meth, st, p, lw, fx, o, acc, t, x, zd, s, h_xe, a0,
+                       field_accel(fx, t + h_xe, xx, -v, s, cf, lw, p[K], p[M]), dc, h)
     dt = 0.0
     if has_dense(meth):         # located on the interpolant: the integrator's root
-        xx, dt = _on_root(acc, xr, zr, -v, s, cf, lw, p)
+        xx, dt = _on_root(acc, xr, zr, -v, s, cf, lw, p, fx, t + h_xe)
     st[S_T] = t + h_xe + dt
     st[S_X] = xx
     st[S_ZD] = -v               # xdot = 0 exactly at the section
@@ -278,7 +253,7 @@ def _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, a1, cf, dc):
 
 
 @kernel
-def slide_until_event(meth, st, p, lw, o, acc, t_stop):
+def slide_until_event(meth, st, p, lw, fx, o, acc, t_stop):
     """Integrate the sliding phase until zdot = 0, an extremum of x, or t_stop.
     Helpers taking arrays are called only where something happens: numba passes
     each array with a reference count, which on every step would cost more than the
@@ -303,6 +278,8 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
         zd = st[S_ZD]
         h, a0 = _capped(proposal(meth, x, zd, s, p, lw, o, st[S_H]), x, zd, s, cf, lw, k,
                         m, v, o, omega, adaptive)
+        h = capped(fx, h)
+        a0 = plus_load(fx, t, a0, m)
         last = t + h >= t_stop
         if last:
             h = t_stop - t
@@ -313,10 +290,12 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
                 return codes.EV_STOP_TIME, codes.STEP_UNDERFLOW
             st[S_T] = t_stop
             return codes.EV_STOP_TIME, codes.OK
-        x1, z1, qx, qv, qw, ql, err, ok, ks = step_kept(meth, x, zd, h, s, p, lw, o, True)
+        x1, z1, qx, qv, qw, ql, err, ok, ks = step_kept(meth, t, x, zd, h, s, p, lw, fx, o,
+                                                        True)
         st[S_N] += 1.0
         if not ok:                  # GPS denominator guard: halve the step
-            ok, h, x1, z1, qx, qv, qw, ql = _halved(meth, st, p, lw, o, x, zd, s, h, omega)
+            ok, h, x1, z1, qx, qv, qw, ql = _halved(meth, st, p, lw, fx, o, t, x, zd, s, h,
+                                                    omega)
             if not ok:
                 return codes.EV_STOP_TIME, codes.GPS_DENOMINATOR
             last = False
@@ -327,32 +306,35 @@ def slide_until_event(meth, st, p, lw, o, acc, t_stop):
         if not (abs(x1) < 1e12 * o[O_LX] and abs(z1) < 1e12 * omega * o[O_LX]):
             return codes.EV_STOP_TIME, codes.DIVERGED
         if a0 != a0:                # not taken by the step bound
-            a0 = accel(x, zd, s, cf, lw, k, m)
-        a1 = accel(x1, z1, s, cf, lw, k, m)
-        sec, turns, h_ev, xe, touched, part, dc = _scan(meth, st, p, lw, o, x, zd, x1, z1,
-                                                        s, h, a0, a1, ks, gtol, near, cf)
+            a0 = field_accel(fx, t, x, zd, s, cf, lw, k, m)
+        a1 = field_accel(fx, t + h, x1, z1, s, cf, lw, k, m)
+        sec, turns, h_ev, xe, touched, part, dc = _scan(meth, st, p, lw, fx, o, t, x, zd,
+                                                        x1, z1, s, h, a0, a1, ks, gtol,
+                                                        near, cf)
         # --- extremum of x (Poincare section) inside the step
         if sec:
-            ev = _section(meth, st, p, lw, o, acc, x, zd, z1, s, t, h, h_ev, a0, a1, cf,
-                          dc)
+            ev = _section(meth, st, p, lw, fx, o, acc, x, zd, z1, s, t, h, h_ev, a0, a1,
+                          cf, dc)
             if ev != codes.EV_NONE:
                 return ev, codes.OK
         if h_ev >= 0.0:
-            return _finish_zero(meth, st, p, lw, o, acc, x, zd, s, h_ev, xe,
+            return _finish_zero(meth, st, p, lw, fx, o, acc, x, zd, s, h_ev, xe,
                                 touched, a0, cf, dc, h, part), codes.OK
         if turns:
-            _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1, dc, h)
+            _velocity_extremum(meth, st, p, lw, fx, o, acc, t, x, zd, s, h, a0, a1, dc, h)
+        if st[S_TRACK] > 0.0:
+            _track(meth, st, p, lw, fx, o, t, x, zd, s, h, x1, z1, ks)
         _accept(st, acc, t + h if not last else t_stop, h, x1, z1, v, qx, qv, qw, ql)
         if last:
             return codes.EV_STOP_TIME, codes.OK
 
 
 @kernel(inline="always")
-def _scan(meth, st, p, lw, o, x, zd, x1, z1, s, h, a0, a1, ks, gtol, near, cf):
-    """What the accepted step h from (x, zd) to (x1, z1) holds: ``(sec, turns, h_ev,
-    x_ev, touched, part, dc)``: whether x turns (a Poincare section when v != 0) and
-    xdot turns inside it, the first zdot = 0 event (crossings, double crossings and
-    touches; h_ev < 0: none; ``events.zero_in_step``), and the step's interpolant
+def _scan(meth, st, p, lw, fx, o, t, x, zd, x1, z1, s, h, a0, a1, ks, gtol, near, cf):
+    """What the accepted step h from (x, zd) at t to (x1, z1) holds: ``(sec, turns,
+    h_ev, x_ev, touched, part, dc)``: whether x turns (a Poincare section when v != 0)
+    and xdot turns inside it, the first zdot = 0 event (crossings, double crossings
+    and touches; h_ev < 0: none; ``events.zero_in_step``), and the step's interpolant
     ``dc``, built from the slopes ``ks`` it kept where something is to be located."""
     v = p[V]
     g0 = s * zd
@@ -367,10 +349,10 @@ def _scan(meth, st, p, lw, o, x, zd, x1, z1, s, h, a0, a1, ks, gtol, near, cf):
     dc = (0.0,) * 14
     if kind != 0 or sec or turns or ends:
         # something to locate inside the step: its interpolant (no stepper call)
-        dc = extend(meth, x, zd, h, s, p, lw, x1, z1, ks)
+        dc = extend(meth, t, x, zd, h, s, p, lw, fx, x1, z1, ks)
     if kind != 0:
-        h_ev, xe, touched, part = zero_in_step(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0,
-                                               g1, kind, ta, tb, tc, gtol, cf, dc)
+        h_ev, xe, touched, part = zero_in_step(meth, st, p, lw, fx, o, t, x, zd, s, h, a0,
+                                               a1, g0, g1, kind, ta, tb, tc, gtol, cf, dc)
     if h_ev < 0.0 and ends:
         h_ev, xe, touched = h, x1, True
     return sec, turns, h_ev, xe, touched, part, dc
@@ -429,36 +411,36 @@ def _power(e, expo):
 
 
 @kernel
-def _halved(meth, st, p, lw, o, x, zd, s, h, omega):
+def _halved(meth, st, p, lw, fx, o, t, x, zd, s, h, omega):
     """The GPS denominator guard: the step halved until it can be taken, down to
     1e-12/omega: ``(ok, h, x1, z1, qx, qv, qw, ql)``."""
     ok = False
     x1, z1, qx, qv, qw, ql = x, zd, 0.0, 0.0, 0.0, 0.0
     while not ok and h > 1e-12 / omega:
         h *= 0.5
-        x1, z1, qx, qv, qw, ql, _err, ok = step(meth, x, zd, h, s, p, lw, o, True)
+        x1, z1, qx, qv, qw, ql, _err, ok = step(meth, t, x, zd, h, s, p, lw, fx, o, True)
         st[S_N] += 1.0
     return ok, h, x1, z1, qx, qv, qw, ql
 
 
 @kernel
-def _velocity_extremum(meth, st, p, lw, o, acc, x, zd, s, h, a0, a1, dc, H):
+def _velocity_extremum(meth, st, p, lw, fx, o, acc, t, x, zd, s, h, a0, a1, dc, H):
     """Record an extremum of xdot (zdd = 0) inside [0, h] of the step H from (x, zd)
-    (interpolant ``dc``)."""
+    at t (interpolant ``dc``)."""
     if a0 != 0.0 and (a0 > 0.0) != (a1 > 0.0):
-        _h, xv, zv = polish(meth, F_XDOT_EXTREMUM, x, zd, s, p, lw, o, 0.0, h,
+        _h, xv, zv = polish(meth, F_XDOT_EXTREMUM, t, x, zd, s, p, lw, fx, o, 0.0, h,
                             1.0 if a0 > 0.0 else -1.0, h * a0 / (a0 - a1), st, dc, H)
         _note_x(acc, xv, zv + p[V])
 
 
 @kernel
-def _on_root(acc, xr, zr, zt, s, cf, lw, p):
-    """From the integrator's state ``(xr, zr)`` at a root of ``zdot - zt`` found on
-    the interpolant, one Newton step in time to the integrator's own root:
+def _on_root(acc, xr, zr, zt, s, cf, lw, p, fx, t):
+    """From the integrator's state ``(xr, zr)`` at t at a root of ``zdot - zt`` found
+    on the interpolant, one Newton step in time to the integrator's own root:
     ``(x there, dt)``, with the quadratures of ``dt`` booked (Taylor to first order;
     dt is the interpolant's error, so what is left is of its square)."""
     v = p[V]
-    a = accel(xr, zr, s, cf, lw, p[K], p[M])
+    a = field_accel(fx, t, xr, zr, s, cf, lw, p[K], p[M])
     if a == 0.0:
         return xr, 0.0
     dt = (zt - zr) / a
@@ -468,9 +450,64 @@ def _on_root(acc, xr, zr, zt, s, cf, lw, p):
     return xr + dt * (xd + 0.5 * a * dt), dt
 
 
+# ------------------------------------------------------------- the tangent
+@kernel
+def _track(meth, st, p, lw, fx, o, t, x, zd, s, h, x1, z1, ks):
+    """The tangent through the step h from (x, zd) at t to (x1, z1)."""
+    j = (st[S_J], st[S_J + 1], st[S_J + 2], st[S_J + 3])
+    n11, n12, n21, n22 = tangent(meth, j, t, x, zd, h, s, p, lw, fx, o, x1, z1, ks, st)
+    st[S_J] = n11
+    st[S_J + 1] = n12
+    st[S_J + 2] = n21
+    st[S_J + 3] = n22
+
+
+@kernel
+def _track_partial(meth, st, p, lw, fx, o, t, x, zd, s, h):
+    """The tangent through the partial step h to an event (the step taken again
+    for the slopes the tangent needs)."""
+    x1, z1, _a, _b, _c, _d, _e, _ok, ks = step_kept(meth, t, x, zd, h, s, p, lw, fx, o,
+                                                    runtime(False))
+    st[S_N] += 1.0
+    _track(meth, st, p, lw, fx, o, t, x, zd, s, h, x1, z1, ks)
+
+
+@kernel
+def _salt_zero(st, p, lw, fx, x, s, new):
+    """The saltation of zdot reaching 0 at x while sliding with sign s, into mode
+    ``new``: the event surface zdot = 0, so x's row stays and zdot's row is scaled by
+    the ratio of the accelerations after and before (0 for a stick: it forgets the
+    velocity)."""
+    ratio = 0.0
+    if new != codes.STICK:
+        t = st[S_T]
+        before = field_accel(fx, t, x, 0.0, s, constants(p, lw, s), lw, p[K], p[M])
+        sn = float(new)
+        after = field_accel(fx, t, x, 0.0, sn, constants(p, lw, sn), lw, p[K], p[M])
+        ratio = after / before if before != 0.0 else 1.0
+    st[S_J + 2] *= ratio
+    st[S_J + 3] *= ratio
+
+
+@kernel
+def _salt_release(st, p, lw, fx):
+    """The saltation of a release from a stick at the state in st: the event surface
+    is ``h(t, x) = e(t) - k x - c v`` at the band's edge, the stick's field (v, 0)
+    meets the slide's (v, a+), so zdot's row gains ``-k a+ / h'(t)`` times x's row
+    (h' = e' - k v; a+ = 0 where the static limit is the sliding force's own limit)."""
+    s = st[S_MODE]
+    t = st[S_T]
+    a_plus = field_accel(fx, t, st[S_X], 0.0, s, constants(p, lw, s), lw, p[K], p[M])
+    rate = load_rate(fx, t) - p[K] * p[V]
+    if a_plus != 0.0 and rate != 0.0:
+        g = -p[K] * a_plus / rate
+        st[S_J + 2] += g * st[S_J]
+        st[S_J + 3] += g * st[S_J + 1]
+
+
 @kernel(inline="always")
-def advance(meth, st, p, lw, o, acc, t_stop):
+def advance(meth, st, p, lw, fx, o, acc, t_stop):
     """Advance to the next event or to t_stop; returns (event, status)."""
     if st[S_MODE] == codes.STICK:
-        return stick_until_slip(st, p, lw, acc, t_stop)
-    return slide_until_event(meth, st, p, lw, o, acc, t_stop)
+        return stick_until_slip(st, p, lw, fx, acc, t_stop)
+    return slide_until_event(meth, st, p, lw, fx, o, acc, t_stop)

@@ -13,7 +13,8 @@ import functools
 
 import numpy as np
 
-from . import attractor, cycles, forced_attractor, forced_trajectory, trajectory
+from . import attractor, cycles, strobe, trajectory
+from .excitation import for_call, prepare
 from .jit import kernel, unowned
 from .law import borrowed
 
@@ -44,49 +45,42 @@ def _slip_cycles_rows(meth):
 
 def _trajectory(meth):
     @kernel(entry=True, nogil=True)
-    def run_trajectory(p, lw, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind,
+    def run_trajectory(p, lw, ex, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind,
                        ev_x, ev_zd, acc):
-        """``trajectory.run_trajectory`` of one row."""
-        return trajectory.run_trajectory(meth, p, borrowed(lw), o, t_samples, out_x, out_zd,
-                                         out_mode, ev_t, ev_kind, ev_x, ev_zd, acc)
+        """``trajectory.run_trajectory`` of one row under the excitation ``ex``."""
+        return trajectory.run_trajectory(meth, p, borrowed(lw), for_call(ex), o,
+                                         t_samples, out_x, out_zd, out_mode, ev_t, ev_kind,
+                                         ev_x, ev_zd, acc)
     return run_trajectory
 
 
 def _options(meth):
     @kernel(entry=True)
-    def options(p, lw, o):
+    def options(p, lw, ex, o):
         """The option row of one point (``attractor.resolve_options``) and the
         method's a-priori status (``attractor.method_status``)."""
         lw = borrowed(lw)
-        oo = attractor.resolve_options(meth, p, lw, o)
-        return oo, attractor.method_status(meth, p, lw, oo)
+        fx = for_call(ex)
+        prepare(fx, p, lw)
+        oo = attractor.resolve_options(meth, p, lw, fx, o)
+        return oo, attractor.method_status(meth, p, lw, fx, oo)
     return options
 
 
 def _forced_rows(meth):
     @kernel(entry=True, nogil=True)
     def forced_rows(P, lw, ex, o, out):
-        """The steady forced response of every row of P (``out`` (n, NFOB))."""
+        """The steady response of every row of P under the excitation ``ex``
+        (``strobe.strobe_point``; ``out`` (n, NFOB))."""
         P, lw, o, out = unowned(P), borrowed(lw), unowned(o), unowned(out)
+        fx = for_call(ex)
         for i in range(P.shape[0]):
-            forced_attractor.forced_point(meth, P[i], lw, ex, o, out[i])
+            strobe.strobe_point(meth, P[i], lw, fx, o, out[i])
     return forced_rows
-
-
-def _forced_trajectory(meth):
-    @kernel(entry=True, nogil=True)
-    def run_forced_trajectory(p, lw, ex, o, t_samples, out_x, out_zd, out_mode, ev_t,
-                              ev_kind, ev_x, ev_zd, acc):
-        """``forced_trajectory.run_forced_trajectory`` of one row."""
-        return forced_trajectory.run_forced_trajectory(
-            p, borrowed(lw), ex, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind,
-            ev_x, ev_zd, acc)
-    return run_forced_trajectory
 
 
 FACTORIES = {"attractor_rows": _attractor_rows,
              "forced_rows": _forced_rows,
-             "forced_trajectory": _forced_trajectory,
              "slip_cycles_rows": _slip_cycles_rows,
              "trajectory": _trajectory,
              "options": _options}

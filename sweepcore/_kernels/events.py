@@ -14,7 +14,8 @@ import numpy as np
 
 from .jit import kernel
 
-from .law import accel, jerk, zdd, zddd
+from .excitation import field_accel, field_jerk
+from .law import constants
 from .layout import K, M, O_LV, O_RTOL, S_N, V
 from .stepper import has_dense, state_at, step
 
@@ -34,18 +35,22 @@ NO_PART = (np.nan,) * 6        # no partial step taken (``zero_in_step``)
 
 
 @kernel(inline="always")
-def _fun(which, x, zd, s, p, lw):
+def _fun(which, t, x, zd, s, p, lw, fx):
+    """The function ``which`` at the state (x, zd) at time t, and its time derivative
+    along the slide."""
     v = p[V]
+    cf = constants(p, lw, s)
+    a = field_accel(fx, t, x, zd, s, cf, lw, p[K], p[M])
     if which == F_ZD:
-        return zd, zdd(x, zd, s, p, lw)
+        return zd, a
     if which == F_XD:
-        return zd + v, zdd(x, zd, s, p, lw)
-    return zdd(x, zd, s, p, lw), zddd(x, zd, s, p, lw, v)
+        return zd + v, a
+    return a, field_jerk(fx, t, x, zd, s, cf, lw, p[K], p[M], v)
 
 
 @kernel
-def polish(meth, which, x, zd, s, p, lw, o, lo, hi, sign_lo, guess, st, dc, H):
-    """Root in (lo, hi] of F(h) = fun(state at h into the step H from (x, zd));
+def polish(meth, which, t, x, zd, s, p, lw, fx, o, lo, hi, sign_lo, guess, st, dc, H):
+    """Root in (lo, hi] of F(h) = fun(state at h into the step H from (x, zd) at t);
     F(lo) has sign ``sign_lo``. The state is the interpolant ``dc`` of the step
     where the method has one, else a re-step (``stepper.state_at``).
 
@@ -65,8 +70,8 @@ def polish(meth, which, x, zd, s, p, lw, o, lo, hi, sign_lo, guess, st, dc, H):
     x1 = x
     z1 = zd
     for _ in range(60):
-        x1, z1 = state_at(meth, x, zd, h, s, p, lw, o, dc, H, st)
-        f, df = _fun(which, x1, z1, s, p, lw)
+        x1, z1 = state_at(meth, t, x, zd, h, s, p, lw, fx, o, dc, H, st)
+        f, df = _fun(which, t + h, x1, z1, s, p, lw, fx)
         if f == 0.0:
             break
         if (f > 0.0) == (sign_lo > 0.0):
@@ -83,7 +88,7 @@ def polish(meth, which, x, zd, s, p, lw, o, lo, hi, sign_lo, guess, st, dc, H):
             return hn, x1 + dh * (z1 + v), z1 + dh * (df if which == F_XD else f)
         if abs(hn - h) <= 2.0 * EPS * hi:
             h = hn
-            x1, z1 = state_at(meth, x, zd, h, s, p, lw, o, dc, H, st)
+            x1, z1 = state_at(meth, t, x, zd, h, s, p, lw, fx, o, dc, H, st)
             break
         h = hn
     return h, x1, z1
@@ -216,8 +221,8 @@ def zd_event(g0, g1, d0, d1, armed, near):
 
 # ------------------------------------------- zdot = 0 inside a step
 @kernel
-def zero_in_step(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol,
-                 cf, dc):
+def zero_in_step(meth, st, p, lw, fx, o, t, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc,
+                 gtol, cf, dc):
     """Where zdot = 0 inside the step h from (x, zd), once ``zd_event`` found a
     crossing or a possible touch (``kind``): ``(h_ev, x_ev, touched, part)``, h_ev < 0
     when there is none, ``part`` the partial step to h_ev when it was taken to
@@ -225,25 +230,27 @@ def zero_in_step(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, 
     interpolant ``dc``; a crossing the integrator does not confirm there (a layer
     of the law at zdot = 0 that the polynomial does not resolve) on re-steps."""
     part = NO_PART
-    h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1,
-                                     kind, ta, tb, tc, gtol, cf, dc, h)
+    h_ev, xe, touched = _locate_zero(meth, st, p, lw, fx, o, t, x, zd, s, h, a0, a1, g0,
+                                     g1, kind, ta, tb, tc, gtol, cf, dc, h)
     if has_dense(meth) and h_ev >= 0.0 and not touched:
-        good, part = _confirmed(meth, st, p, lw, o, x, zd, s, h_ev, cf)
+        good, part = _confirmed(meth, st, p, lw, fx, o, t, x, zd, s, h_ev, cf)
         if not good:
             part = NO_PART
-            h_ev, xe, touched = _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0,
-                                             g1, kind, ta, tb, tc, gtol, cf, dc, 0.0)
+            h_ev, xe, touched = _locate_zero(meth, st, p, lw, fx, o, t, x, zd, s, h, a0,
+                                             a1, g0, g1, kind, ta, tb, tc, gtol, cf, dc,
+                                             0.0)
     return h_ev, xe, touched, part
 
 
 @kernel
-def _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, d0, d1, ta, tb, dc, H):
+def _crossing_root(meth, st, p, lw, fx, o, t, x, zd, s, h, g0, g1, d0, d1, ta, tb, dc,
+                   H):
     """The first root of zdot in the bracket [ta, tb] (fractions of the step h) of
     the Hermite cubic of g = s zdot, if the integrator confirms it: ``(h_ev, x_ev)``
     (h_ev < 0: none). Newton starts from the cubic's own root (bisection on it)."""
     gb = g1
     if tb < 1.0:
-        _xb, zb = state_at(meth, x, zd, tb * h, s, p, lw, o, dc, H, st)
+        _xb, zb = state_at(meth, t, x, zd, tb * h, s, p, lw, fx, o, dc, H, st)
         gb = s * zb
     if gb > 0.0:
         return -1.0, x
@@ -255,14 +262,14 @@ def _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, d0, d1, ta, tb, dc, 
             ca = cm
         else:
             cb = cm
-    h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, tb * h, s,
-                            0.5 * (ca + cb) * h, st, dc, H)
+    h_ev, xe, _ze = polish(meth, F_ZD, t, x, zd, s, p, lw, fx, o, ta * h, tb * h, s,
+                           0.5 * (ca + cb) * h, st, dc, H)
     return h_ev, xe
 
 
 @kernel
-def _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc, gtol,
-                 cf, dc, H):
+def _locate_zero(meth, st, p, lw, fx, o, t, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, tc,
+                 gtol, cf, dc, H):
     """Where zdot = 0 inside the step from (x, zd), once the scan of the step's
     Hermite cubic (``events.zd_event``) found a crossing (kind 1, bracketed in
     [ta, tb]) or a turning point tc that may touch 0 (kind 2). Touches are placed at
@@ -280,49 +287,49 @@ def _locate_zero(meth, st, p, lw, o, x, zd, s, h, a0, a1, g0, g1, kind, ta, tb, 
     crossing = False
     lo, hi = 0.5 * (ta + tc), 0.5 * (tc + tb)      # the turning point's bracket
     if kind == 1:
-        h_ev, xe = _crossing_root(meth, st, p, lw, o, x, zd, s, h, g0, g1, s * a0 * h,
-                                  s * a1 * h, ta, tb, dc, H)
+        h_ev, xe = _crossing_root(meth, st, p, lw, fx, o, t, x, zd, s, h, g0, g1,
+                                  s * a0 * h, s * a1 * h, ta, tb, dc, H)
         crossing = h_ev >= 0.0
         if not crossing and s * a0 < 0.0 < s * a1:
             kind, ta, tc, lo, hi = 2, 0.0, a0 / (a0 - a1), 0.0, 1.0
     if kind == 2:                   # check the turning point on the integrator
         # zdd has the sign -s where g falls towards the touch, +s after it
-        hc, xc, zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, lo * h, hi * h, -s, tc * h,
-                            st, dc, H)
+        hc, xc, zc = polish(meth, F_ZDD, t, x, zd, s, p, lw, fx, o, lo * h, hi * h, -s,
+                            tc * h, st, dc, H)
         gc = s * zc
         if abs(gc) <= gtol:         # a touch
             return hc, xc, True
         if gc < 0.0:                # a real double crossing: the first root
-            h_ev, xe, _ze = polish(meth, F_ZD, x, zd, s, p, lw, o, ta * h, hc, s,
+            h_ev, xe, _ze = polish(meth, F_ZD, t, x, zd, s, p, lw, fx, o, ta * h, hc, s,
                                    0.5 * (ta * h + hc), st, dc, H)
             crossing = True
     if crossing:
         # A crossing whose excursion past 0 stays within the graze tolerance is a
         # touch: its root is ill-conditioned (error ~ sqrt(eps)), its turning
         # point (zdd = 0) is not, so the touch is placed there.
-        gp = s * accel(xe, 0.0, s, cf, lw, p[K], p[M])
-        gpp = s * jerk(xe, 0.0, s, cf, lw, p[K], p[M], v)
+        gp = s * field_accel(fx, t + h_ev, xe, 0.0, s, cf, lw, p[K], p[M])
+        gpp = s * field_jerk(fx, t + h_ev, xe, 0.0, s, cf, lw, p[K], p[M], v)
         if gp < 0.0 and gpp > 0.0 and gp * gp <= 2.0 * gpp * gtol:
             tau = -gp / gpp
-            h_ev, xe, _zc = polish(meth, F_ZDD, x, zd, s, p, lw, o, h_ev, h_ev + 2.0 * tau,
-                                   -s, h_ev + tau, st, dc, H)
+            h_ev, xe, _zc = polish(meth, F_ZDD, t, x, zd, s, p, lw, fx, o, h_ev,
+                                   h_ev + 2.0 * tau, -s, h_ev + tau, st, dc, H)
             return h_ev, xe, True
     return h_ev, xe, False
 
 
 @kernel
-def _confirmed(meth, st, p, lw, o, x, zd, s, h, cf):
+def _confirmed(meth, st, p, lw, fx, o, t, x, zd, s, h, cf):
     """Whether the integrator confirms a zero of zdot found on the interpolant at
     ``h``: one Newton step in time from its state there lands where the acceleration
     has changed so little that the step's neglected second-order term moves zdot by
     under 1e-3 of its tolerance ``rtol lv``. Returns ``(confirmed, the partial
     step: x, zdot and its quadratures)``, the step kept for ``_finish_zero``."""
-    xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, x, zd, h, s, p, lw, o, True)
+    xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, t, x, zd, h, s, p, lw, fx, o, True)
     st[S_N] += 1.0
     part = (xr, zr, qx, qv, qw, ql)
-    a = accel(xr, zr, s, cf, lw, p[K], p[M])
+    a = field_accel(fx, t + h, xr, zr, s, cf, lw, p[K], p[M])
     if a == 0.0:
         return False, part
     dt = -zr / a
-    a1 = accel(xr + (zr + p[V]) * dt, 0.0, s, cf, lw, p[K], p[M])
+    a1 = field_accel(fx, t + h + dt, xr + (zr + p[V]) * dt, 0.0, s, cf, lw, p[K], p[M])
     return abs(a1 - a) * abs(dt) <= 1e-3 * o[O_RTOL] * o[O_LV], part

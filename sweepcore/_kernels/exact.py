@@ -62,8 +62,10 @@ def arc_eval(y0, yd0, sig, b2, t):
 
 
 @kernel
-def exact_step(x, zd, h, s, p, lw, o, want_q):
-    """Closed-form state after h [s]; see ``stepper.py`` for the contract."""
+def exact_step(t, x, zd, h, s, p, lw, fx, o, want_q):
+    """Closed-form state after h [s]; see ``stepper.py`` for the contract (the
+    autonomous field only: a load makes the method not applicable,
+    ``attractor.method_status``)."""
     v = p[V]
     cen, sig, b2 = arc_constants(s, p, lw)
     y0 = x - cen

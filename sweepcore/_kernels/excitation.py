@@ -1,52 +1,223 @@
-"""The excitation's interface: what the forced kernels know of the excitation.
+"""The excitation's interface: what the driver, the steppers and the searches know of
+the external excitation.
 
-Which excitation is a *kind* of the excitation table (``excitations/__init__.py``),
-and its data is the value ``ex`` that the forced kernels carry beside the parameter
-row: a namedtuple whose class names the kind, as the friction law's ``lw``
-(``law.py``). Each function below resolves, when it is compiled, to the kind module's
-function of that name, by the class of ``ex``; nothing outside the excitation
-modules tests the kind or reads an excitation column (a test checks it).
+The slider under a load and a moving anchor (the paper's eq. 4 carries the load):
 
-A kind module defines
+    m x'' + c (x' - y') + k (x - y) + F(x' - v) = F0 p(Omega t + phi),
 
-* ``coefficients(ex, p)``: ``(a, b, Omega)``: the excitation is the force
-  ``a cos(Omega t) + b sin(Omega t)`` [kN] on the slider, Omega [rad/s];
-* ``forcing_period(ex, p)``: its period [s].
+enters the kernels as one force ``e(t)`` on the slider beside the friction law: the
+sliding field is the autonomous one plus ``e(t)/m`` (``plus_load``), and the force
+that holds a stuck slider is ``h(t) = e(t) - k x - c v``. Which excitation is a
+*kind* of the excitation table (``excitations/__init__.py``); its data ``fx`` is a
+namedtuple whose class names the kind, carried beside the law's data ``lw`` and
+resolved by its class as the law is (``law.py``): each function below resolves,
+when it is compiled, to the kind module's function of that name, or to the generic
+form written here. Nothing outside the excitation modules tests the kind or reads an
+excitation column (a test checks it).
+
+The generic forms are those of a periodic load, a trigonometric polynomial of time
+held in the work array ``fx.xc`` (``trig.py``): a kind of that family defines only
+its data class, ``for_call`` (its data with a work array of its own, one per call
+and thread) and ``coefficients`` (alpha_n, beta_n of one point, from the row). The
+kind ``none`` (the autonomous belt) defines every function: no load, the closed
+form of the stick's end (eq. 27) and the autonomous stop rules, so its kernels are
+the autonomous ones, bit for bit.
 """
 import inspect
+import math
 
+import numpy as np
 from numba import types
 from numba.core.errors import TypingError
 from numba.extending import overload
 
-from .jit import OVERLOAD_OPTIONS
+from . import codes
+from .holding import critical_phases, stick_exit as _trig_exit
+from .jit import OVERLOAD_OPTIONS, kernel
+from .law import accel, field_slope, static_limits
+from .layout import C, K, OMEGA, V
+from .trig import (XC_FTOL, XC_HEAD, XC_N, XC_OMEGA, XC_PERIOD, XC_TOP, bound, derivative, stage,
+                   step_start)
+
+EPS = np.finfo(np.float64).eps
+_DEFAULTS = {}
 
 
-def _implementation(stub, ex):
+def _implementation(stub, fx):
     from .excitations import MODULES
-    if not isinstance(ex, types.BaseNamedTuple) or ex.instance_class not in MODULES:
+    if not isinstance(fx, types.BaseNamedTuple) or fx.instance_class not in MODULES:
         raise TypingError(f"{stub.__name__}: excitation data must be an excitation "
-                          f"table's data class (excitations.EXCITATIONS), got {ex}")
-    fn = getattr(MODULES[ex.instance_class], stub.__name__)
+                          f"table's data class (excitations.EXCITATIONS), got {fx}")
+    module = MODULES[fx.instance_class]
+    fn = getattr(module, stub.__name__, None) or _DEFAULTS.get(stub.__name__)
+    if fn is None:
+        raise TypingError(f"excitation kind {module.__name__} defines no "
+                          f"{stub.__name__}, which has no generic form")
     return getattr(fn, "py_func", fn)
 
 
-def interface(stub):
-    """Declare ``stub`` an excitation function resolved by the class of ``ex``."""
-    at = list(inspect.signature(stub).parameters).index("ex")
+def interface(required=False):
+    """Declare ``stub`` an excitation function resolved by the class of ``fx``: the
+    kind module's function of that name, else the stub's body (its generic form);
+    ``required``: every kind defines it."""
+    def declare(stub):
+        at = list(inspect.signature(stub).parameters).index("fx")
+        if not required:
+            _DEFAULTS[stub.__name__] = stub
 
-    def typer(*args):
-        return _implementation(stub, args[at])
-    typer.__signature__ = inspect.signature(stub)
-    overload(stub, inline="always", jit_options=OVERLOAD_OPTIONS)(typer)
-    return stub
+        def typer(*args):
+            return _implementation(stub, args[at])
+        typer.__signature__ = inspect.signature(stub)
+        overload(stub, inline="always", jit_options=OVERLOAD_OPTIONS)(typer)
+        return stub
+    return declare
 
 
-@interface
-def coefficients(ex, p):
-    """``(a, b, Omega)`` of the load ``a cos(Omega t) + b sin(Omega t)`` [kN]."""
+# ------------------------------------------------------------ every kind defines
+@interface(required=True)
+def for_call(fx):
+    """The kind's data as the kernels of one call and thread use it (a periodic
+    kind: with a work array of its own)."""
 
 
-@interface
-def forcing_period(ex, p):
-    """The forcing period [s]."""
+@interface(required=True)
+def coefficients(fx, p):
+    """Write the point's harmonics (alpha_n, beta_n of ``trig.py``) into ``fx.xc``."""
+
+
+# -------------------------------------------------------- per point (generic)
+@interface()
+def prepare(fx, p, lw):
+    """Resolve the excitation of the point p: its harmonics, period, the force
+    tolerance of the stop rules and the critical phases of the holding force.
+    Returns False where they cannot be resolved."""
+    coefficients(fx, p)
+    return _resolve(fx.xc, p, lw)
+
+
+@kernel
+def _resolve(xc, p, lw):
+    """The generic ``prepare`` after the kind's ``coefficients``."""
+    om = p[OMEGA]
+    xc[XC_OMEGA] = om
+    xc[XC_PERIOD] = 2.0 * math.pi / om
+    top = 0
+    n_h = int(xc[XC_N])
+    for i in range(n_h):
+        if xc[XC_HEAD + i] != 0.0 or xc[XC_HEAD + n_h + i] != 0.0:
+            top = i + 1
+    xc[XC_TOP] = max(top, 1)
+    r_pos, r_neg = static_limits(p, lw)
+    xc[XC_FTOL] = 1e3 * EPS * (max(r_pos, r_neg) + bound(xc, 0))
+    return critical_phases(xc, p[K] * p[V])
+
+
+@interface()
+def forced(fx):
+    """Whether the kind excites the slider (a compile-time fact of the kind)."""
+    return True
+
+
+@interface()
+def period(fx):
+    """The forcing period [s] (inf: none)."""
+    return fx.xc[XC_PERIOD]
+
+
+@interface()
+def top_frequency(fx):
+    """The highest frequency of the load [rad/s] (0: none)."""
+    return fx.xc[XC_TOP] * fx.xc[XC_OMEGA]
+
+
+@interface()
+def load_bound(fx):
+    """A bound of |e(t)| over all t [kN]."""
+    return bound(fx.xc, 0)
+
+
+@interface()
+def load(fx, t):
+    """e(t) [kN]."""
+    return derivative(fx.xc, t, 0)
+
+
+@interface()
+def load_rate(fx, t):
+    """e'(t) [kN/s]."""
+    return derivative(fx.xc, t, 1)
+
+
+@interface()
+def plus_load(fx, t, a, m):
+    """``a + e(t)/m``: an acceleration of the autonomous field [cm/s^2] with the load."""
+    return a + derivative(fx.xc, t, 0) / m
+
+
+@interface()
+def plus_rate(fx, t, j, m):
+    """``j + e'(t)/m``: a jerk of the autonomous field [cm/s^3] with the load's."""
+    return j + derivative(fx.xc, t, 1) / m
+
+
+@interface()
+def step_load(fx, t, h):
+    """Prepare the load over the step h [s] from t [s]; returns what ``with_stage``
+    needs (``trig.step_start``)."""
+    step_start(fx.xc, t)
+    return fx.xc[XC_OMEGA] * h
+
+
+@interface()
+def with_stage(fx, sl, c, a, im):
+    """``a + e(t + c h) im``: a stage's acceleration [cm/s^2] with the load, at the
+    fraction c of the step prepared by ``step_load`` (``sl``)."""
+    return a + stage(fx.xc, sl * c) * im
+
+
+@interface()
+def capped(fx, h):
+    """A step [s] at most half the time of the load's highest frequency (a step
+    that turns the load's phase further is not resolved by the error estimate)."""
+    return min(h, 0.5 / top_frequency(fx))
+
+
+@interface()
+def stick_exit(fx, t, x, p, lw, t_stop):
+    """``(dt, slips, mode, x_slip)``: a stick entered at (t, x) lasts dt [s] until
+    the holding force leaves the static band (``holding.py``) or t_stop; ``slips``,
+    the slide it starts and the position there."""
+    return _trig_exit(fx.xc, t, x, p, lw, t_stop)
+
+
+@interface()
+def zero_mode(fx, x, t, s, p, lw, gtol):
+    """``(mode, event, x)`` after zdot reached 0 at (x, t) while sliding with sign s:
+    stick while the holding force is in the band (within the force tolerance of an
+    edge it slides on), else slide on by the sign of the force that exceeds it (a
+    zero-duration stop: eq. 30 reversing, eq. 31 on in the same direction)."""
+    r_pos, r_neg = static_limits(p, lw)
+    h = derivative(fx.xc, t, 0) - p[K] * x - p[C] * p[V]
+    over_pos = h - r_pos
+    over_neg = -r_neg - h
+    if max(over_pos, over_neg) < -fx.xc[XC_FTOL]:
+        return codes.STICK, codes.EV_STICK, x
+    new = codes.SLIDE_POS if over_pos >= over_neg else codes.SLIDE_NEG
+    if new == s:
+        return new, codes.EV_ABNORMAL_STOP, x
+    return new, codes.EV_NORMAL_STOP, x
+
+
+# ------------------------------------------- the field with the load (not per kind)
+@kernel(inline="always")
+def field_accel(fx, t, x, zd, s, cf, lw, k, m):
+    """Sliding acceleration [cm/s^2] at (x, zd, t): eq. (41) with the load."""
+    return plus_load(fx, t, accel(x, zd, s, cf, lw, k, m), m)
+
+
+@kernel(inline="always")
+def field_jerk(fx, t, x, zd, s, cf, lw, k, m, v):
+    """Time derivative of the sliding acceleration along the flow [cm/s^3], with the
+    load's (for the excitation none: ``law.jerk``)."""
+    a = field_accel(fx, t, x, zd, s, cf, lw, k, m)
+    return plus_rate(fx, t, (-k * (zd + v) + field_slope(lw, cf, zd) * a) / m, m)

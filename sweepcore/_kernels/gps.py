@@ -18,21 +18,23 @@ refused (``ok = False``) and the driver halves it.
 """
 from .jit import kernel
 
+from .excitation import plus_load
 from .law import constants, friction, integrand, zdd
-from .layout import O_GPS_A, V
+from .layout import M, O_GPS_A, V
 
 ORDER = 1
 
 
 @kernel
-def gps_step(x, zd, h, s, p, lw, o, want_q):
-    """One GPS step of the sliding field; see ``stepper.py`` for the contract."""
+def gps_step(t, x, zd, h, s, p, lw, fx, o, want_q):
+    """One GPS step of the sliding field from time t [s] (the field taken at the
+    step's start, as the scheme takes it); see ``stepper.py`` for the contract."""
     v = p[V]
     a = o[O_GPS_A]
     u1 = x + a
     u2 = zd
     f1 = zd + v
-    f2 = zdd(x, zd, s, p, lw)
+    f2 = plus_load(fx, t, zdd(x, zd, s, p, lw), p[M])
     tau = 0.5 * h
     uu = u1 * u1 + u2 * u2
     ff = f1 * f1 + f2 * f2

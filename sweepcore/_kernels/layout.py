@@ -22,11 +22,12 @@ XD0 = 10     # start velocity [cm/s]
 LAW = 11     # index of the row's law among the call's laws (read by Python only)
 # the excitation's per-point parameters: read by the excitation modules only
 # (excitations/, sweepcore/excitations/; a test checks it). F0 = Y0 = 0: no excitation.
-F0 = 12      # amplitude of the harmonic load F0 cos(Omega t + phi) on the slider [kN]
+F0 = 12      # amplitude of the load F0 p(Omega t + phi) on the slider [kN]
 OMEGA = 13   # excitation frequency Omega [rad/s]
 PHI = 14     # phase of the load phi [rad]
 Y0 = 15      # amplitude of the anchor's motion y = Y0 cos(Omega t) [cm]
-NP = 16
+LOAD = 16    # index of the row's load shape among the call's loads (read by Python only)
+NP = 17
 
 # option row o
 O_METHOD = 0     # method code (the row of stepper.METHODS; -1: "auto")
@@ -44,8 +45,13 @@ NO = 10
 # simulation state st
 S_T, S_X, S_ZD, S_MODE, S_ARMED, S_H, S_N = range(7)   # S_N: stepper calls so far
 S_TOUCH = 7     # 1 where the last zdot = 0 event was a tangential touch (driver)
-S_SECTIONS = 8  # 1: stop at the section's extremum of x only (driver._section)
-NS = 9
+S_SECTIONS = 8  # extrema of x: 0 stop at each, 1 stop at the section's only (the
+                # attractor search, driver._section), 2 stop at none (noted only)
+S_TRACK = 9     # 1: the tangent below rides along (variational equations, saltation)
+S_J = 10        # the tangent: d(x, zdot)/d(start), 4 slots row by row (J11 J12 J21 J22)
+NSTATE = 14     # the state proper (what a search keeps of it); then scratch:
+S_STAGES = 14   # the tangent's stage slopes (variational.py), 4 x 16 slots
+NS = 78
 
 # accumulators acc (reset by the caller at the start of a measured interval)
 A_IX = 0        # int x dt                        [cm s]
@@ -141,4 +147,6 @@ OB_MULTIPLICITY = 15   # n: the response's period is n forcing periods
 OB_STOPS_PER_PERIOD = 16  # zero-duration stops per response period
 OB_LYAPUNOV = 17       # largest Lyapunov exponent [1/s] (aperiodic responses)
 OB_LYAPUNOV_ERROR = 18  # its error estimate [1/s]
-NFOB = 19
+OB_X_SECTION = 19      # the periodic point: x [cm] and xdot [cm/s] at t = 0 mod n T,
+OB_XDOT_SECTION = 20   # where the stroboscopic map is taken (NaN: no period found)
+NFOB = 21

@@ -1,6 +1,7 @@
 """Classical fourth-order Runge-Kutta, fixed step (method "rk4")."""
 from .jit import kernel
 
+from .excitation import step_load, with_stage
 from .law import constants, friction_force, integrand, zdd_of
 from .layout import K, M, V
 
@@ -8,26 +9,27 @@ ORDER = 4
 
 
 @kernel
-def rk4_step(x, zd, h, s, p, lw, o, want_q):
-    """One RK4 step of the sliding field; see ``stepper.py`` for the contract."""
+def rk4_step(t, x, zd, h, s, p, lw, fx, o, want_q):
+    """One RK4 step of the sliding field from time t [s]; see ``stepper.py``."""
     v = p[V]
     k = p[K]
     im = 1.0 / p[M]
     cf = constants(p, lw, s)
+    sl = step_load(fx, t, h)
     k1x = zd + v
-    k1z = zdd_of(x, zd, s, cf, lw, k, im)
+    k1z = with_stage(fx, sl, 0.0, zdd_of(x, zd, s, cf, lw, k, im), im)
     x2 = x + 0.5 * h * k1x
     z2 = zd + 0.5 * h * k1z
     k2x = z2 + v
-    k2z = zdd_of(x2, z2, s, cf, lw, k, im)
+    k2z = with_stage(fx, sl, 0.5, zdd_of(x2, z2, s, cf, lw, k, im), im)
     x3 = x + 0.5 * h * k2x
     z3 = zd + 0.5 * h * k2z
     k3x = z3 + v
-    k3z = zdd_of(x3, z3, s, cf, lw, k, im)
+    k3z = with_stage(fx, sl, 0.5, zdd_of(x3, z3, s, cf, lw, k, im), im)
     x4 = x + h * k3x
     z4 = zd + h * k3z
     k4x = z4 + v
-    k4z = zdd_of(x4, z4, s, cf, lw, k, im)
+    k4z = with_stage(fx, sl, 1.0, zdd_of(x4, z4, s, cf, lw, k, im), im)
     x1 = x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x)
     zd1 = zd + h / 6.0 * (k1z + 2.0 * k2z + 2.0 * k3z + k4z)
     qx = 0.0

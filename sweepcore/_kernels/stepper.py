@@ -3,9 +3,12 @@
 A stepper advances only the smooth sliding equation (friction sign ``s`` frozen),
 from the state ``(x, zdot)`` over a step ``h`` [s]:
 
-    step(x, zd, h, s, p, lw, o, want_q) -> (x1, zd1, q_x, q_xd2, q_w, q_l, err, ok)
+    step(t, x, zd, h, s, p, lw, fx, o, want_q) -> (x1, zd1, q_x, q_xd2, q_w, q_l, err, ok)
 
-with ``p`` the parameter row and ``lw`` the law's data (``law.py``).
+from the time ``t`` [s], with ``p`` the parameter row, ``lw`` the law's data
+(``law.py``) and ``fx`` the excitation's (``excitation.py``: its load enters every
+stage at the stage's own time, as ``fun(t, y)`` in scipy's solvers; for the
+excitation ``none`` the field is the autonomous one, bit for bit).
 
 1. It never sees sticking, events or bookkeeping: the hybrid driver
    (``driver.py``) owns those and is the only caller.
@@ -25,6 +28,10 @@ with ``p`` the parameter row and ``lw`` the law's data (``law.py``).
    ``step(..., theta * h, ...)`` from the step's start. ``state_at`` gives the
    state inside a step by whichever the method has.
 5. ``proposal`` gives the next step size to try, by the method's kind (table below).
+6. ``tangent`` carries the derivative of the state with respect to a start
+   through a step (``variational.py``): the variational equations integrated by
+   the method's own stages where it keeps them (dopri5, dop853: the derivative of
+   the step map itself), else by differences of re-steps.
 
 The method is a compile-time constant: the entry kernels (``entries.py``) are
 compiled per method, and ``step`` and ``proposal`` resolve to the method's own
@@ -95,44 +102,44 @@ def _method(meth):
     return meth.literal_value
 
 
-def step(meth, x, zd, h, s, p, lw, o, want_q):
+def step(meth, t, x, zd, h, s, p, lw, fx, o, want_q):
     """One step of method ``meth`` (a code of ``METHODS``; module docstring)."""
 
 
 @overload(step, prefer_literal=True, inline="always",
           jit_options=OVERLOAD_OPTIONS)
-def _step(meth, x, zd, h, s, p, lw, o, want_q):
+def _step(meth, t, x, zd, h, s, p, lw, fx, o, want_q):
     code = _method(meth)
     fn = METHODS[code][6]
     # bool(): want_q is a constant at every call site; as a literal it would compile
     # the stepper once per value, as a plain bool once (the branch costs nothing)
     if EXTEND[code] is None:
-        return lambda meth, x, zd, h, s, p, lw, o, want_q: fn(x, zd, h, s, p, lw, o,
-                                                              bool(want_q))
+        return lambda meth, t, x, zd, h, s, p, lw, fx, o, want_q: fn(
+            t, x, zd, h, s, p, lw, fx, o, bool(want_q))
 
-    def without_slopes(meth, x, zd, h, s, p, lw, o, want_q):
-        x1, z1, qx, qv, qw, ql, err, ok, _ks = fn(x, zd, h, s, p, lw, o, bool(want_q))
+    def without_slopes(meth, t, x, zd, h, s, p, lw, fx, o, want_q):
+        x1, z1, qx, qv, qw, ql, err, ok, _ks = fn(t, x, zd, h, s, p, lw, fx, o,
+                                                  bool(want_q))
         return x1, z1, qx, qv, qw, ql, err, ok
     return without_slopes
 
 
-def step_kept(meth, x, zd, h, s, p, lw, o, want_q):
-    """``step`` and, after its eight results, what ``extend`` needs to build the
-    step's interpolant without taking it again (an empty tuple for a method without
-    a continuous extension)."""
+def step_kept(meth, t, x, zd, h, s, p, lw, fx, o, want_q):
+    """``step`` and, after its eight results, what ``extend`` and ``tangent`` need
+    (the slopes of its stages; an empty tuple for a method that keeps none)."""
 
 
 @overload(step_kept, prefer_literal=True, inline="always",
           jit_options=OVERLOAD_OPTIONS)
-def _step_kept(meth, x, zd, h, s, p, lw, o, want_q):
+def _step_kept(meth, t, x, zd, h, s, p, lw, fx, o, want_q):
     code = _method(meth)
     fn = METHODS[code][6]
     if EXTEND[code] is not None:
-        return lambda meth, x, zd, h, s, p, lw, o, want_q: fn(x, zd, h, s, p, lw, o,
-                                                              bool(want_q))
+        return lambda meth, t, x, zd, h, s, p, lw, fx, o, want_q: fn(
+            t, x, zd, h, s, p, lw, fx, o, bool(want_q))
 
-    def with_nothing(meth, x, zd, h, s, p, lw, o, want_q):
-        x1, z1, qx, qv, qw, ql, err, ok = fn(x, zd, h, s, p, lw, o, bool(want_q))
+    def with_nothing(meth, t, x, zd, h, s, p, lw, fx, o, want_q):
+        x1, z1, qx, qv, qw, ql, err, ok = fn(t, x, zd, h, s, p, lw, fx, o, bool(want_q))
         return x1, z1, qx, qv, qw, ql, err, ok, ()
     return with_nothing
 
@@ -153,19 +160,20 @@ def _proposal(meth, x, zd, s, p, lw, o, h_prev):
     return lambda meth, x, zd, s, p, lw, o, h_prev: o[O_DT]
 
 
-def extend(meth, x, zd, h, s, p, lw, x1, z1, ks):
+def extend(meth, t, x, zd, h, s, p, lw, fx, x1, z1, ks):
     """The coefficients of method ``meth``'s interpolant over the step ``h`` from
-    ``(x, zd)`` to ``(x1, z1)``, with ``ks`` as ``step_kept`` returned it (zeros for
-    a method without one; module docstring, item 4)."""
+    ``(x, zd)`` at ``t`` to ``(x1, z1)``, with ``ks`` as ``step_kept`` returned it
+    (zeros for a method without one; module docstring, item 4)."""
 
 
 @overload(extend, prefer_literal=True, inline="always",
           jit_options=OVERLOAD_OPTIONS)
-def _extend(meth, x, zd, h, s, p, lw, x1, z1, ks):
+def _extend(meth, t, x, zd, h, s, p, lw, fx, x1, z1, ks):
     fn = EXTEND[_method(meth)]
     if fn is None:
-        return lambda meth, x, zd, h, s, p, lw, x1, z1, ks: (0.0,) * 14
-    return lambda meth, x, zd, h, s, p, lw, x1, z1, ks: fn(x, zd, h, s, p, lw, x1, z1, ks)
+        return lambda meth, t, x, zd, h, s, p, lw, fx, x1, z1, ks: (0.0,) * 14
+    return lambda meth, t, x, zd, h, s, p, lw, fx, x1, z1, ks: fn(
+        t, x, zd, h, s, p, lw, fx, x1, z1, ks)
 
 
 @kernel(inline="always")
@@ -181,32 +189,34 @@ def interpolate(dc, th, x, zd):
     return xi, zi
 
 
-def state_at(meth, x, zd, h, s, p, lw, o, dc, H, st):
-    """The state ``(x, zdot)`` a time ``h`` into the step ``H`` from ``(x, zd)``:
-    on the interpolant ``dc`` where the method has one, else by a re-step (counted
-    in ``st[S_N]``)."""
+def state_at(meth, t, x, zd, h, s, p, lw, fx, o, dc, H, st):
+    """The state ``(x, zdot)`` a time ``h`` into the step ``H`` from ``(x, zd)`` at
+    ``t``: on the interpolant ``dc`` where the method has one, else by a re-step
+    (counted in ``st[S_N]``)."""
 
 
 @overload(state_at, prefer_literal=True, inline="always",
           jit_options=OVERLOAD_OPTIONS)
-def _state_at(meth, x, zd, h, s, p, lw, o, dc, H, st):
+def _state_at(meth, t, x, zd, h, s, p, lw, fx, o, dc, H, st):
     code = _method(meth)
     if EXTEND[code] is None:
         fn = METHODS[code][6]
 
-        def restep(meth, x, zd, h, s, p, lw, o, dc, H, st):
+        def restep(meth, t, x, zd, h, s, p, lw, fx, o, dc, H, st):
             st[S_N] += 1.0
-            x1, z1, _a, _b, _c, _l, _e, _ok = fn(x, zd, h, s, p, lw, o, runtime(False))
+            x1, z1, _a, _b, _c, _l, _e, _ok = fn(t, x, zd, h, s, p, lw, fx, o,
+                                                 runtime(False))
             return x1, z1
         return restep
     fn = METHODS[code][6]
 
-    def on_interpolant(meth, x, zd, h, s, p, lw, o, dc, H, st):
+    def on_interpolant(meth, t, x, zd, h, s, p, lw, fx, o, dc, H, st):
         if h <= H:
             return interpolate(dc, h / H, x, zd)
         # past the step (a touch's bracket may reach beyond it): no extrapolation
         st[S_N] += 1.0
-        x1, z1, _a, _b, _c, _l, _e, _ok, _ks = fn(x, zd, h, s, p, lw, o, runtime(False))
+        x1, z1, _a, _b, _c, _l, _e, _ok, _ks = fn(t, x, zd, h, s, p, lw, fx, o,
+                                                  runtime(False))
         return x1, z1
     return on_interpolant
 

@@ -1,37 +1,42 @@
 """The external excitation of the slider: its keywords and its kinds.
 
-    m x'' + c (x' - y') + k (x - y) + F(x' - v) = F0 cos(Omega t + phi),
+    m x'' + c (x' - y') + k (x - y) + F(x' - v) = F0 p(Omega t + phi),
     y = Y0 cos(Omega t)
 
-A harmonic load of amplitude ``F0`` [kN], frequency ``Omega`` [rad/s] and phase
-``phi`` [rad] on the slider, and a harmonic motion of amplitude ``Y0`` [cm] of the
-anchor of spring and damper (Hong & Liu, J. Sound Vib. 229 (2000) 1171-1192; the
-paper's eq. (4) carries the load). They are keywords of ``Params`` and axes of
-``Grid`` like the slider's parameters, and columns of the kernel rows read only by
-the excitation modules (here and ``sweepcore/_kernels/excitations/``).
+A periodic load of amplitude ``F0`` [kN], frequency ``Omega`` [rad/s] and phase
+``phi`` [rad] on the slider, its shape p over one period a
+:class:`~sweepcore.excitations.periodic.PeriodicLoad` (``load=``; default one cosine,
+Hong & Liu, J. Sound Vib. 229 (2000) 1171-1192; the paper's eq. (4) carries the
+load), and a harmonic motion of amplitude ``Y0`` [cm] of the anchor of spring and
+damper. F0, Omega, phi and Y0 are keywords of ``Params`` and axes of ``Grid`` like
+the slider's parameters, and columns of the kernel rows read only by the excitation
+modules (here and ``sweepcore/_kernels/excitations/``); the load's shape is data,
+as a law object is (a ``load`` dimension of a Grid over several shapes).
 
-The kinds are rows of ``EXCITATIONS`` (name, kernel data, module): ``none`` (F0 = Y0
-= 0: the autonomous belt, on the autonomous kernels, bit for bit as without this
-table) and ``harmonic`` (either excitation or both). ``sweepcore.excitations.theory``
-holds the closed forms of the forced oscillator.
+The kinds are rows of ``EXCITATIONS`` (name, module): ``none`` (F0 = Y0 = 0: the
+autonomous belt, on the autonomous kernels, bit for bit as without this table) and
+``periodic`` (either excitation or both). ``sweepcore.excitations.theory`` holds the
+closed forms of the forced oscillator.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from .._kernels import layout
-from . import harmonic, none
+from . import none, periodic
+from .periodic import HARMONIC, PeriodicLoad
 
 EXCITATIONS = (
     ("none", none),
-    ("harmonic", harmonic),
+    ("periodic", periodic),
 )
+LOAD_DIM = "load"       # the dimension of a sweep over several load shapes
 KEYWORDS = ("F0", "Omega", "phi", "Y0")
 UNITS = {"F0": "kN", "Omega": "rad s-1", "phi": "rad", "Y0": "cm"}
 LONG_NAMES = {
-    "F0": "amplitude of the harmonic load F0 cos(Omega t + phi) on the slider",
+    "F0": "amplitude of the load F0 p(Omega t + phi) on the slider",
     "Omega": "excitation frequency",
-    "phi": "phase of the harmonic load",
+    "phi": "phase of the load",
     "Y0": "amplitude of the anchor's motion Y0 cos(Omega t)",
 }
 RULES = {"F0": {}, "Omega": {"positive": True}, "phi": {}, "Y0": {}}
@@ -71,7 +76,27 @@ def check(where: str, values: dict) -> None:
 
 def load(params, t: np.ndarray) -> np.ndarray:
     """The excitation of ``params`` as one force on the slider [kN] at the times t
-    [s] (``F0 cos(Omega t + phi) + k y + c y'``); 0 without one."""
+    [s] (``F0 p(Omega t + phi) + k y + c y'``); 0 without one."""
     if not params.forced:
         return np.zeros_like(t)
-    return harmonic.load(params, t)
+    return periodic.force(params, t)
+
+
+def check_loads(where: str, load):
+    """The load given: None (one cosine), one :class:`PeriodicLoad`, or a tuple of
+    them with distinct names (a dimension), refused by name otherwise."""
+    many = isinstance(load, (list, tuple))
+    loads = tuple(load) if many else (load,)
+    if many and not loads:
+        raise ValueError(f"{where}: load is an empty list: give at least one load")
+    for one in loads:
+        if (one is None and not many) or isinstance(one, PeriodicLoad):
+            continue
+        raise TypeError(f"{where}: load must be a sweepcore.PeriodicLoad (or a list of "
+                        f"them), got {one!r} of type {type(one).__name__}")
+    names = [one.name for one in loads if one is not None]
+    if len(set(names)) < len(names):
+        dup = next(n for n in names if names.count(n) > 1)
+        raise ValueError(f"{where}: the loads must have distinct names (they label the "
+                         f"load dimension), got {dup!r} twice")
+    return loads if many else loads[0]

@@ -7,7 +7,7 @@ from .._kernels import layout
 NAME = "none"
 
 
-def run(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray, parallel: bool) -> None:
+def run(P: np.ndarray, laws, loads, o: np.ndarray, out: np.ndarray, parallel: bool) -> None:
     """The attractor of every row into the forced layout's first ``NOBS`` columns
     (``sweepcore.execute.attractors``); the forced-only columns NaN."""
     from .. import execute

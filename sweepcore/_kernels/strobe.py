@@ -1,0 +1,422 @@
+"""The steady response of a forced slider: a fixed point of the stroboscopic map.
+
+P maps the state (x, zdot, phase mode) at a time t = j T, T the forcing period
+(``excitation.period``), to the state one period later: the one driver
+(``driver.py``) run over a period, its clock set back to 0 at each period's end (the
+load has period T). From the given start the search iterates P (the motion a long
+simulation would follow) and after each period looks for the smallest n <=
+``periods`` (option ``O_PERIODS``) for which the last states nearly repeat after n
+periods. Such a candidate is solved as a fixed point of P^n by Newton's method with
+P^n's Jacobian: the driver's tangent (``variational.py``: the variational equations
+on the method's own stages, passed through the saltation matrix of every switch).
+The fixed point is accepted as the response the start reaches when it is stable
+(every multiplier inside the unit circle) and within the distance the iterates'
+contraction predicts; it is then reduced to its least period, and the observables
+are those of Newton's last run (measured on line, within 1e-2 tol of the fixed
+point). A state that starts P^n stuck is one number (x: the stick forgets the
+velocity), so its Newton is one-dimensional and its second multiplier is 0.
+
+No period up to ``periods`` within the budget: the response is aperiodic; its
+largest Lyapunov exponent is the growth of a tangent vector of the same variational
+equations (saltation included), renormalised every period, over ``LYAP_PERIODS``
+periods in ``LYAP_BLOCKS`` blocks whose spread gives its error. A negative exponent
+beyond three errors is a periodic response not yet found (status unconverged),
+never a made-up cycle.
+"""
+import math
+
+import numpy as np
+
+from . import codes
+from .attractor import method_status, resolve_options
+from .driver import advance, init_state
+from .excitation import for_call, period, prepare
+from .jit import kernel, runtime
+from .law import anti_damped
+from .layout import (A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN,
+                     K, M, NA, NFOB, NO, NP, NS, NSTATE, O_LV, O_LX, O_MAX_STEPS,
+                     O_MAX_TIME, O_PERIODS, O_RTOL, OB_AMPLITUDE, OB_FLOQUET, OB_LYAPUNOV,
+                     OB_LYAPUNOV_ERROR, OB_MEAN, OB_MULTIPLICITY, OB_NSTEPS, OB_PERIOD,
+                     OB_REGIME, OB_STATUS, OB_STICK_FRACTION, OB_STICKS_PER_PERIOD,
+                     OB_STOPS_PER_PERIOD, OB_T_SETTLE, OB_VAMPLITUDE, OB_X_MAX, OB_X_MIN,
+                     OB_X_SECTION, OB_XDOT_MAX, OB_XDOT_SECTION, S_ARMED, S_J, S_MODE, S_N,
+                     S_SECTIONS, S_T, S_TRACK, S_X, S_ZD, V, X0, XD0)
+
+TRY = 1.0             # states within this (in L) after n periods: try Newton on P^n
+RTOL_FLOOR = 1e-13    # the tightest integration tolerance used
+LYAP_PERIODS = 256    # periods of the Lyapunov estimate
+LYAP_BLOCKS = 8
+NH = 40               # stroboscopic states kept (2 n + 2 of them used)
+# what a candidate fixed point did to the search
+GO_ON = 0
+ANSWERED = 1
+
+
+@kernel
+def fresh(acc):
+    """Accumulators of a measured run: sums 0, extrema empty."""
+    acc[:] = 0.0
+    acc[A_XMAX] = -np.inf
+    acc[A_XMIN] = np.inf
+    acc[A_XDMAX] = -np.inf
+    acc[A_XDMIN] = np.inf
+
+
+@kernel
+def run_periods(meth, st, p, lw, fx, o, acc, T, n):
+    """Advance st by n forcing periods (its clock restarts at 0 each period: the load
+    has period T); returns the status."""
+    for _ in range(n):
+        while st[S_T] < T:
+            _ev, status = advance(meth, st, p, lw, fx, o, acc, T)
+            if status != codes.OK:
+                return status
+        st[S_T] = 0.0
+    return codes.OK
+
+
+@kernel
+def keep(dst, src):
+    """Copy the state proper (``NSTATE`` slots, no scratch) from src to dst."""
+    for i in range(NSTATE):
+        dst[i] = src[i]
+
+
+@kernel(inline="always")
+def _dist(a, b, lx, lv):
+    """Distance of two stroboscopic states in units of L (inf: other phases)."""
+    if a[S_MODE] != b[S_MODE]:
+        return np.inf
+    return max(abs(a[S_X] - b[S_X]) / lx, abs(a[S_ZD] - b[S_ZD]) / lv)
+
+
+@kernel
+def _image(meth, u, n, p, lw, fx, o, acc, T, work, track):
+    """P^n of the state u into ``work``, the observables of the run in ``acc``, and
+    with ``track`` its Jacobian in ``work[S_J:]`` (row by row); the steps spent are
+    added to u's count. Returns the status."""
+    keep(work, u)
+    work[S_TRACK] = 1.0 if track else 0.0
+    work[S_J] = 1.0
+    work[S_J + 1] = 0.0
+    work[S_J + 2] = 0.0
+    work[S_J + 3] = 1.0
+    fresh(acc)
+    status = run_periods(meth, work, p, lw, fx, o, acc, T, n)
+    u[S_N] = work[S_N]
+    return status
+
+
+@kernel(inline="always")
+def _multipliers(j11, j12, j21, j22):
+    """Moduli of the eigenvalues of a 2 x 2 matrix, larger first."""
+    tr = j11 + j22
+    det = j11 * j22 - j12 * j21
+    disc = tr * tr - 4.0 * det
+    if disc >= 0.0:
+        sq = math.sqrt(disc)
+        a = abs(0.5 * (tr + sq))
+        b = abs(0.5 * (tr - sq))
+        return max(a, b), min(a, b)
+    r = math.sqrt(max(det, 0.0))
+    return r, r
+
+
+@kernel
+def newton(meth, u, n, p, lw, fx, o, acc, T, work, tol, out):
+    """Fixed point of P^n near u (u moved to it): ``(ok, mu1, mu2, status)``, the
+    moduli of P^n's multipliers there (larger first); on ok the observables of the
+    last run (from within 1e-2 tol of the fixed point) are in ``out``."""
+    lx = o[O_LX]
+    lv = o[O_LV]
+    stuck = u[S_MODE] == codes.STICK
+    mu1 = np.nan
+    mu2 = np.nan
+    for _it in range(16):
+        status = _image(meth, u, n, p, lw, fx, o, acc, T, work, runtime(True))
+        if status != codes.OK:
+            return False, mu1, mu2, status
+        if work[S_MODE] != u[S_MODE]:
+            return False, mu1, mu2, codes.OK
+        j11, j12, j21, j22 = work[S_J], work[S_J + 1], work[S_J + 2], work[S_J + 3]
+        rx = work[S_X] - u[S_X]
+        rz = 0.0
+        if stuck:
+            mu1, mu2 = abs(j11), 0.0
+            dx = -rx / (j11 - 1.0) if j11 != 1.0 else 0.0
+            dz = 0.0
+        else:
+            mu1, mu2 = _multipliers(j11, j12, j21, j22)
+            rz = work[S_ZD] - u[S_ZD]
+            a11 = j11 - 1.0
+            a22 = j22 - 1.0
+            dd = a11 * a22 - j12 * j21
+            dx = (-rx * a22 + rz * j12) / dd if dd != 0.0 else 0.0
+            dz = (-rz * a11 + rx * j21) / dd if dd != 0.0 else 0.0
+        step = max(abs(dx) / lx, abs(dz) / lv)
+        if max(abs(rx) / lx, abs(rz) / lv) <= 1e-2 * tol or step <= 1e-2 * tol:
+            # a fixed point (a neutral one too): u itself, within 1e-2 tol
+            _observables(acc, n * T, out)
+            return True, mu1, mu2, codes.OK
+        if not step > 0.0 or step > 10.0 * TRY:  # singular, or a jump away
+            return False, mu1, mu2, codes.OK
+        u[S_X] += dx
+        if not stuck:
+            u[S_ZD] += dz
+            if u[S_ZD] == 0.0 or (u[S_ZD] > 0.0) != (u[S_MODE] > 0.0):
+                return False, mu1, mu2, codes.OK
+            u[S_ARMED] = 1.0
+    return False, mu1, mu2, codes.OK
+
+
+@kernel
+def lyapunov(meth, u, p, lw, fx, o, acc, T, work, out):
+    """Largest Lyapunov exponent [1/s] and its error over LYAP_PERIODS periods from
+    u: a tangent vector of the variational equations (saltation at every switch)
+    renormalised every period; the observables of those periods into out. Returns
+    the status."""
+    lx = o[O_LX]
+    lv = o[O_LV]
+    keep(work, u)
+    work[S_TRACK] = 1.0
+    fresh(acc)
+    per = LYAP_PERIODS // LYAP_BLOCKS
+    sums = np.zeros(LYAP_BLOCKS)
+    wx = 1.0 / math.sqrt(2.0)          # the tangent vector, in units of (L, L omega)
+    wz = 1.0 / math.sqrt(2.0)
+    for b in range(LYAP_BLOCKS):
+        for _j in range(per):
+            work[S_J] = 1.0
+            work[S_J + 1] = 0.0
+            work[S_J + 2] = 0.0
+            work[S_J + 3] = 1.0
+            status = run_periods(meth, work, p, lw, fx, o, acc, T, 1)
+            if status != codes.OK:
+                return status
+            ex = (work[S_J] * wx * lx + work[S_J + 1] * wz * lv) / lx
+            ez = (work[S_J + 2] * wx * lx + work[S_J + 3] * wz * lv) / lv
+            d = math.hypot(ex, ez)
+            if not d > 0.0:             # a stick forgot the vector: superstable
+                sums[b] += -745.0
+                wx, wz = 1.0, 0.0
+                continue
+            sums[b] += math.log(d)
+            wx, wz = ex / d, ez / d
+    rates = sums / (per * T)
+    _observables(acc, LYAP_PERIODS * T, out)
+    out[OB_STICKS_PER_PERIOD] = np.nan
+    out[OB_STOPS_PER_PERIOD] = np.nan
+    out[OB_LYAPUNOV] = rates.mean()
+    out[OB_LYAPUNOV_ERROR] = rates.std() / math.sqrt(LYAP_BLOCKS - 1.0)
+    u[S_N] = work[S_N]
+    return codes.OK
+
+
+@kernel
+def _observables(acc, dur, out):
+    """The on-line observables of a measured run of duration dur [s]."""
+    out[OB_AMPLITUDE] = 0.5 * (acc[A_XMAX] - acc[A_XMIN])
+    out[OB_MEAN] = acc[A_IX] / dur
+    out[OB_VAMPLITUDE] = 0.5 * (acc[A_XDMAX] - acc[A_XDMIN])
+    out[OB_X_MAX] = acc[A_XMAX]
+    out[OB_X_MIN] = acc[A_XMIN]
+    out[OB_XDOT_MAX] = acc[A_XDMAX]
+    out[OB_STICK_FRACTION] = min(acc[A_TSTICK] / dur, 1.0)
+    out[OB_STICKS_PER_PERIOD] = acc[A_NSTICK]
+    out[OB_STOPS_PER_PERIOD] = acc[A_NSTOP]
+
+
+@kernel
+def strobe_point(meth, p, lw, fx, o_in, out):
+    """Fill ``out`` (layout OB_*, length NFOB) with the steady response of one forced
+    point reached from (p[X0], p[XD0]) at t = 0 (module docstring); ``fx`` the
+    excitation as the call's kernels use it (``excitation.for_call``)."""
+    for i in range(NFOB):
+        out[i] = np.nan
+    out[OB_NSTEPS] = 0.0
+    if p.shape[0] != NP or o_in.shape[0] != NO or out.shape[0] != NFOB:
+        _failure(out, codes.BAD_ROW, runtime(False))
+        return
+    if not prepare(fx, p, lw):
+        _failure(out, codes.EVENT_FAILURE, runtime(False))
+        return
+    o = resolve_options(meth, p, lw, fx, o_in)
+    o[O_RTOL] = max(1e-2 * o_in[O_RTOL], RTOL_FLOOR)
+    refused = method_status(meth, p, lw, fx, o)
+    if refused != codes.OK:
+        _failure(out, refused, runtime(False))
+        return
+    st = np.zeros(NS)
+    init_state(st, p[X0], p[XD0], p, lw, fx, o)
+    st[S_SECTIONS] = 2.0                 # extrema of x noted, never a stop
+    acc = np.empty(NA)
+    work = np.zeros(NS)
+    T = period(fx)
+    answered, status = _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out)
+    out[OB_NSTEPS] = st[S_N]
+    if answered:
+        return
+    if status == codes.OK:
+        status = lyapunov(meth, st, p, lw, fx, o, acc, T, work, out)
+        out[OB_NSTEPS] = st[S_N]
+    if status != codes.OK:
+        _failure(out, status, anti_damped(p, lw))
+        return
+    if out[OB_LYAPUNOV] + 3.0 * out[OB_LYAPUNOV_ERROR] < 0.0:
+        out[OB_REGIME] = codes.R_UNCONVERGED       # contracting: a period not found
+        out[OB_STATUS] = codes.UNCONVERGED
+    else:
+        out[OB_REGIME] = codes.R_APERIODIC
+        out[OB_STATUS] = codes.OK
+
+
+@kernel
+def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
+    """Iterate P from st, trying Newton on P^n where states nearly repeat after n
+    periods. Returns ``(answered, status)``: answered when ``out`` holds the answer,
+    else the status with which the search ended (ok: the budget spent,
+    out[OB_T_SETTLE] set)."""
+    nmax = min(int(o_in[O_PERIODS]), (NH - 2) // 2)
+    lx = o[O_LX]
+    lv = o[O_LV]
+    hist = np.zeros((NH, NSTATE))
+    # the budget: max_periods natural periods, at least 4 nmax + 8 forcing periods
+    omega = math.sqrt(p[K] / p[M])
+    jmax = max(int(o[O_MAX_TIME] * 2.0 * math.pi / omega / T), 4 * nmax + 8)
+    keep(hist[0], st)
+    cooldown = np.zeros(nmax + 1)
+    tries = np.zeros(nmax + 1)
+    u = np.zeros(NS)
+    for j in range(1, jmax + 1):
+        fresh(acc)
+        status = run_periods(meth, st, p, lw, fx, o, acc, T, 1)
+        if status == codes.OK and st[S_N] >= o[O_MAX_STEPS]:
+            status = codes.STEP_BUDGET
+        if status != codes.OK:
+            return False, status
+        keep(hist[j % NH], st)
+        for n in range(1, min(nmax, j) + 1):
+            d = _dist(st, hist[(j - n) % NH], lx, lv)
+            if not d <= TRY or cooldown[n] > j:
+                continue
+            keep(u, st)
+            verdict, status = _candidate(meth, u, n, j, d, p, lw, fx, o, o_in[O_RTOL],
+                                         acc, T, work, out)
+            st[S_N] = u[S_N]
+            if status != codes.OK:
+                return False, status
+            if verdict == ANSWERED:
+                return True, codes.OK
+            tries[n] += 1.0
+            cooldown[n] = j + (2 * n + 2) * 2.0 ** min(tries[n], 20.0)
+            break
+    out[OB_T_SETTLE] = jmax * T
+    return False, codes.OK
+
+
+@kernel
+def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out):
+    """Newton on P^n from the state u, j periods in, whose iterates came within d
+    (in L) after n periods: ``(verdict, status)``, ANSWERED when ``out`` holds the
+    response the start reaches (stable, and as near as the contraction predicts),
+    or a neutral family's member; else GO_ON."""
+    lx = o[O_LX]
+    lv = o[O_LV]
+    start = np.zeros(NSTATE)
+    keep(start, u)
+    ok, mu1, mu2, status = newton(meth, u, n, p, lw, fx, o, acc, T, work, tol, out)
+    if status == codes.OK and ok:
+        n, ok, mu1, status = _least_period(meth, u, n, p, lw, fx, o, acc, T, work, tol,
+                                           mu1, out)
+    if status != codes.OK:
+        return GO_ON, status
+    near = _dist(u, start, lx, lv) <= max(2.0 * d / max(1.0 - mu1, 1e-3), 10.0 * tol)
+    if ok and near and mu1 < 1.0 - 1e-9:
+        # the integration error of n periods, amplified by 1/(1 - mu1) in the fixed
+        # point, must be within tol: else solve again, tighter
+        need = n * o[O_RTOL] / (1.0 - mu1)
+        if need > tol and o[O_RTOL] > RTOL_FLOOR:
+            o[O_RTOL] = max(RTOL_FLOOR, 0.5 * o[O_RTOL] * tol / need)
+            ok, mu1, mu2, status = newton(meth, u, n, p, lw, fx, o, acc, T, work, tol,
+                                          out)
+            if status != codes.OK:
+                return GO_ON, status
+        _answer(u, n, j, mu1, p, o, T, out, tol)
+        if not ok:
+            out[OB_STATUS] = codes.UNRESOLVED
+        return ANSWERED, codes.OK
+    if abs(mu1 - 1.0) <= 1e-3 and mu2 < 1.0 and (near or not ok):
+        # a multiplier 1 and no isolated fixed point: a neutral family (at
+        # Omega/omega = 1/(2 n), c = 0), whose member the start picks
+        if not ok:
+            keep(u, start)
+            status = _image(meth, u, n, p, lw, fx, o, acc, T, work, runtime(False))
+            if status != codes.OK:
+                return GO_ON, status
+            _observables(acc, n * T, out)
+        _answer(u, n, j, mu1, p, o, T, out, tol)
+        if out[OB_REGIME] != codes.R_STUCK:   # stuck throughout: exact
+            out[OB_REGIME] = codes.R_NEUTRAL
+            out[OB_STATUS] = codes.UNRESOLVED
+        return ANSWERED, codes.OK
+    return GO_ON, codes.OK
+
+
+@kernel
+def _least_period(meth, u, n, p, lw, fx, o, acc, T, work, tol, mu1, out):
+    """The least period m of the fixed point u of P^n (m divides n): the response
+    is a fixed point of P^m when P^m(u) returns to u within the accuracy asked.
+    Returns ``(m, ok, mu1, status)``, re-solved on P^m where m < n (P^n's
+    multipliers are P^m's to the power n/m: a negative multiplier of P makes the
+    iterates alternate, and P^2's candidate is found first)."""
+    for m in range(1, n):
+        if n % m != 0:
+            continue
+        status = _image(meth, u, m, p, lw, fx, o, acc, T, work, runtime(False))
+        if status != codes.OK:
+            return n, False, mu1, status
+        if _dist(work, u, o[O_LX], o[O_LV]) <= max(1e2 * tol, 1e4 * o[O_RTOL]):
+            ok, mu, _mu2, status = newton(meth, u, m, p, lw, fx, o, acc, T, work, tol,
+                                          out)
+            return m, ok, mu, status
+    return n, True, mu1, codes.OK
+
+
+@kernel
+def _failure(out, status, grows):
+    """A failed search: no numbers, its status; a divergence of a law anti-damped at
+    high speed is the motion's own growth (regime unbounded)."""
+    n = out[OB_NSTEPS]
+    for i in range(NFOB):
+        out[i] = np.nan
+    out[OB_NSTEPS] = n
+    out[OB_STATUS] = status
+    out[OB_REGIME] = codes.R_UNBOUNDED if status == codes.DIVERGED and grows \
+        else codes.R_FAILED
+
+
+@kernel
+def _answer(u, n, j, mu1, p, o, T, out, tol):
+    """The response of the fixed point u of P^n, its observables measured on line
+    (``newton``). Its error estimate, the integration error of n periods amplified
+    by 1/(1 - mu1), must be within tol."""
+    out[OB_NSTEPS] = u[S_N]
+    out[OB_MULTIPLICITY] = n
+    out[OB_PERIOD] = n * T
+    out[OB_FLOQUET] = mu1
+    out[OB_T_SETTLE] = j * T
+    out[OB_X_SECTION] = u[S_X]
+    out[OB_XDOT_SECTION] = u[S_ZD] + p[V]
+    out[OB_LYAPUNOV] = math.log(max(mu1, 1e-300)) / (n * T)
+    out[OB_LYAPUNOV_ERROR] = 0.0
+    if out[OB_STICK_FRACTION] >= 1.0:
+        out[OB_REGIME] = codes.R_STUCK
+        out[OB_STATUS] = codes.OK
+        out[OB_LYAPUNOV] = np.nan
+        return
+    if out[OB_STICKS_PER_PERIOD] > 0.0:
+        out[OB_REGIME] = codes.R_STICK_SLIP
+    else:
+        out[OB_REGIME] = codes.R_SLIP_CYCLE
+    amplified = n * o[O_RTOL] / max(1.0 - mu1, 1e-300)
+    out[OB_STATUS] = codes.OK if amplified <= tol else codes.UNRESOLVED
