@@ -188,7 +188,8 @@ def trajectory(row: np.ndarray, law, load, o: np.ndarray, *arrays):
     n_steps, method)``."""
     P = row[None, :]
     ex = _excitation(row, load)
-    ((meth, kind, _rows, lw),) = groups(P, (law,), o, forced=ex is not _UNFORCED)
+    ((meth, kind, _rows, lw),) = groups(P, (law,), o, forced=ex is not None)
+    ex = _UNFORCED if ex is None else ex
     with compiling("trajectory", meth, kind):
         n_ev, status, n_steps = entries.entry("trajectory", meth)(row, lw, ex, o, *arrays)
     return n_ev, status, n_steps, meth
@@ -198,7 +199,8 @@ def options(row: np.ndarray, law, load, o: np.ndarray):
     """``(option row, a-priori status)`` of one point: "auto" resolved, the default
     dt and GPS shift filled in (``attractor.resolve_options``)."""
     ex = _excitation(row, load)
-    ((meth, kind, _rows, lw),) = groups(row[None, :], (law,), o, forced=ex is not _UNFORCED)
+    ((meth, kind, _rows, lw),) = groups(row[None, :], (law,), o, forced=ex is not None)
+    ex = _UNFORCED if ex is None else ex
     with compiling("options", meth, kind):
         return entries.entry("options", meth)(row, lw, ex, o)
 
@@ -207,11 +209,9 @@ _UNFORCED = _kernel_excitations.UNFORCED
 
 
 def _excitation(row: np.ndarray, load):
-    """The kernel excitation data of one row: none (F0 = Y0 = 0) or its load's."""
+    """The kernel excitation data of one forced row (its load's), None unforced."""
     from . import excitations
-    if excitations.kinds(row[None, :])[0] == 0:
-        return _UNFORCED
-    return (load if load is not None else excitations.HARMONIC).data()
+    return excitations.kernel_data(row, load)
 
 
 # ------------------------------------------------------- a second compiler

@@ -50,6 +50,14 @@ def kinds(P: np.ndarray) -> np.ndarray:
     return forced.astype(np.intp)
 
 
+def kernel_data(row: np.ndarray, load):
+    """The kernels' excitation data of one row: its load's (``load``, or one cosine)
+    where it is forced, None where its excitation is none."""
+    if kinds(row[None, :])[0] == 0:
+        return None
+    return (load if load is not None else HARMONIC).data()
+
+
 def groups(P: np.ndarray):
     """``[(module, rows)]``: the rows of P (indices) of each excitation kind, with
     the kind's module (whose ``run`` solves them)."""
