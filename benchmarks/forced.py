@@ -50,7 +50,7 @@ def run(grid, o):
     t = time.process_time()
     if grid.forced:
         out = np.empty((grid.size, layout.NFOB))
-        forced.responses(P, grid.laws, o, out, False)
+        forced.responses(P, grid.laws, grid.loads, o, out, False)
     else:
         out = np.empty((grid.size, layout.NOBS))
         execute.attractors(P, grid.laws, o, out, False)

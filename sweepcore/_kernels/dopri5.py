@@ -76,8 +76,9 @@ def dopri5_step(t, x, zd, h, s, p, lw, fx, o, want_q):
     # resolution of x (tiny v far from x = 0) would otherwise shrink the steps for
     # ever. (From the step's start: off the chain of dependent stages.)
     floor_z = EPS * h * k * im * abs(x)
+    step_load(fx, t, h, TABLEAU_C)
     k1x, k2x, k3x, k4x, k5x, k6x, k7x, k1z, k3z, k4z, k5z, k6z, k7z, x1, zd1, X, Z = \
-        _stages(x, zd, h, s, p, lw, cf, fx, step_load(fx, t, h))
+        _stages(x, zd, h, s, p, lw, cf, fx)
     x3, x4, x5, x6 = X
     z3, z4, z5, z6 = Z
     ex = h * (E1 * k1x + E3 * k3x + E4 * k4x + E5 * k5x + E6 * k6x + E7 * k7x)
@@ -110,7 +111,7 @@ def dopri5_step(t, x, zd, h, s, p, lw, fx, o, want_q):
 
 
 @kernel(inline="always")
-def _stages(x, zd, h, s, p, lw, cf, fx, sl):
+def _stages(x, zd, h, s, p, lw, cf, fx):
     """The seven stages of a step (the seventh at its end): the slopes of x and zdot
     that the weights use, the step's end, and the states of stages 3-6."""
     v = p[V]
@@ -123,31 +124,31 @@ def _stages(x, zd, h, s, p, lw, cf, fx, sl):
     hA54 = h * A54
     hA65 = h * A65
     k1x = zd + v
-    k1z = with_stage(fx, sl, 0.0, zdd_of(x, zd, s, cf, lw, k, im), im)
+    k1z = with_stage(fx, 0, zdd_of(x, zd, s, cf, lw, k, im), im)
     x2 = x + h * A21 * k1x
     z2 = zd + h * A21 * k1z
     k2x = z2 + v
-    k2z = with_stage(fx, sl, C2, zdd_of(x2, z2, s, cf, lw, k, im), im)
+    k2z = with_stage(fx, 1, zdd_of(x2, z2, s, cf, lw, k, im), im)
     x3 = x + h * (A31 * k1x) + hA32 * k2x
     z3 = zd + h * (A31 * k1z) + hA32 * k2z
     k3x = z3 + v
-    k3z = with_stage(fx, sl, C3, zdd_of(x3, z3, s, cf, lw, k, im), im)
+    k3z = with_stage(fx, 2, zdd_of(x3, z3, s, cf, lw, k, im), im)
     x4 = x + h * (A41 * k1x + A42 * k2x) + hA43 * k3x
     z4 = zd + h * (A41 * k1z + A42 * k2z) + hA43 * k3z
     k4x = z4 + v
-    k4z = with_stage(fx, sl, C4, zdd_of(x4, z4, s, cf, lw, k, im), im)
+    k4z = with_stage(fx, 3, zdd_of(x4, z4, s, cf, lw, k, im), im)
     x5 = x + h * (A51 * k1x + A52 * k2x + A53 * k3x) + hA54 * k4x
     z5 = zd + h * (A51 * k1z + A52 * k2z + A53 * k3z) + hA54 * k4z
     k5x = z5 + v
-    k5z = with_stage(fx, sl, C5, zdd_of(x5, z5, s, cf, lw, k, im), im)
+    k5z = with_stage(fx, 4, zdd_of(x5, z5, s, cf, lw, k, im), im)
     x6 = x + h * (A61 * k1x + A62 * k2x + A63 * k3x + A64 * k4x) + hA65 * k5x
     z6 = zd + h * (A61 * k1z + A62 * k2z + A63 * k3z + A64 * k4z) + hA65 * k5z
     k6x = z6 + v
-    k6z = with_stage(fx, sl, 1.0, zdd_of(x6, z6, s, cf, lw, k, im), im)
+    k6z = with_stage(fx, 5, zdd_of(x6, z6, s, cf, lw, k, im), im)
     x1 = x + h * (B1 * k1x + B3 * k3x + B4 * k4x + B5 * k5x + B6 * k6x)
     zd1 = zd + h * (B1 * k1z + B3 * k3z + B4 * k4z + B5 * k5z + B6 * k6z)
     k7x = zd1 + v
-    k7z = with_stage(fx, sl, 1.0, zdd_of(x1, zd1, s, cf, lw, k, im), im)
+    k7z = with_stage(fx, 6, zdd_of(x1, zd1, s, cf, lw, k, im), im)
     return (k1x, k2x, k3x, k4x, k5x, k6x, k7x, k1z, k3z, k4z, k5z, k6z, k7z, x1, zd1,
             (x3, x4, x5, x6), (z3, z4, z5, z6))
 

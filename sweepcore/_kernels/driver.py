@@ -40,10 +40,11 @@ import numpy as np
 from .jit import kernel
 
 from . import codes
-from .excitation import (capped, field_accel, load_rate, plus_load, stick_exit,
-                         top_frequency, zero_mode)
+from .excitation import (capped, end_load, field_accel, load_rate, start_load,
+                         stick_exit, top_frequency, zero_mode)
 from .jit import runtime
-from .law import (certified_rest, constants, friction_force, integrand, step_bound)
+from .law import (accel, certified_rest, constants, friction_force, integrand,
+                  step_bound)
 from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_NSTOP, A_TSTICK, A_WF,
                      A_XDMAX, A_XDMIN, A_XMAX, A_XMIN, C, K, M, O_GRAZE, O_LV, O_LX,
                      O_MAX_STEPS, O_METHOD, O_RTOL, S_ARMED, S_H, S_J, S_MODE, S_N,
@@ -179,9 +180,12 @@ def _finish_zero(meth, st, p, lw, fx, o, acc, x0, zd0, s, h, xe, touched, a0, cf
     t0 = st[S_T]
     xr, zr, qx, qv, qw, ql = part
     if xr != xr:
-        xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, t0, x0, zd0, h, s, p, lw, fx, o, True)
+        xr, zr, qx, qv, qw, ql, _e, _ok, ks = step_kept(meth, t0, x0, zd0, h, s, p, lw, fx,
+                                                        o, True)
         st[S_N] += 1.0
-    if st[S_TRACK] > 0.0:
+        if st[S_TRACK] > 0.0:
+            _track(meth, st, p, lw, fx, o, t0, x0, zd0, s, h, xr, zr, ks)
+    elif st[S_TRACK] > 0.0:
         _track_partial(meth, st, p, lw, fx, o, t0, x0, zd0, s, h)
     _book(acc, qx, qv, qw, ql, h)
     _velocity_extremum(meth, st, p, lw, fx, o, acc, t0, x0, zd0, s, h, a0,
@@ -235,10 +239,11 @@ def _section(meth, st, p, lw, fx, o, acc, x, zd, z1, s, t, h, h_ev, a0, a1, cf, 
                                 not certified_rest(xx, zx, p, lw)):
         _note_x(acc, xx, 0.0)
         return codes.EV_NONE
-    xr, zr, qx, qv, qw, ql, _e, _ok = step(meth, t, x, zd, h_xe, s, p, lw, fx, o, True)
+    xr, zr, qx, qv, qw, ql, _e, _ok, ks = step_kept(meth, t, x, zd, h_xe, s, p, lw, fx, o,
+                                                    True)
     st[S_N] += 1.0
     if st[S_TRACK] > 0.0:
-        _track_partial(meth, st, p, lw, fx, o, t, x, zd, s, h_xe)
+        _track(meth, st, p, lw, fx, o, t, x, zd, s, h_xe, xr, zr, ks)
     _book(acc, qx, qv, qw, ql, h_xe)
     _velocity_extremum(meth, st, p, lw, fx, o, acc, t, x, zd, s, h_xe, a0,
                        field_accel(fx, t + h_xe, xx, -v, s, cf, lw, p[K], p[M]), dc, h)
@@ -279,7 +284,6 @@ def slide_until_event(meth, st, p, lw, fx, o, acc, t_stop):
         h, a0 = _capped(proposal(meth, x, zd, s, p, lw, o, st[S_H]), x, zd, s, cf, lw, k,
                         m, v, o, omega, adaptive)
         h = capped(fx, h)
-        a0 = plus_load(fx, t, a0, m)
         last = t + h >= t_stop
         if last:
             h = t_stop - t
@@ -305,9 +309,12 @@ def slide_until_event(meth, st, p, lw, fx, o, acc, t_stop):
                 continue
         if not (abs(x1) < 1e12 * o[O_LX] and abs(z1) < 1e12 * omega * o[O_LX]):
             return codes.EV_STOP_TIME, codes.DIVERGED
+        # the load at the step's ends, as its stages took it (the last step_load)
+        im = 1.0 / m
         if a0 != a0:                # not taken by the step bound
-            a0 = field_accel(fx, t, x, zd, s, cf, lw, k, m)
-        a1 = field_accel(fx, t + h, x1, z1, s, cf, lw, k, m)
+            a0 = accel(x, zd, s, cf, lw, k, m)
+        a0 = start_load(fx, a0, im)
+        a1 = end_load(fx, accel(x1, z1, s, cf, lw, k, m), im)
         sec, turns, h_ev, xe, touched, part, dc = _scan(meth, st, p, lw, fx, o, t, x, zd,
                                                         x1, z1, s, h, a0, a1, ks, gtol,
                                                         near, cf)

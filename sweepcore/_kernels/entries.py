@@ -14,7 +14,7 @@ import functools
 import numpy as np
 
 from . import attractor, cycles, strobe, trajectory
-from .excitation import for_call, prepare
+from .excitation import prepare, with_work, work_size
 from .jit import kernel, unowned
 from .law import borrowed
 
@@ -48,9 +48,12 @@ def _trajectory(meth):
     def run_trajectory(p, lw, ex, o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind,
                        ev_x, ev_zd, acc):
         """``trajectory.run_trajectory`` of one row under the excitation ``ex``."""
-        return trajectory.run_trajectory(meth, p, borrowed(lw), for_call(ex), o,
-                                         t_samples, out_x, out_zd, out_mode, ev_t, ev_kind,
-                                         ev_x, ev_zd, acc)
+        owner = np.zeros(work_size(ex))
+        n = trajectory.run_trajectory(meth, p, borrowed(lw), with_work(ex, unowned(owner)),
+                                      o, t_samples, out_x, out_zd, out_mode, ev_t, ev_kind,
+                                      ev_x, ev_zd, acc)
+        owner[:] = 0.0                  # the work array lives until here
+        return n
     return run_trajectory
 
 
@@ -60,10 +63,13 @@ def _options(meth):
         """The option row of one point (``attractor.resolve_options``) and the
         method's a-priori status (``attractor.method_status``)."""
         lw = borrowed(lw)
-        fx = for_call(ex)
+        owner = np.zeros(work_size(ex))
+        fx = with_work(ex, unowned(owner))
         prepare(fx, p, lw)
         oo = attractor.resolve_options(meth, p, lw, fx, o)
-        return oo, attractor.method_status(meth, p, lw, fx, oo)
+        status = attractor.method_status(meth, p, lw, fx, oo)
+        owner[:] = 0.0                  # the work array lives until here
+        return oo, status
     return options
 
 
@@ -73,9 +79,11 @@ def _forced_rows(meth):
         """The steady response of every row of P under the excitation ``ex``
         (``strobe.strobe_point``; ``out`` (n, NFOB))."""
         P, lw, o, out = unowned(P), borrowed(lw), unowned(o), unowned(out)
-        fx = for_call(ex)
+        owner = np.zeros(work_size(ex))
+        fx = with_work(ex, unowned(owner))
         for i in range(P.shape[0]):
             strobe.strobe_point(meth, P[i], lw, fx, o, out[i])
+        owner[:] = 0.0                  # the work array lives until here
     return forced_rows
 
 

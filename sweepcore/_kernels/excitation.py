@@ -17,8 +17,8 @@ excitation column (a test checks it).
 
 The generic forms are those of a periodic load, a trigonometric polynomial of time
 held in the work array ``fx.xc`` (``trig.py``): a kind of that family defines only
-its data class, ``for_call`` (its data with a work array of its own, one per call
-and thread) and ``coefficients`` (alpha_n, beta_n of one point, from the row). The
+its data class, ``work_size`` and ``with_work`` (its data with a work array of
+the caller's, one per call and thread) and ``coefficients`` (alpha_n, beta_n of one point, from the row). The
 kind ``none`` (the autonomous belt) defines every function: no load, the closed
 form of the stick's end (eq. 27) and the autonomous stop rules, so its kernels are
 the autonomous ones, bit for bit.
@@ -36,8 +36,9 @@ from .holding import critical_phases, stick_exit as _trig_exit
 from .jit import OVERLOAD_OPTIONS, kernel
 from .law import accel, field_slope, static_limits
 from .layout import C, K, OMEGA, V
-from .trig import (XC_FTOL, XC_HEAD, XC_N, XC_OMEGA, XC_PERIOD, XC_TOP, bound, derivative, stage,
-                   step_start)
+from .trig import (XC_END, XC_FTOL, XC_HEAD, XC_N, XC_OMEGA, XC_PERIOD, XC_STAGE, XC_START,
+                   XC_TOP, bound,
+                   derivative, stage_loads)
 
 EPS = np.finfo(np.float64).eps
 _DEFAULTS = {}
@@ -56,10 +57,12 @@ def _implementation(stub, fx):
     return getattr(fn, "py_func", fn)
 
 
-def interface(required=False):
+def interface(required=False, inline=False):
     """Declare ``stub`` an excitation function resolved by the class of ``fx``: the
     kind module's function of that name, else the stub's body (its generic form);
-    ``required``: every kind defines it."""
+    ``required``: every kind defines it. Compiled as functions of their own, as
+    the law's, or with ``inline`` into the caller (a body without a branch or a
+    loop: numba's own inlining of one trips its scope check)."""
     def declare(stub):
         at = list(inspect.signature(stub).parameters).index("fx")
         if not required:
@@ -68,16 +71,24 @@ def interface(required=False):
         def typer(*args):
             return _implementation(stub, args[at])
         typer.__signature__ = inspect.signature(stub)
-        overload(stub, inline="always", jit_options=OVERLOAD_OPTIONS)(typer)
+        overload(stub, inline="always" if inline else "never",
+                 jit_options=OVERLOAD_OPTIONS)(typer)
         return stub
     return declare
 
 
 # ------------------------------------------------------------ every kind defines
 @interface(required=True)
-def for_call(fx):
-    """The kind's data as the kernels of one call and thread use it (a periodic
-    kind: with a work array of its own)."""
+def work_size(fx):
+    """Floats of the work array the kind's data needs (``with_work``)."""
+
+
+@interface(required=True)
+def with_work(fx, work):
+    """The kind's data as the kernels of one call and thread use it: with the work
+    array ``work`` (at least ``work_size`` floats, the caller's, which keeps it alive
+    for the call), every array a view without reference count (``jit.unowned``: the
+    many kernels the data pass through count none)."""
 
 
 @interface(required=True)
@@ -112,70 +123,82 @@ def _resolve(xc, p, lw):
     return critical_phases(xc, p[K] * p[V])
 
 
-@interface()
+@interface(inline=True)
 def forced(fx):
     """Whether the kind excites the slider (a compile-time fact of the kind)."""
     return True
 
 
-@interface()
+@interface(inline=True)
 def period(fx):
     """The forcing period [s] (inf: none)."""
     return fx.xc[XC_PERIOD]
 
 
-@interface()
+@interface(inline=True)
 def top_frequency(fx):
     """The highest frequency of the load [rad/s] (0: none)."""
     return fx.xc[XC_TOP] * fx.xc[XC_OMEGA]
 
 
-@interface()
+@interface(inline=True)
 def load_bound(fx):
     """A bound of |e(t)| over all t [kN]."""
     return bound(fx.xc, 0)
 
 
-@interface()
+@interface(inline=True)
 def load(fx, t):
     """e(t) [kN]."""
     return derivative(fx.xc, t, 0)
 
 
-@interface()
+@interface(inline=True)
 def load_rate(fx, t):
     """e'(t) [kN/s]."""
     return derivative(fx.xc, t, 1)
 
 
-@interface()
+@interface(inline=True)
 def plus_load(fx, t, a, m):
     """``a + e(t)/m``: an acceleration of the autonomous field [cm/s^2] with the load."""
     return a + derivative(fx.xc, t, 0) / m
 
 
-@interface()
+@interface(inline=True)
 def plus_rate(fx, t, j, m):
     """``j + e'(t)/m``: a jerk of the autonomous field [cm/s^3] with the load's."""
     return j + derivative(fx.xc, t, 1) / m
 
 
 @interface()
-def step_load(fx, t, h):
-    """Prepare the load over the step h [s] from t [s]; returns what ``with_stage``
-    needs (``trig.step_start``)."""
-    step_start(fx.xc, t)
-    return fx.xc[XC_OMEGA] * h
+def step_load(fx, t, h, cs):
+    """The load at the stages ``t + c h`` (c in ``cs``, a stepper's fractions) of the
+    step h [s] from t [s], kept for ``with_stage`` (``trig.stage_loads``)."""
+    stage_loads(fx.xc, t, h, cs)
+    return 0.0
 
 
-@interface()
-def with_stage(fx, sl, c, a, im):
-    """``a + e(t + c h) im``: a stage's acceleration [cm/s^2] with the load, at the
-    fraction c of the step prepared by ``step_load`` (``sl``)."""
-    return a + stage(fx.xc, sl * c) * im
+@interface(inline=True)
+def start_load(fx, a, im):
+    """``a + e(t) im`` at the start t of the step of the last ``step_load``."""
+    return a + fx.xc[XC_START] * im
 
 
-@interface()
+@interface(inline=True)
+def end_load(fx, a, im):
+    """``a + e(t + h) im`` at the end of the step of the last ``step_load``."""
+    return a + fx.xc[XC_END] * im
+
+
+@interface(inline=True)
+def with_stage(fx, i, a, im):
+    """``a + e(t + c_i h) im``: stage i's acceleration [cm/s^2] with its load (the
+    stage's fraction c_i of the step of the last ``step_load``)."""
+    return a + fx.xc[XC_STAGE + i] * im
+
+
+@interface(inline=True)
 def capped(fx, h):
     """A step [s] at most half the time of the load's highest frequency (a step
     that turns the load's phase further is not resolved by the error estimate)."""

@@ -18,11 +18,14 @@ refused (``ok = False``) and the driver halves it.
 """
 from .jit import kernel
 
-from .excitation import plus_load
+import numpy as np
+
+from .excitation import step_load, with_stage
 from .law import constants, friction, integrand, zdd
 from .layout import M, O_GPS_A, V
 
 ORDER = 1
+STAGE_C = np.array([0.0])     # the field is taken at the step's start
 
 
 @kernel
@@ -34,7 +37,8 @@ def gps_step(t, x, zd, h, s, p, lw, fx, o, want_q):
     u1 = x + a
     u2 = zd
     f1 = zd + v
-    f2 = plus_load(fx, t, zdd(x, zd, s, p, lw), p[M])
+    step_load(fx, t, h, STAGE_C)
+    f2 = with_stage(fx, 0, zdd(x, zd, s, p, lw), 1.0 / p[M])
     tau = 0.5 * h
     uu = u1 * u1 + u2 * u2
     ff = f1 * f1 + f2 * f2

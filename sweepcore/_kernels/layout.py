@@ -50,7 +50,7 @@ S_SECTIONS = 8  # extrema of x: 0 stop at each, 1 stop at the section's only (th
 S_TRACK = 9     # 1: the tangent below rides along (variational equations, saltation)
 S_J = 10        # the tangent: d(x, zdot)/d(start), 4 slots row by row (J11 J12 J21 J22)
 NSTATE = 14     # the state proper (what a search keeps of it); then scratch:
-S_STAGES = 14   # the tangent's stage slopes (variational.py), 4 x 16 slots
+S_STAGES = 14   # the tangent's stage slopes (variational.py), 4 a stage, 16 stages
 NS = 78
 
 # accumulators acc (reset by the caller at the start of a measured interval)

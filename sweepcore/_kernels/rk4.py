@@ -1,4 +1,6 @@
 """Classical fourth-order Runge-Kutta, fixed step (method "rk4")."""
+import numpy as np
+
 from .jit import kernel
 
 from .excitation import step_load, with_stage
@@ -6,6 +8,7 @@ from .law import constants, friction_force, integrand, zdd_of
 from .layout import K, M, V
 
 ORDER = 4
+STAGE_C = np.array([0.0, 0.5, 0.5, 1.0])   # the fractions of the step of its stages
 
 
 @kernel
@@ -15,21 +18,21 @@ def rk4_step(t, x, zd, h, s, p, lw, fx, o, want_q):
     k = p[K]
     im = 1.0 / p[M]
     cf = constants(p, lw, s)
-    sl = step_load(fx, t, h)
+    step_load(fx, t, h, STAGE_C)
     k1x = zd + v
-    k1z = with_stage(fx, sl, 0.0, zdd_of(x, zd, s, cf, lw, k, im), im)
+    k1z = with_stage(fx, 0, zdd_of(x, zd, s, cf, lw, k, im), im)
     x2 = x + 0.5 * h * k1x
     z2 = zd + 0.5 * h * k1z
     k2x = z2 + v
-    k2z = with_stage(fx, sl, 0.5, zdd_of(x2, z2, s, cf, lw, k, im), im)
+    k2z = with_stage(fx, 1, zdd_of(x2, z2, s, cf, lw, k, im), im)
     x3 = x + 0.5 * h * k2x
     z3 = zd + 0.5 * h * k2z
     k3x = z3 + v
-    k3z = with_stage(fx, sl, 0.5, zdd_of(x3, z3, s, cf, lw, k, im), im)
+    k3z = with_stage(fx, 2, zdd_of(x3, z3, s, cf, lw, k, im), im)
     x4 = x + h * k3x
     z4 = zd + h * k3z
     k4x = z4 + v
-    k4z = with_stage(fx, sl, 1.0, zdd_of(x4, z4, s, cf, lw, k, im), im)
+    k4z = with_stage(fx, 3, zdd_of(x4, z4, s, cf, lw, k, im), im)
     x1 = x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x)
     zd1 = zd + h / 6.0 * (k1z + 2.0 * k2z + 2.0 * k3z + k4z)
     qx = 0.0

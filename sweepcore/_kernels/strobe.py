@@ -30,7 +30,7 @@ import numpy as np
 from . import codes
 from .attractor import method_status, resolve_options
 from .driver import advance, init_state
-from .excitation import for_call, period, prepare
+from .excitation import period, prepare
 from .jit import kernel, runtime
 from .law import anti_damped
 from .layout import (A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN,
@@ -230,7 +230,7 @@ def _observables(acc, dur, out):
 def strobe_point(meth, p, lw, fx, o_in, out):
     """Fill ``out`` (layout OB_*, length NFOB) with the steady response of one forced
     point reached from (p[X0], p[XD0]) at t = 0 (module docstring); ``fx`` the
-    excitation as the call's kernels use it (``excitation.for_call``)."""
+    excitation as the call's kernels use it (``excitation.with_work``)."""
     for i in range(NFOB):
         out[i] = np.nan
     out[OB_NSTEPS] = 0.0

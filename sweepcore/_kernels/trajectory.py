@@ -27,7 +27,7 @@ def run_trajectory(meth, p, lw, fx, o, t_samples, out_x, out_zd, out_mode, ev_t,
                    ev_x, ev_zd, acc):
     """Run from (p[X0], p[XD0]) at t = 0 and fill the sample and event arrays.
 
-    ``fx``: the excitation, as the call's kernels use it (``excitation.for_call``);
+    ``fx``: the excitation, as the call's kernels use it (``excitation.with_work``);
     ``o``: the point's option row (``attractor.resolve_options``). Samples are the
     driver's own state at each time of ``t_samples`` (sorted, >= 0): the driver
     stops exactly there. Phase events (slip, stick, stops) are logged up to the

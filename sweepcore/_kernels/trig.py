@@ -10,8 +10,9 @@ coefficients for one point live in the excitation's work array ``xc`` (layout
 below), written once per point by the kind's ``coefficients``; this module
 evaluates e and its time derivatives from them. Within a step the load at
 ``t + tau`` is ``sum_n E_n cos(n Omega tau) + F_n sin(n Omega tau)`` with
-``E_n, F_n`` the harmonics rotated to the step's start (``step_start``), so a
-stage costs no library call (``stage``).
+``E_n, F_n`` the harmonics rotated to the step's start, so the loads at a step's
+stages cost one library call (``stage_loads``, once per step; a stage reads its
+own from xc).
 """
 import math
 
@@ -24,7 +25,10 @@ XC_N = 2         # N, the number of harmonics held
 XC_NCRIT = 3     # number of critical phases (roots of h' over a period, holding.py)
 XC_FTOL = 4      # force tolerance of the stop rules [kN] (rounding of the forces)
 XC_TOP = 5       # the highest harmonic with a nonzero coefficient
-XC_HEAD = 8      # then alpha_n, beta_n, E_n, F_n (N each), the critical phases
+XC_STAGE = 8     # the load at the stages of the last step (``stage_loads``), 20 slots:
+XC_START = 26    # ... its last two: the load at the step's start
+XC_END = 27      # ... and at its end
+XC_HEAD = 28     # then alpha_n, beta_n, E_n, F_n (N each), the critical phases
 
 
 @kernel(inline="always")
@@ -85,13 +89,17 @@ def bound(xc, d):
 
 
 @kernel
-def step_start(xc, t):
-    """The harmonics rotated to a step that starts at t: ``E_n = alpha_n cos(n Omega
-    t) + beta_n sin(n Omega t)``, ``F_n = beta_n cos(n Omega t) - alpha_n sin(n Omega
-    t)`` into xc, so that e(t + tau) = sum_n E_n cos(n Omega tau) + F_n sin(n Omega
-    tau)."""
+def stage_loads(xc, t, h, cs):
+    """The load e(t + c h) [kN] at every fraction c of ``cs`` (a step's stages) into
+    ``xc[XC_STAGE + i]``, and at the step's start and end (XC_START, XC_END): the
+    harmonics rotated to the step's start, ``E_n = alpha_n
+    cos(n Omega t) + beta_n sin(n Omega t)``, ``F_n = beta_n cos(n Omega t) - alpha_n
+    sin(n Omega t)``, then ``e(t + tau) = sum_n E_n cos(n Omega tau) + F_n sin(n
+    Omega tau)`` with cos and sin of ``Omega tau`` from ``cos_sin`` and of its
+    multiples by rotation."""
     n_h = int(xc[XC_N])
-    u = xc[XC_OMEGA] * t
+    om = xc[XC_OMEGA]
+    u = om * t
     c1 = math.cos(u)
     s1 = math.sin(u)
     cn = c1
@@ -103,33 +111,43 @@ def step_start(xc, t):
         xc[e0 + i] = a * cn + b * sn
         xc[e0 + n_h + i] = b * cn - a * sn
         cn, sn = cn * c1 - sn * s1, sn * c1 + cn * s1
+    e_start = 0.0
+    for i in range(n_h):
+        e_start += xc[e0 + i]
+    xc[XC_START] = e_start
+    for j in range(-1, cs.shape[0]):
+        ct, st = cos_sin(om * h * (cs[j] if j >= 0 else 1.0))
+        ck = ct
+        sk = st
+        total = 0.0
+        for i in range(n_h):
+            total += xc[e0 + i] * ck + xc[e0 + n_h + i] * sk
+            ck, sk = ck * ct - sk * st, sk * ct + ck * st
+        xc[XC_STAGE + j if j >= 0 else XC_END] = total
+
+
+# Taylor coefficients of cos and sin, (-1)^k/(2k)! and (-1)^k/(2k+1)!: products, not
+# divisions (a division by a constant stays one without fastmath: ~16 of them a
+# stage was most of a forced step's time)
+K2, K4, K6, K8 = -1.0 / 2.0, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0
+K10, K12, K14, K16 = (-1.0 / 3628800.0, 1.0 / 479001600.0, -1.0 / 87178291200.0,
+                      1.0 / 20922789888000.0)
+K3, K5, K7, K9 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0, 1.0 / 362880.0
+K11, K13, K15, K17 = (-1.0 / 39916800.0, 1.0 / 6227020800.0, -1.0 / 1307674368000.0,
+                      1.0 / 355687428096000.0)
 
 
 @kernel(inline="always")
 def cos_sin(th):
     """cos and sin of th, by their Taylor polynomials to degree 16 and 17 where
     |th| <= 0.6 (the next terms are below 3e-20: as exact as the library's, and
-    without its calls on every stage), else the library's."""
+    without its calls on every stage; a step turns the load's phase by at most 0.5,
+    ``excitation.capped``), else the library's."""
     if abs(th) > 0.6:
         return math.cos(th), math.sin(th)
     t2 = th * th
-    c = 1.0 - t2 / 2.0 * (1.0 - t2 / 12.0 * (1.0 - t2 / 30.0 * (1.0 - t2 / 56.0 * (
-        1.0 - t2 / 90.0 * (1.0 - t2 / 132.0 * (1.0 - t2 / 182.0 * (1.0 - t2 / 240.0)))))))
-    sn = th * (1.0 - t2 / 6.0 * (1.0 - t2 / 20.0 * (1.0 - t2 / 42.0 * (1.0 - t2 / 72.0 * (
-        1.0 - t2 / 110.0 * (1.0 - t2 / 156.0 * (1.0 - t2 / 210.0 * (1.0 - t2 / 272.0))))))))
+    c = 1.0 + t2 * (K2 + t2 * (K4 + t2 * (K6 + t2 * (K8 + t2 * (K10 + t2 * (
+        K12 + t2 * (K14 + t2 * K16)))))))
+    sn = th * (1.0 + t2 * (K3 + t2 * (K5 + t2 * (K7 + t2 * (K9 + t2 * (K11 + t2 * (
+        K13 + t2 * (K15 + t2 * K17))))))))
     return c, sn
-
-
-@kernel
-def stage(xc, th):
-    """e at ``tau = th / Omega`` into the step of the last ``step_start`` [kN]."""
-    n_h = int(xc[XC_N])
-    e0 = XC_HEAD + 2 * n_h
-    c1, s1 = cos_sin(th)
-    total = xc[e0] * c1 + xc[e0 + n_h] * s1
-    cn = c1
-    sn = s1
-    for i in range(1, n_h):
-        cn, sn = cn * c1 - sn * s1, sn * c1 + cn * s1
-        total += xc[e0 + i] * cn + xc[e0 + n_h + i] * sn
-    return total

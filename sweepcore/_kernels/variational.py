@@ -47,37 +47,63 @@ B5 = np.ascontiguousarray(dopri5.TABLEAU_B[:6])
 
 
 @kernel
-def rk_tangent(J, h, zs, a, b, p, lw, cf, st):
-    """J carried through a step h of the tableau (a, b) whose stages had the relative
-    speeds zs: the variational equations integrated by the same stages, a column of
-    J at a time. The stage slopes live in ``st``'s scratch."""
-    n11, n21 = _column(J[0], J[2], h, zs, a, b, p, lw, cf, st)
-    n12, n22 = _column(J[1], J[3], h, zs, a, b, p, lw, cf, st)
-    return n11, n12, n21, n22
-
-
-@kernel
-def _column(jx, jz, h, zs, a, b, p, lw, cf, st):
+def rk_tangent(J, h, zs, nz_n, nz_j, nz_a, b, p, lw, cf, st):
+    """J carried through a step h of a tableau whose stages had the relative speeds
+    zs: the variational equations integrated by the same stages, both columns of J
+    at once (the stage slopes in ``st``'s scratch, 4 a stage). The tableau is given
+    by its nonzero entries a_ij (row i: ``nz_n[i]`` of them, columns ``nz_j``,
+    values ``nz_a``) and its weights b."""
     k = p[K]
     im = 1.0 / p[M]
-    ns = b.shape[0]
-    sx = 0.0
-    sz = 0.0
-    for i in range(ns):
-        wx = jx
-        wz = jz
-        for j in range(i):
-            aij = a[i, j]
-            if aij != 0.0:
-                wx += h * aij * st[S_STAGES + 2 * j]
-                wz += h * aij * st[S_STAGES + 2 * j + 1]
-        kx = wz
-        kz = (-k * wx + field_slope(lw, cf, zs[i]) * wz) * im
-        st[S_STAGES + 2 * i] = kx
-        st[S_STAGES + 2 * i + 1] = kz
-        sx += b[i] * kx
-        sz += b[i] * kz
-    return jx + h * sx, jz + h * sz
+    kk = -k * im
+    s11 = 0.0
+    s12 = 0.0
+    s21 = 0.0
+    s22 = 0.0
+    for i in range(b.shape[0]):
+        w11 = J[0]
+        w12 = J[1]
+        w21 = J[2]
+        w22 = J[3]
+        for q in range(nz_n[i]):
+            at = S_STAGES + 4 * nz_j[i, q]
+            ha = h * nz_a[i, q]
+            w11 += ha * st[at]
+            w12 += ha * st[at + 1]
+            w21 += ha * st[at + 2]
+            w22 += ha * st[at + 3]
+        g = field_slope(lw, cf, zs[i]) * im
+        k11 = w21
+        k12 = w22
+        k21 = kk * w11 + g * w21
+        k22 = kk * w12 + g * w22
+        at = S_STAGES + 4 * i
+        st[at] = k11
+        st[at + 1] = k12
+        st[at + 2] = k21
+        st[at + 3] = k22
+        s11 += b[i] * k11
+        s12 += b[i] * k12
+        s21 += b[i] * k21
+        s22 += b[i] * k22
+    return J[0] + h * s11, J[1] + h * s12, J[2] + h * s21, J[3] + h * s22
+
+
+def _nonzeros(a):
+    """The nonzero entries of a tableau by row: counts, columns, values."""
+    n = a.shape[0]
+    counts = np.array([np.count_nonzero(a[i]) for i in range(n)], np.int64)
+    cols = np.zeros((n, n), np.int64)
+    vals = np.zeros((n, n))
+    for i in range(n):
+        js = np.flatnonzero(a[i])
+        cols[i, :js.size] = js
+        vals[i, :js.size] = a[i, js]
+    return counts, cols, vals
+
+
+N8, J8, V8 = _nonzeros(A8)
+N5, J5, V5 = _nonzeros(A5)
 
 
 def tangent(meth, J, t, x, zd, h, s, p, lw, fx, o, x1, z1, ks, st):
@@ -93,13 +119,13 @@ def _tangent(meth, J, t, x, zd, h, s, p, lw, fx, o, x1, z1, ks, st):
             v = p[V]
             zs = (ks[0] - v, ks[1] - v, ks[2] - v, ks[3] - v, ks[4] - v, ks[5] - v,
                   ks[6] - v, ks[7] - v, ks[8] - v, ks[9] - v, ks[10] - v, ks[11] - v)
-            return rk_tangent(J, h, zs, A8, B8, p, lw, constants(p, lw, s), st)
+            return rk_tangent(J, h, zs, N8, J8, V8, B8, p, lw, constants(p, lw, s), st)
         return by_dop853
     if code == 3:           # dopri5: stages 1-6 (k2x kept last)
         def by_dopri5(meth, J, t, x, zd, h, s, p, lw, fx, o, x1, z1, ks, st):
             v = p[V]
             zs = (ks[0] - v, ks[12] - v, ks[1] - v, ks[2] - v, ks[3] - v, ks[4] - v)
-            return rk_tangent(J, h, zs, A5, B5, p, lw, constants(p, lw, s), st)
+            return rk_tangent(J, h, zs, N5, J5, V5, B5, p, lw, constants(p, lw, s), st)
         return by_dopri5
     fn = METHODS[code][6]
 

@@ -32,7 +32,12 @@ Unforced = namedtuple("Unforced", ())
 
 
 @kernel(inline="always")
-def for_call(fx):
+def work_size(fx):
+    return 0
+
+
+@kernel(inline="always")
+def with_work(fx, work):
     return fx
 
 
@@ -87,12 +92,22 @@ def plus_rate(fx, t, j, m):
 
 
 @kernel(inline="always")
-def step_load(fx, t, h):
+def step_load(fx, t, h, cs):
     return 0.0
 
 
 @kernel(inline="always")
-def with_stage(fx, sl, c, a, im):
+def with_stage(fx, i, a, im):
+    return a
+
+
+@kernel(inline="always")
+def start_load(fx, a, im):
+    return a
+
+
+@kernel(inline="always")
+def end_load(fx, a, im):
     return a
 
 

@@ -22,9 +22,10 @@ from collections import namedtuple
 
 import numpy as np
 
-from ..jit import kernel
+from ..jit import kernel, unowned
 from ..layout import C, F0, K, OMEGA, PHI, Y0
-from ..trig import XC_HEAD, XC_N, work_size
+from ..trig import XC_HEAD, XC_N
+from ..trig import work_size as trig_work
 
 Periodic = namedtuple("Periodic", ("cos", "sin", "xc"))
 
@@ -38,8 +39,13 @@ def sample():
 
 
 @kernel(inline="always")
-def for_call(fx):
-    return Periodic(fx.cos, fx.sin, np.zeros(work_size(fx.cos.shape[0])))
+def work_size(fx):
+    return trig_work(fx.cos.shape[0])
+
+
+@kernel(inline="always")
+def with_work(fx, work):
+    return Periodic(unowned(fx.cos), unowned(fx.sin), unowned(work))
 
 
 @kernel(inline="always")
