@@ -44,6 +44,7 @@ from .layout import (A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX
 
 TRY = 1.0             # states within this (in L) after n periods: try Newton on P^n
 RTOL_FLOOR = 1e-13    # the tightest integration tolerance used
+COARSE = 1e-6         # the loosest, of a Newton iterate far from the fixed point
 LYAP_PERIODS = 256    # periods of the Lyapunov estimate
 LYAP_BLOCKS = 8
 NH = 40               # stroboscopic states kept (2 n + 2 of them used)
@@ -126,38 +127,34 @@ def _multipliers(j11, j12, j21, j22):
 def newton(meth, u, n, p, lw, fx, o, acc, T, work, tol, out):
     """Fixed point of P^n near u (u moved to it): ``(ok, mu1, mu2, status)``, the
     moduli of P^n's multipliers there (larger first); on ok the observables of the
-    last run (from within 1e-2 tol of the fixed point) are in ``out``."""
+    last run (from within 1e-2 tol of the fixed point, at the point's integration
+    tolerance) are in ``out``. An inexact Newton: far from the fixed point an image
+    is integrated only as finely as the next step needs (``COARSE`` at most, and a
+    thousandth of the square of the last step: Newton's error after it)."""
     lx = o[O_LX]
     lv = o[O_LV]
+    rtol = o[O_RTOL]
     stuck = u[S_MODE] == codes.STICK
     mu1 = np.nan
     mu2 = np.nan
-    for _it in range(16):
+    last = np.inf
+    for _it in range(20):
+        o[O_RTOL] = max(rtol, min(COARSE, 1e-3 * last * last))
         status = _image(meth, u, n, p, lw, fx, o, acc, T, work, runtime(True))
+        fine = o[O_RTOL] == rtol
+        o[O_RTOL] = rtol
         if status != codes.OK:
             return False, mu1, mu2, status
         if work[S_MODE] != u[S_MODE]:
             return False, mu1, mu2, codes.OK
-        j11, j12, j21, j22 = work[S_J], work[S_J + 1], work[S_J + 2], work[S_J + 3]
-        rx = work[S_X] - u[S_X]
-        rz = 0.0
-        if stuck:
-            mu1, mu2 = abs(j11), 0.0
-            dx = -rx / (j11 - 1.0) if j11 != 1.0 else 0.0
-            dz = 0.0
-        else:
-            mu1, mu2 = _multipliers(j11, j12, j21, j22)
-            rz = work[S_ZD] - u[S_ZD]
-            a11 = j11 - 1.0
-            a22 = j22 - 1.0
-            dd = a11 * a22 - j12 * j21
-            dx = (-rx * a22 + rz * j12) / dd if dd != 0.0 else 0.0
-            dz = (-rz * a11 + rx * j21) / dd if dd != 0.0 else 0.0
+        mu1, mu2, dx, dz, res = _newton_step(u, work, stuck, lx, lv)
         step = max(abs(dx) / lx, abs(dz) / lv)
-        if max(abs(rx) / lx, abs(rz) / lv) <= 1e-2 * tol or step <= 1e-2 * tol:
-            # a fixed point (a neutral one too): u itself, within 1e-2 tol
-            _observables(acc, n * T, out)
-            return True, mu1, mu2, codes.OK
+        if res <= 1e-2 * tol or step <= 1e-2 * tol:
+            if fine:        # a fixed point (a neutral one too): u itself, within 1e-2 tol
+                _observables(acc, n * T, out)
+                return True, mu1, mu2, codes.OK
+            last = 0.0      # once more, at the point's tolerance
+            continue
         if not step > 0.0 or step > 10.0 * TRY:  # singular, or a jump away
             return False, mu1, mu2, codes.OK
         u[S_X] += dx
@@ -166,7 +163,26 @@ def newton(meth, u, n, p, lw, fx, o, acc, T, work, tol, out):
             if u[S_ZD] == 0.0 or (u[S_ZD] > 0.0) != (u[S_MODE] > 0.0):
                 return False, mu1, mu2, codes.OK
             u[S_ARMED] = 1.0
+        last = step
     return False, mu1, mu2, codes.OK
+
+
+@kernel
+def _newton_step(u, work, stuck, lx, lv):
+    """From u and its image with the tangent in ``work``: the multipliers' moduli,
+    Newton's step (dx, dz) and the residual [L]. A stuck u is one number (x)."""
+    j11, j12, j21, j22 = work[S_J], work[S_J + 1], work[S_J + 2], work[S_J + 3]
+    rx = work[S_X] - u[S_X]
+    if stuck:
+        return abs(j11), 0.0, -rx / (j11 - 1.0) if j11 != 1.0 else 0.0, 0.0, abs(rx) / lx
+    mu1, mu2 = _multipliers(j11, j12, j21, j22)
+    rz = work[S_ZD] - u[S_ZD]
+    a11 = j11 - 1.0
+    a22 = j22 - 1.0
+    dd = a11 * a22 - j12 * j21
+    dx = (-rx * a22 + rz * j12) / dd if dd != 0.0 else 0.0
+    dz = (-rz * a11 + rx * j21) / dd if dd != 0.0 else 0.0
+    return mu1, mu2, dx, dz, max(abs(rx) / lx, abs(rz) / lv)
 
 
 @kernel

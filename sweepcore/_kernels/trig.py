@@ -115,15 +115,32 @@ def stage_loads(xc, t, h, cs):
     for i in range(n_h):
         e_start += xc[e0 + i]
     xc[XC_START] = e_start
-    for j in range(-1, cs.shape[0]):
-        ct, st = cos_sin(om * h * (cs[j] if j >= 0 else 1.0))
-        ck = ct
-        sk = st
-        total = 0.0
-        for i in range(n_h):
-            total += xc[e0 + i] * ck + xc[e0 + n_h + i] * sk
-            ck, sk = ck * ct - sk * st, sk * ct + ck * st
-        xc[XC_STAGE + j if j >= 0 else XC_END] = total
+    th = om * h
+    if n_h == 1:                # one harmonic: scalars only
+        e1 = xc[e0]
+        f1 = xc[e0 + 1]
+        for j in range(cs.shape[0]):
+            ct, st = cos_sin(th * cs[j])
+            xc[XC_STAGE + j] = e1 * ct + f1 * st
+        ct, st = cos_sin(th)
+        xc[XC_END] = e1 * ct + f1 * st
+        return
+    for j in range(cs.shape[0]):
+        xc[XC_STAGE + j] = _rotated(xc, e0, n_h, th * cs[j])
+    xc[XC_END] = _rotated(xc, e0, n_h, th)
+
+
+@kernel(inline="always")
+def _rotated(xc, e0, n_h, th):
+    """``sum_n E_n cos(n th) + F_n sin(n th)`` (E_n, F_n at ``e0`` in xc)."""
+    ct, st = cos_sin(th)
+    ck = ct
+    sk = st
+    total = 0.0
+    for i in range(n_h):
+        total += xc[e0 + i] * ck + xc[e0 + n_h + i] * sk
+        ck, sk = ck * ct - sk * st, sk * ct + ck * st
+    return total
 
 
 # Taylor coefficients of cos and sin, (-1)^k/(2k)! and (-1)^k/(2k+1)!: products, not
