@@ -12,7 +12,8 @@ Public API::
     plot_result, plot_map, plot_lines, plot_trajectory, plot_cases, plot_friction,
     plot_diagram, plot_hysteresis, plot_boundaries, plot_basins, plot_forced_map,
     plot_frequency_response, plot_stroboscopic,
-    TableLaw, LeineLaw (every law class of ``sweepcore.laws.LAWS``)
+    TableLaw, LeineLaw (every law class of ``sweepcore.laws.LAWS``),
+    PeriodicLoad (a periodic load's shape, ``sweepcore.excitations``)
 
 Every name is imported on first use (PEP 562): ``import sweepcore`` imports
 neither numba nor matplotlib, so the command line's ``--help`` answers at once.
@@ -45,6 +46,7 @@ _WHERE = {
     "SweepTooLarge": ".sizing", "estimate": ".sizing",
     "sweep": ".sweep",
     "frequency_response": ".response_curves", "stroboscopic_diagram": ".response_curves",
+    "PeriodicLoad": ".excitations",
 }
 PLOTS = ("plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
          "plot_friction", "plot_diagram", "plot_hysteresis", "plot_boundaries",
@@ -53,7 +55,7 @@ _NAMES = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "esti
           "SweepTooLarge",
           "hopf_boundary", "locate_boundaries", "continue_boundary",
           "bifurcation_diagram", "slip_cycles", "basin_stability", "frequency_response",
-          "stroboscopic_diagram",
+          "stroboscopic_diagram", "PeriodicLoad",
           "open_result", "write_netcdf", "check_cf", "compile", *PLOTS]
 
 

@@ -5,8 +5,9 @@ Shares no code with sweepcore (nothing here imports it); the friction family is
 
 Model::
 
-    m x'' + c (x' - y') + k (x - y) + F(x' - v) = F0 cos(Omega t + phi),
+    m x'' + c (x' - y') + k (x - y) + F(x' - v) = F0 p(Omega t + phi),
     y = Y0 cos(Omega t),
+    p(theta) = sum_n a_n cos(n theta) + b_n sin(n theta)   (default: cos theta),
 
 F the friction law of the relative speed s = x' - v: the family
 ``F(s) = sgn(s) (r_k + (r_y - r_k) exp(-|s|/v_s)) - alpha1 s + alpha2 s^3`` (static
@@ -20,11 +21,14 @@ limits r_pos = r_neg = r_y), or any callable F(s) (s != 0) with static limits
   wrong side of v; it is then located by Brent's method between that extremum and
   the one before (x' is monotone there).
 * Stick (x' = v): the holding force ``h(t) = e(t) - k x(t) - c v`` with
-  ``e(t) = F0 cos(Omega t + phi) + k y + c y'`` and ``x(t) = x_s + v (t - t_s)``
+  ``e(t) = F0 p(Omega t + phi) + k y + c y'`` and ``x(t) = x_s + v (t - t_s)``
   stays in [-r_neg, r_pos]. Breakaway is the first time h reaches a bound: h' =
-  e'(t) - k v vanishes at times known in closed form (e is harmonic), so h is
-  monotone between them and each monotone piece is bracketed, then solved by Brent's
-  method: no short excursion of h beyond a bound is stepped over.
+  e'(t) - k v is a trigonometric polynomial of degree N, whose roots are those of a
+  polynomial of degree 2 N in z = exp(i Omega t) on the unit circle (the eigenvalues
+  of its companion matrix, numpy.roots: J. P. Boyd, J. Eng. Math. 56 (2006)
+  203-219), polished by Newton's method; h is monotone between them, and each
+  monotone piece is bracketed, then solved by Brent's method: no short excursion of h
+  beyond a bound is stepped over.
 * s reaching 0 while sliding: stick if h is inside the band, else slide on (a
   zero-duration stop, 'normal_stop' if the side reverses, 'abnormal_stop' if not).
 
@@ -53,8 +57,14 @@ class Forced:
     [kN] of the relative speed (s != 0) and its static limits [kN]."""
 
     def __init__(self, m, k, c=0.0, v=0.0, F0=0.0, Omega=1.0, phi=0.0, Y0=0.0,
-                 r_y=1.0, r_k=None, v_s=1.0, alpha1=0.0, alpha2=0.0, law=None):
+                 r_y=1.0, r_k=None, v_s=1.0, alpha1=0.0, alpha2=0.0, law=None, cos=None,
+                 sin=None):
         self.m, self.k, self.c, self.v = float(m), float(k), float(c), float(v)
+        a = np.atleast_1d(np.asarray([1.0] if cos is None and sin is None else
+                                     (cos if cos is not None else []), float))
+        b = np.atleast_1d(np.asarray(sin if sin is not None else [], float))
+        n = max(a.size, b.size, 1)
+        self.a_n, self.b_n = np.pad(a, (0, n - a.size)), np.pad(b, (0, n - b.size))
         self.F0, self.Omega, self.phi, self.Y0 = float(F0), float(Omega), float(phi), \
             float(Y0)
         if not (self.m > 0 and self.k > 0 and self.c >= 0 and self.Omega > 0):
@@ -67,10 +77,9 @@ class Forced:
             self.F, self.r_pos, self.r_neg = law[0], float(law[1]), float(law[2])
         self.omega = math.sqrt(self.k / self.m)
         self.T = 2.0 * math.pi / self.Omega
-        # e(t) = a cos(Omega t) + b sin(Omega t), read from e itself
-        self.a, self.b = self.load(0.0), self.load(0.25 * self.T)
-        self.A = math.hypot(self.a, self.b)
-        self.theta = math.atan2(self.b, self.a)
+        # the bound of |e|: the amplitudes of the load's harmonics and the anchor's
+        self.A = abs(self.F0) * float(np.sum(np.hypot(self.a_n, self.b_n))) + \
+            abs(self.Y0) * math.hypot(self.k, self.c * self.Omega)
         bound = max(self.r_pos, self.r_neg)
         self.L = (self.A + bound) / self.k + abs(self.v) / self.omega   # length scale
         self.Lv = self.omega * self.L + abs(self.v)                     # speed scale
@@ -78,10 +87,32 @@ class Forced:
         self.ds = 1e-9 * self.Lv
 
     def load(self, t):
-        """e(t) = F0 cos(Omega t + phi) + k y + c y' [kN]."""
+        """e(t) = F0 p(Omega t + phi) + k y + c y' [kN]."""
         w = self.Omega
-        return self.F0 * math.cos(w * t + self.phi) + self.k * self.Y0 * math.cos(w * t) \
+        th = (w * t + self.phi) * np.arange(1, self.a_n.size + 1)
+        p = float(np.sum(self.a_n * np.cos(th) + self.b_n * np.sin(th)))
+        return self.F0 * p + self.k * self.Y0 * math.cos(w * t) \
             - self.c * self.Y0 * w * math.sin(w * t)
+
+    def load_rate(self, t):
+        """e'(t) [kN/s]."""
+        w = self.Omega
+        n = np.arange(1, self.a_n.size + 1)
+        th = (w * t + self.phi) * n
+        dp = float(np.sum(n * w * (self.b_n * np.cos(th) - self.a_n * np.sin(th))))
+        return self.F0 * dp - self.k * self.Y0 * w * math.sin(w * t) \
+            - self.c * self.Y0 * w * w * math.cos(w * t)
+
+    def rate_coefficients(self):
+        """h'(t) + k v = e'(t) = sum_n (p_n cos(n Omega t) + q_n sin(n Omega t))."""
+        n = np.arange(1, self.a_n.size + 1)
+        w = self.Omega
+        # F0 (a_n cos(n phi) + b_n sin(n phi)) cos(n Omega t) + ... : e's own harmonics
+        al = self.F0 * (self.a_n * np.cos(n * self.phi) + self.b_n * np.sin(n * self.phi))
+        be = self.F0 * (self.b_n * np.cos(n * self.phi) - self.a_n * np.sin(n * self.phi))
+        al[0] += self.k * self.Y0
+        be[0] -= self.c * w * self.Y0
+        return n * w * be, -n * w * al
 
     def branch(self, s, sgn):
         """F on the side sgn, continued past s = 0 by its tangent at s = sgn ds."""
@@ -110,21 +141,54 @@ class Forced:
 
 
 # ------------------------------------------------------------------------ stick
+def _critical_phases(mod):
+    """The times in [0, T) at which h'(t) = e'(t) - k v vanishes: with z =
+    exp(i Omega t), ``sum_n p_n cos(n Omega t) + q_n sin(n Omega t) - k v`` times
+    z^N is a polynomial of degree 2 N in z whose roots on the unit circle are the
+    zeros (Boyd 2006); numpy.roots takes the companion matrix's eigenvalues. Roots
+    within 1e-6 of the circle are kept (a double root splits by ~sqrt(eps)) and
+    polished by Newton's method."""
+    p, q = mod.rate_coefficients()
+    N = p.size
+    c = np.zeros(2 * N + 1, complex)      # coefficients of z^-N .. z^N
+    c[N] = -mod.k * mod.v
+    for n in range(1, N + 1):
+        c[N + n] += 0.5 * (p[n - 1] - 1j * q[n - 1])
+        c[N - n] += 0.5 * (p[n - 1] + 1j * q[n - 1])
+    nz = np.flatnonzero(np.abs(c) > 1e-300)
+    if nz.size < 2:
+        return []
+    roots = np.roots(c[nz[0]:nz[-1] + 1][::-1])
+    out = []
+    for z in roots:
+        if abs(abs(z) - 1.0) > 1e-6:
+            continue
+        t = (np.angle(z) % (2.0 * np.pi)) / mod.Omega
+        for _ in range(3):          # Newton on h' with h'' = e''
+            d = mod.load_rate(t) - mod.k * mod.v
+            dd = (mod.load_rate(t + 1e-7 * mod.T) - mod.load_rate(t - 1e-7 * mod.T)) \
+                / (2e-7 * mod.T)
+            if dd == 0.0:
+                break
+            t -= d / dd
+        out.append(t % mod.T)
+    return sorted(out)
+
+
 def _critical_times(mod, t0, t1):
-    """Zeros of h'(t) = -A Omega sin(Omega t - theta) - k v in (t0, t1), sorted."""
-    q = -mod.k * mod.v / (mod.A * mod.Omega) if mod.A > 0 else math.inf
-    if abs(q) >= 1.0:
-        # h monotone: cut anyway, every period, to keep the pieces short
+    """Zeros of h'(t) = e'(t) - k v in (t0, t1), sorted; cut every period where
+    h is monotone (no zeros) to keep the pieces short."""
+    phases = _critical_phases(mod)
+    if not phases:
         return list(np.arange(t0, t1, mod.T)[1:])
     out = []
-    for base in (math.asin(q), math.pi - math.asin(q)):
-        # Omega t - theta = base + 2 pi j
-        j0 = math.ceil(((mod.Omega * t0 - mod.theta) - base) / (2 * math.pi))
-        t = (base + 2 * math.pi * j0 + mod.theta) / mod.Omega
-        while t < t1:
-            if t > t0:
-                out.append(t)
-            t += mod.T
+    j = math.floor(t0 / mod.T) - 1
+    while True:
+        base = j * mod.T
+        if base > t1:
+            break
+        out += [base + ph for ph in phases if t0 < base + ph < t1]
+        j += 1
     return sorted(out)
 
 

@@ -47,6 +47,9 @@ def critical_phases(xc, kv):
     room = 4 * n_h + 8
     m2 = bound(xc, 2)
     m3 = bound(xc, 3)
+    if not m2 > 0.0:                    # no load (a load and an anchor that cancel)
+        xc[XC_NCRIT] = 0
+        return True
     n_grid = GRID * n_h + 4
     cap = n_grid + 128
     sa = np.empty(cap)
