@@ -150,7 +150,9 @@ class Grid:
         Kinetic friction level of the exponential Stribeck law [kN], >= 0; None
         (default): r_k = r_y, no Stribeck term (the paper's law).
     v_s : float, 1-D array or None
-        Stribeck speed [cm/s], > 0; required when r_k is given.
+        Stribeck speed [cm/s], >= 0; required when r_k is given. 0 is the limit
+        v_s -> 0+: a jump from the static bound r_y to the sliding level r_k at zero
+        speed (static above kinetic Coulomb friction).
     law : law object or list of them, optional
         A friction law given as an object (:mod:`sweepcore.laws`) instead of the
         analytic parameters r_y, alpha1, alpha2, r_k, v_s (which are then not
@@ -245,6 +247,8 @@ class Grid:
             if val is None:
                 continue
             val = np.atleast_1d(val)
+            if name == "v_s":           # the Stribeck slope's bound: the least v_s > 0
+                val = val[val > 0.0] if (val > 0.0).any() else np.array([np.inf])
             ranges[name] = (float(val.min()), float(val.max()))
         if self.law is None:
             check_derived("Grid", ranges)

@@ -222,15 +222,18 @@ def stick_force(x, source):
 def stick_onset_estimate(source):
     """First-order averaging estimate ``2 v*/sqrt(5)`` of the belt speed [cm/s] below
     which a slip cycle of the polynomial law reaches belt speed (sticks): the
-    averaged cycle's velocity amplitude ``2 sqrt(v*^2 - v^2)`` reaches v. NaN for a
-    law with a Stribeck term or a law object (no such closed form)."""
+    averaged cycle's velocity amplitude ``2 sqrt(v*^2 - v^2)`` reaches v (v_s = 0
+    too: a slip cycle never sees the jump). NaN for a law with a Stribeck term or a
+    law object (no such closed form)."""
     est = 2.0 / np.sqrt(5.0) * derived("v_star", source)
     if law_of(source) is not ANALYTIC:
         return est * np.nan
     r_k = value(source, "r_k")
     if r_k is None:
         return est
-    polynomial = r_k == value(source, "r_y")
+    # no Stribeck term: r_k = r_y, or v_s = 0 (the jump: its slides are the
+    # polynomial law's with the level r_k)
+    polynomial = (r_k == value(source, "r_y")) | (value(source, "v_s") == 0.0)
     if hasattr(est, "where"):
         return est.where(polynomial)
     return np.where(polynomial, est, np.nan)
@@ -263,8 +266,8 @@ def unresolvable(P: np.ndarray, o: np.ndarray, laws=(ANALYTIC,)) -> np.ndarray:
     growing or decaying motion that touches the belt is taken for a reset cycle:
     ``0 < pi zeta <= WEAK g`` with ``zeta = max(|c|, S) / (m omega)``, S the law's
     bound of ``|F'|`` at the row's speeds (``slope_scale``; for the analytic family
-    ``max(|alpha1|, 3 alpha2 v^2, |r_y - r_k|/v_s)``), an upper bound of the law's
-    slope per ``m omega`` (``|q|/omega`` is one value of it). ``zeta = 0`` (constant
+    ``max(|alpha1|, 3 alpha2 v^2, |r_y - r_k|/v_s)``, the last for v_s > 0), an
+    upper bound of the law's slope per ``m omega`` (``|q|/omega`` is one value of it). ``zeta = 0`` (constant
     friction, no damping: neutral circles) is resolved exactly, and so is a
     conservative field (the law's ``conservative``: for the analytic family c =
     alpha1 without a cubic or Stribeck term, taken as zeta = 0); a static belt

@@ -31,14 +31,15 @@ LONG_NAMES = {
     "v": "belt speed", "alpha1": "linear friction-speed coefficient",
     "alpha2": "cubic friction-speed coefficient", "c": "viscous damping coefficient",
     "r_k": "kinetic friction level (Stribeck law; r_k = r_y: none)",
-    "v_s": "Stribeck speed", "x0": "initial position", "xdot0": "initial velocity",
+    "v_s": "Stribeck speed (0: a jump from r_y to r_k)", "x0": "initial position",
+    "xdot0": "initial velocity",
     **excitations.LONG_NAMES,
 }
 # validation rules of every parameter (check_real keywords)
 RULES = {"m": {"positive": True}, "k": {"positive": True}, "r_y": {"nonnegative": True},
          "v": {}, "alpha1": {}, "alpha2": {"nonnegative": True},
          "c": {"nonnegative": True}, "r_k": {"nonnegative": True},
-         "v_s": {"positive": True}, "x0": {}, "xdot0": {}, **excitations.RULES}
+         "v_s": {"nonnegative": True}, "x0": {}, "xdot0": {}, **excitations.RULES}
 
 
 def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
@@ -90,10 +91,13 @@ def derived_bounds(m, k, r_y, v, alpha1, alpha2, c=(0.0,), r_k=(0.0,),
     """Largest magnitudes of the derived quantities over the given ranges.
 
     Each argument is a (low, high) pair of the parameter's range (or its value
-    twice). Sums of absolute values are used, so a finite bound means every
-    derived quantity of every combination is finite; ``omega`` is bounded below as
-    well (its low value, which must be > 0). Overflow gives inf or NaN.
+    twice); for v_s the smallest positive value (a v_s of 0, the jump, adds no
+    slope: give ``(inf, inf)`` where every v_s is 0). Sums of absolute values are
+    used, so a finite bound means every derived quantity of every combination is
+    finite; ``omega`` is bounded below as well (its low value, which must be > 0).
+    Overflow gives inf or NaN.
     """
+    v_s = tuple(x for x in v_s if x > 0.0) or (np.inf,)
     with np.errstate(all="ignore"):
         lo = {n: np.float64(min(x)) for n, x in dict(m=m, k=k, v_s=v_s).items()}
         hi = {n: np.float64(max(np.abs(x))) for n, x in dict(
@@ -159,7 +163,9 @@ class Params:
     ``m x'' + c x' + k x + r_a = 0``; while sliding with relative speed
     ``s = x' - v``, ``r_a = F(s) = sgn(s) (r_k + (r_y - r_k) exp(-|s|/v_s))
     - alpha1 s + alpha2 s^3``; while stuck ``|k x + c v| <= r_y``. The defaults
-    (``c = 0``, ``r_k = r_y``) give the paper's law, eq. (40).
+    (``c = 0``, ``r_k = r_y``) give the paper's law, eq. (40); ``v_s = 0`` is the
+    limit v_s -> 0+, Coulomb friction with static above kinetic (``r_k < r_y``: a
+    jump at zero speed, Shaw 1986).
 
     Parameters
     ----------
@@ -168,7 +174,8 @@ class Params:
     k : float
         Stiffness [kN/cm], > 0.
     r_y : float
-        Static friction bound [kN], >= 0: the largest force sticking holds (= F(0+)).
+        Static friction bound [kN], >= 0: the largest force sticking holds (= F(0+),
+        but for v_s = 0, where F(0+) = r_k).
         Required unless ``law`` is given.
     v : float
         Belt speed [cm/s], any finite value: ``v < 0`` is the mirror image of
@@ -183,7 +190,9 @@ class Params:
         Kinetic friction level [kN], >= 0: the Coulomb part of F at high speed
         (exponential Stribeck law). Default ``r_y``: no Stribeck term.
     v_s : float, optional
-        Stribeck speed [cm/s], > 0; required when ``r_k != r_y``.
+        Stribeck speed [cm/s], >= 0; required when ``r_k != r_y``. ``v_s = 0`` is the
+        exact jump: ``F(s) = sgn(s) r_k - alpha1 s + alpha2 s^3`` while sliding
+        (``F(0+) = r_k``), sticking up to r_y (static above kinetic friction).
     law : TableLaw or LeineLaw, optional
         A friction law given as an object (:mod:`sweepcore.laws`) instead of the
         analytic family: then r_y, alpha1, alpha2, r_k and v_s are not given (the law

@@ -214,7 +214,8 @@ def _simulate_options(p):
                    help="kinetic friction level of the Stribeck law [kN], >= 0 "
                         "(default r_y: no Stribeck term)")
     p.add_argument("--v-s", dest="v_s", type=float, default=None,
-                   help="Stribeck speed [cm/s], > 0 (needed with --r-k)")
+                   help="Stribeck speed [cm/s], >= 0 (needed with --r-k; 0: "
+                        "a jump from r_y to r_k at zero speed)")
     law = p.add_argument_group("a measured friction law (instead of --r-y ... --v-s)")
     law.add_argument("--law-table", dest="law_table", metavar="FILE.csv", default=None,
                      help="force against relative speed, header 'speed [cm/s],force "

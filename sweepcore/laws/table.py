@@ -8,15 +8,17 @@ than a continuous F: the Hopf speeds are roots of ``c + F'``, the first Lyapunov
 coefficient (sub- or supercritical) needs ``F'''`` and the equilibrium certificate a
 bound of ``F'``. The representation is therefore a quintic Hermite spline (C2, F'''
 defined on each piece) that keeps the data's shape: monotone where the samples are,
-never beyond the range of the two samples of a piece, accurate to order 6 on smooth
-data (:mod:`sweepcore.laws.spline`; why: docs/methods.md, "Tabulated friction
-laws"). Past the last speed of a branch the force is held at the last sample's value
-(F' = 0 there; the spline ends with zero slope and curvature, so the join is C2).
+never beyond the range of the two samples of such a piece (no overshoot after a
+step), convex with one extremum between samples where they turn smoothly (a
+Stribeck minimum), accurate to order 6 on smooth data (:mod:`sweepcore.laws.spline`;
+why: docs/methods.md, "Tabulated friction laws"). Past the last speed of a branch a
+runout piece brings the slope to 0 (the last piece keeps its accuracy), then the
+force is held (F' = 0; the join is C2).
 
-Every result of a table law records ``deviation``: the largest distance by which the
-representation leaves the range of the data between two samples (a rigorous bound,
-from the Bernstein control points; rounding only) or, with ``smoothing``, from the
-given points; for :meth:`TableLaw.from_function`, from the function. The accuracy
+Every result of a table law records ``deviation`` [kN]: an estimate of how far the
+representation may be from the curve the samples came from (``TableLaw``'s
+attributes), or, with ``smoothing``, the largest residual at the given points; for
+:meth:`TableLaw.from_function`, the distance from the function. The accuracy
 contract of the engine holds for the law as represented.
 """
 from __future__ import annotations
@@ -109,11 +111,17 @@ class TableLaw(FrictionLaw):
     Attributes
     ----------
     deviation : float
-        [kN] The largest distance by which the representation leaves the range of
-        the two data values of a piece (interpolation: rounding only; a table where
-        it passes ``DEVIATION_TOL`` times max |F| is refused), or with smoothing the
-        largest residual at the given points; for :meth:`from_function`, the
-        largest distance from the function at the check points.
+        [kN] How far the representation may be from the curve the samples came
+        from, on the table: an estimate (:mod:`sweepcore.laws.spline`), the bound of
+        its distance from the unconstrained order-6 interpolant (what keeping the
+        shape cost) plus that interpolant's distance from an order-4 one (its
+        error's estimate from above on smooth data); rounding for samples of a
+        smooth curve the spline reproduces (a cubic), large where the data jump.
+        With smoothing, the largest residual at the given points; for
+        :meth:`from_function`, the largest distance from the function at the
+        check points. (A piece kept monotone that leaves the range of its two
+        samples by more than ``DEVIATION_TOL`` times max |F|, rounding, is
+        refused.)
     """
 
     kind = "table"
@@ -129,8 +137,8 @@ class TableLaw(FrictionLaw):
 
     def _build(self, speed, force, static, name, smoothing, sampled):
         """The law's checks and representation; ``sampled``: the samples of a
-        function (``from_function``), whose extrema lie between samples: kept free
-        there (``spline.shape_preserving``), checked against the function."""
+        function (``from_function``), whose representation is checked against the
+        function (deviation set there)."""
         s = _finite_1d("speed", speed)
         f = _finite_1d("force", force)
         if s.shape != f.shape:
@@ -180,17 +188,17 @@ class TableLaw(FrictionLaw):
             raise ValueError(f"smoothing must be below the largest force {scale!r} kN "
                              f"(noise that large leaves no data to fit), got "
                              f"{smoothing!r}")
-        fits = [_fit("positive", *pos, smoothing, sampled)]
+        fits = [_fit("positive", *pos, smoothing)]
         if neg is not None:
-            fits.append(_fit("negative", *neg, smoothing, sampled))
-        self._pos, self._pos_slopes, dev_pos = fits[0]
-        self._neg, self._neg_slopes, dev_neg = fits[-1]
+            fits.append(_fit("negative", *neg, smoothing))
+        self._pos, self._pos_slopes, dev_pos, excess = fits[0]
+        self._neg, self._neg_slopes, dev_neg, excess_neg = fits[-1]
         self.deviation = max(dev_pos, dev_neg)
-        if not sampled and smoothing is None and not \
-                self.deviation <= DEVIATION_TOL * scale:
+        excess = max(excess, excess_neg)
+        if not sampled and smoothing is None and not excess <= DEVIATION_TOL * scale:
             raise ValueError(
                 f"the table {name!r} is not represented within its data's range: "
-                f"departure {self.deviation:.3g} kN, more than {DEVIATION_TOL:g} of "
+                f"departure {excess:.3g} kN, more than {DEVIATION_TOL:g} of "
                 f"the largest force (speeds or forces too close to resolve)")
 
     @staticmethod
@@ -371,8 +379,9 @@ class TableLaw(FrictionLaw):
     def attrs(self):
         lo, hi = self.speed_span()
         out = {"law": self.name, "law_kind": self.kind,
-               "law_representation": "shape-preserving quintic Hermite spline (C2), "
-                                     "end forces held past the table",
+               "law_representation": "shape-preserving quintic Hermite spline (C2): "
+                                     "monotone pieces, convex at smooth turns, a "
+                                     "runout then the end force held past the table",
                "law_deviation": self.deviation,
                "law_speed_span": f"{lo:.17g}, {hi:.17g}",
                "law_static": ", ".join(f"{x:.17g}" for x in self._limits)}
@@ -412,11 +421,12 @@ def _samples(hi: float) -> np.ndarray:
                                      hi * np.geomspace(1e-6, 1.0 / 32, 16)]))
 
 
-def _fit(label, s, f, smoothing, sampled=False):
-    """``(branch, largest |F'| of each piece, deviation)`` of one branch: the
+def _fit(label, s, f, smoothing):
+    """``(branch, largest |F'| of each piece, deviation, excess)`` of one branch: the
     kernels' ``(x, c, dmin, d2)`` of the shape-preserving spline through the points
     (with ``smoothing``: through FITPACK's smoothing spline at the same speeds, with
-    its slopes), and how far it leaves the data (docstring of ``TableLaw``)."""
+    its slopes), its deviation (docstring of ``TableLaw``) and how far its pieces
+    kept monotone leave their samples' range (rounding)."""
     far_last = label == "positive"          # the far end: the largest |s|
     slopes = None
     if smoothing is not None:
@@ -438,7 +448,7 @@ def _fit(label, s, f, smoothing, sampled=False):
         slopes = (spl(s, 1), spl(s, 2))
         deviation = float(np.abs(fitted - f).max())
         f = fitted
-    branch, dmax, excess = spline.fit(s, f, far_last, slopes, free_turns=sampled)
+    branch, dmax, excess, estimate = spline.fit(s, f, far_last, slopes)
     parts = (branch[1], branch[2], branch[3], dmax)
     if not all(np.isfinite(a).all() for a in parts):
         raise ValueError(f"the {label} branch's slopes overflow float64 (speeds "
@@ -446,8 +456,8 @@ def _fit(label, s, f, smoothing, sampled=False):
                          f"{float(np.abs(f).max())!r} kN): choose units in which the "
                          "magnitudes are moderate")
     if smoothing is None:
-        deviation = excess
-    return branch, dmax, deviation
+        deviation = estimate
+    return branch, dmax, deviation, excess
 
 
 def _evaluate(branch, s):

@@ -7,21 +7,29 @@
 (``RY, A1, A2, RK, VS`` of ``layout.py``): they vary from point to point of a grid,
 and only this module reads them. ``r_k = r_y`` is the paper's law, eq. (40) (v_s
 does not enter); ``alpha1 = alpha2 = 0`` with it the constant Coulomb law (5)-(10).
+``v_s = 0`` is the family's limit v_s -> 0+: sliding at ``sgn(s) r_k - alpha1 s +
+alpha2 s^3`` (``F(0^s) = r_k s``, the sliding limits), sticking up to the static
+bound r_y (Coulomb friction with static above kinetic: Shaw, J. Sound Vib. 108,
+1986). Its sliding field is the polynomial law's with the level r_k, so such rows
+run the ``Polynomial`` kind: no exponential, no division by v_s; the jump from r_y
+to r_k is the stick band's (``static_limits``) against the sliding limits
+(``edge_force``).
 The exponential Stribeck term is the law of Stender, Hoffmann & Papangelo, "The
 Basin Stability of Bi-Stable Friction-Excited Oscillators", Lubricants 8(12):105
 (2020) and of the bSTAB friction case; Modelica's friction elements use the same
 exponential form.
 
 Two kinds of the law table (``laws/__init__.py``) share this module: ``Polynomial``
-(r_k = r_y at every point of a call: the Stribeck branches, calls to ``exp``, are
-pruned before they are typed, since the drop ``d`` is None there) and ``Stribeck``.
+(r_k = r_y or v_s = 0 at every point of a call: the Stribeck branches, calls to
+``exp``, are pruned before they are typed, since the drop ``d`` is None there) and
+``Stribeck``.
 The hot functions take the drop as an argument (``d``: None or ``r_y - r_k``) so
 that numba compiles the polynomial version without the branch; a call on a cold
 branch still makes the compiler save every live register around it, which on
 dopri5's chain of stages cost ~10 % of a step.
 
 Floating-point notes: every expression reduces to the one of the cubic law bit for
-bit when r_k = r_y; the damping is written into the sliding force (``f0 = r_y s +
+bit when r_k = r_y; the damping is written into the sliding force (``f0 = r_0 s +
 c v``, ``f1 = c - alpha1``) so that it adds no operation to the chain of dependent
 stages of a Runge-Kutta step.
 """
@@ -54,27 +62,49 @@ def _drop(lw, p):
     return lambda lw, p: p[RY] - p[RK]
 
 
+@kernel(inline="always")
+def stribeck_drop(p):
+    """The row's Stribeck drop ``r_y - r_k`` [kN] where it has a Stribeck term, else 0
+    (r_k = r_y, whose v_s is NaN, or v_s = 0: the jump, no slope)."""
+    if p[VS] == 0.0:
+        return 0.0
+    return p[RY] - p[RK]
+
+
+@kernel(inline="always")
+def zero_level(p):
+    """``|F(0+)|`` of the form the sliding force is written in [kN]: r_y with a
+    Stribeck term (``r_y + d expm1(...)``), else the sliding level r_k (= r_y for
+    the paper's law, bit for bit; below r_y for v_s = 0)."""
+    if p[VS] > 0.0:
+        return p[RY]
+    return p[RK]
+
+
 # ------------------------------------------------------------------ the law F(s)
 @kernel(inline="always")
 def level(zd, p):
-    """``|F|`` of the Coulomb-Stribeck part at relative speed zd [kN]:
-    ``r_y + d expm1(-|zd|/v_s)``, exactly r_y at zd = 0 and r_k at high speed."""
-    d = p[RY] - p[RK]
+    """``|F|`` of the Coulomb-Stribeck part at relative speed zd != 0 [kN]:
+    ``r_y + d expm1(-|zd|/v_s)``, r_y at zd -> 0 and r_k at high speed; r_k for
+    v_s = 0."""
+    d = stribeck_drop(p)
     if d == 0.0:
-        return p[RY]
+        return p[RK]
     return p[RY] + d * math.expm1(-abs(zd) / p[VS])
 
 
 @kernel(inline="always")
 def constants(p, lw, s):
-    """``(k, f0, f1, a1, a2, r_y, v_s, c, d, g0, gx, g1, g3)`` for a slide with sign
-    s, with ``f0 = r_y s + c v`` and ``f1 = c - alpha1`` (the damping folded in),
+    """``(k, f0, f1, a1, a2, r_0, v_s, c, d, g0, gx, g1, g3)`` for a slide with sign
+    s, with ``f0 = r_0 s + c v`` (r_0: ``zero_level``) and ``f1 = c - alpha1`` (the
+    damping folded in),
     the drop d (None for ``Polynomial``) and the acceleration's coefficients
     ``zdd = g0 + gx x + g1 zd + g3 zd^3`` of the polynomial law (``zdd_of``)."""
-    f0 = p[RY] * s + p[C] * p[V]
+    r0 = zero_level(p)
+    f0 = r0 * s + p[C] * p[V]
     f1 = p[C] - p[A1]
     im = 1.0 / p[M]
-    return (p[K], f0, f1, p[A1], p[A2], p[RY], p[VS], p[C], drop(lw, p),
+    return (p[K], f0, f1, p[A1], p[A2], r0, p[VS], p[C], drop(lw, p),
             -f0 * im, -p[K] * im, -f1 * im, -p[A2] * im)
 
 
@@ -108,7 +138,7 @@ def derivatives(p, lw, zd):
     f1 = slope(p, lw, zd)
     f2 = 6.0 * p[A2] * zd
     f3 = 6.0 * p[A2]
-    d = p[RY] - p[RK]
+    d = stribeck_drop(p)
     if d != 0.0:
         e = d * math.exp(-abs(zd) / p[VS])
         sg = 1.0 if zd > 0.0 else -1.0
@@ -125,7 +155,7 @@ def slope_bound(p, lw, lo, hi):
     near = 0.0 if lo <= 0.0 <= hi else min(abs(lo), abs(hi))
     far = max(abs(lo), abs(hi))
     least = -p[A1] + 3.0 * p[A2] * near * near
-    d = p[RY] - p[RK]
+    d = stribeck_drop(p)
     if d != 0.0:
         least -= d / p[VS] * math.exp(-(near if d > 0.0 else far) / p[VS])
     return least
@@ -187,7 +217,7 @@ def integrand(lw, cf, zd):
 @kernel(inline="always")
 def slope(p, lw, zd):
     f1 = -p[A1] + 3.0 * p[A2] * zd * zd
-    d = p[RY] - p[RK]
+    d = stribeck_drop(p)
     if d != 0.0:
         f1 -= d / p[VS] * math.exp(-abs(zd) / p[VS])
     return f1
@@ -200,13 +230,14 @@ def static_limits(p, lw):
 
 @kernel(inline="always")
 def edge_force(p, lw, s):
-    return p[RY] * s
+    """``F(0^s)`` [kN]: r_y s, or r_k s for v_s = 0 (below the static bound r_y)."""
+    return zero_level(p) * s
 
 
 @kernel(inline="always")
 def log_jacobian(p, lw, T, izd2, ilaw):
     lj = p[A1] * T - 3.0 * p[A2] * izd2 - p[C] * T
-    d = p[RY] - p[RK]
+    d = stribeck_drop(p)
     if d != 0.0:
         lj += d / p[VS] * ilaw
     return lj / p[M]
@@ -215,8 +246,8 @@ def log_jacobian(p, lw, T, izd2, ilaw):
 @kernel(inline="always")
 def conservative(p, lw):
     """No cubic or Stribeck term and c = alpha1 (the constant law: 0): ``m x'' + k x
-    = -(r_y s + c v)``."""
-    return p[A2] == 0.0 and p[RY] - p[RK] == 0.0 and p[C] == p[A1]
+    = -(r_k s + c v)`` (v_s = 0 too: the jump at zero speed is no term of a slide)."""
+    return p[A2] == 0.0 and stribeck_drop(p) == 0.0 and p[C] == p[A1]
 
 
 @kernel(inline="always")
@@ -239,7 +270,7 @@ def x_eq(p, lw):
 @kernel(inline="always")
 def damping_at(p, lw, va):
     g = p[C] - p[A1] + 3.0 * p[A2] * (va * va)
-    d = p[RY] - p[RK]
+    d = stribeck_drop(p)
     if d != 0.0:
         g -= d / p[VS] * math.exp(-va / p[VS])
     return g
@@ -249,7 +280,7 @@ def damping_at(p, lw, va):
 def q(p, lw):
     va = abs(p[V])
     qq = p[A1] - 3.0 * p[A2] * va * va - p[C]
-    d = p[RY] - p[RK]
+    d = stribeck_drop(p)
     if d != 0.0:
         qq += d / p[VS] * math.exp(-va / p[VS])
     return qq / p[M]
@@ -258,7 +289,7 @@ def q(p, lw):
 @kernel(inline="always")
 def third_derivative(p, lw, va):
     f3 = 6.0 * p[A2]
-    d = p[RY] - p[RK]
+    d = stribeck_drop(p)
     if d != 0.0:
         f3 -= d / p[VS] ** 3 * math.exp(-va / p[VS])
     return f3
@@ -303,7 +334,7 @@ def hopf_speeds(p, lw):
     two roots. Closed forms: the polynomial law, ``u = sqrt((alpha1 - c)/(3
     alpha2))`` (v* below eq. 51 for c = 0); no cubic term, ``u = v_s ln(d / (v_s
     (c - alpha1)))`` (ln(10)/2 for the bSTAB case)."""
-    d = p[RY] - p[RK]
+    d = stribeck_drop(p)
     a2 = p[A2]
     lin = p[C] - p[A1]
     if d == 0.0:
@@ -346,7 +377,7 @@ def nf_coefficients(p, lw):
     qq = q(p, lw)
     s2 = 3.0 * p[A2] * va
     s3 = p[A2]
-    d = p[RY] - p[RK]
+    d = stribeck_drop(p)
     if d != 0.0:
         e = d * math.exp(-va / p[VS])
         s2 += e / (2.0 * p[VS] * p[VS])
@@ -363,7 +394,7 @@ def normal_form_valid(p, lw):
     """The polynomial law (the normal form's second-order term was measured on it; a
     Stribeck term adds quintic and higher terms of the same order) with a
     supercritical Hopf point (alpha2 > 0)."""
-    return p[RY] - p[RK] == 0.0 and p[A2] > 0.0 and p[V] != 0.0
+    return stribeck_drop(p) == 0.0 and p[A2] > 0.0 and p[V] != 0.0
 
 
 # ------------------------------------------------------- the Stribeck layer
@@ -441,7 +472,7 @@ def certified_rest(x, zd, p, lw):
         return False
     poly = p[A2] * (3.0 * va * (va - vel) + vel * vel)
     size = abs(p[C]) + abs(p[A1]) + 3.0 * p[A2] * va * va
-    d = p[RY] - p[RK]
+    d = stribeck_drop(p)
     smin = 0.0
     if d != 0.0:
         s_end = -va + vel if d > 0.0 else -va - vel  # where the Stribeck slope is least
@@ -453,15 +484,17 @@ def certified_rest(x, zd, p, lw):
 # ------------------------------------------------- closed forms (linear laws)
 @kernel(inline="always")
 def piecewise_linear(p, lw):
-    """No cubic and no Stribeck term: the sliding field is linear."""
-    return p[A2] == 0.0 and p[RY] - p[RK] == 0.0
+    """No cubic and no Stribeck term (r_k = r_y, or v_s = 0): the sliding field is
+    linear."""
+    return p[A2] == 0.0 and stribeck_drop(p) == 0.0
 
 
 @kernel(inline="always")
 def arc_constants(s, p, lw):
     """Sliding centre [cm], growth rate sigma [1/s] and beta^2 [1/s^2] of the linear
-    field: ``m x'' - (alpha1 - c) x' + k x = -r_y s - alpha1 v``."""
-    cen = (-p[RY] * s - p[A1] * p[V]) / p[K]
+    field: ``m x'' - (alpha1 - c) x' + k x = -r_k s - alpha1 v`` (r_k = r_y but for
+    v_s = 0)."""
+    cen = (-zero_level(p) * s - p[A1] * p[V]) / p[K]
     sig = (p[A1] - p[C]) / (2.0 * p[M])
     b2 = p[K] / p[M] - sig * sig
     return cen, sig, b2

@@ -6,7 +6,8 @@ F'' continuous, F''' defined on each piece, so the Hopf speeds, the first Lyapun
 coefficient and the equilibrium certificate are all defined) and hands the kernels
 its piecewise-polynomial form: on the piece ``[x_i, x_{i+1}]`` of a branch,
 ``F(s) = sum_j c_ij (s - x_i)^j``, j = 0..5. Past the outermost speed of a branch
-the end force is held (the spline ends there with zero slope and curvature: C2).
+the end force is held (the spline ends there with zero slope and curvature: C2;
+that speed is the end of the runout piece the Python side puts after the table).
 
 Every table is data of the same numba type (``Table``, one float64 array ``d``):
 a new table compiles nothing. One array rather than one per field: the law data is
