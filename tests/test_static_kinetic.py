@@ -276,16 +276,12 @@ def test_forced_responses_agree_with_the_exact_stick_reference(seed):
     assert res.stick_fraction == pytest.approx(ref["stick_fraction"], abs=CONTRACT)
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    "forced kernels: a release from a stick is taken with the identity saltation "
-    "(forced_driver.advance_forced's docstring), right only where the slide starts "
-    "with the stick's acceleration (F(0+) = r_pos); with static above kinetic the "
-    "velocity row needs -a0 k/h' times the position row (a0 = (r_pos - F(0+))/m, "
-    "h' the holding force's rate): driver work, outside the law modules"))
 @pytest.mark.parametrize("seed", [2, 3, 5])
 def test_forced_multipliers_with_sticks_agree_with_the_reference(seed):
     """The largest multiplier of a response that sticks (the reference's central
-    differences of P^n, ~1e-7)."""
+    differences of P^n, ~1e-7): the release from a stick starts with the jump of
+    the acceleration (r_y - r_k)/m, whose saltation the driver takes
+    (``driver._salt_release``)."""
     res, ref, _mod = _forced_pair(_forced_point(seed))
     assert ref["sticks_per_period"] > 0
     assert res.floquet == pytest.approx(ref["floquet"], abs=1e-5)
