@@ -239,6 +239,28 @@ def test_help_states_units(capsys):
         assert command in out
 
 
+def test_help_says_what_the_forced_scene_offers(capsys):
+    """``sweepcore --help`` names the forced slider's ways in (a study's
+    [excitation] table, simulate's --F0/--Omega/--phi/--Y0, frequency_response and
+    stroboscopic_diagram from Python) and the sections of the pages documenting
+    them, each of which exists."""
+    from sweepcore.cli import main
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    for word in ("[excitation]", "--F0", "--Omega", "--phi", "--Y0",
+                 "sweepcore.frequency_response", "sweepcore.stroboscopic_diagram"):
+        assert word in out, word
+    for page, section in (("studies.md", "The [excitation] table"),
+                          ("variables.md", "Forced response"),
+                          ("physics.md", "Forced vibration")):
+        assert f"{page} ({section})" in out
+        headings = [ln.replace("`", "") for ln in
+                    (ROOT / "docs" / page).read_text().splitlines()
+                    if ln.startswith("#")]
+        assert any(section in h for h in headings), (page, section)
+
+
 # -------------------------------------------------- study file (in process)
 def test_key_line_finds_tables_dotted_and_inline_keys():
     text = textwrap.dedent("""\
