@@ -559,6 +559,22 @@ def test_run_and_info_name_the_axes_in_one_order(tmp_path):
     assert f"sweep of 6 points ({said})" in info.stdout
 
 
+def test_info_and_export_read_a_result_without_numba(small_run, tmp_path):
+    """``sweepcore info`` and ``export`` only read a file: they import neither numba
+    nor the kernels (a header cost 1.1 s of CPU with them, 0.75 s without)."""
+    d, _ = small_run
+    code = ("import sys\nfrom sweepcore.cli import main\n"
+            f"assert main(['info', {str(d / 'small.nc')!r}]) == 0\n"
+            f"assert main(['export', {str(d / 'small.nc')!r}, '--csv', "
+            f"{str(tmp_path / 'small.csv')!r}]) == 0\n"
+            "print(sorted(m for m in ('numba', 'sweepcore._kernels', 'matplotlib') "
+            "if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120, cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip().splitlines()[-1] == "[]"
+
+
 def test_help_answers_without_numba():
     """``sweepcore --help`` imports neither numba nor xarray (it took 10 s wall on a
     loaded machine importing them): the package and the command import lazily."""

@@ -172,6 +172,36 @@ def test_run_info_plot_of_a_forced_study(tmp_path, monkeypatch, capsys):
 DH = sc.Params(m=1.0, k=1.0, r_y=0.3, v=0.0, F0=1.0, Omega=2.0)
 
 
+def test_info_names_stroboscopic_samples_and_study_files(tmp_path, monkeypatch,
+                                                         capsys):
+    """info calls a stroboscopic diagram's samples what they are (x at t = j T),
+    not a law's table; given a study file, info, plot and export say to run it,
+    with the command and the result the study writes (not "write it again")."""
+    ds = sc.stroboscopic_diagram(DH, "Omega", [2.0, 2.5], periods=3, transient=2)
+    sc.write_netcdf(ds, tmp_path / "s.nc")
+    code, out = run_in_process(["info", "s.nc"], tmp_path, monkeypatch, capsys)
+    assert code == 0, out.err
+    line = next(ln for ln in out.out.splitlines() if ln.startswith("  sample:"))
+    assert "law" not in line
+    assert line.startswith("  sample: 3 stroboscopic samples per value of Omega (x, "
+                           "xdot at t = j T")
+    (tmp_path / "f.toml").write_text(BASE + textwrap.dedent("""\
+        [excitation]
+        F0 = 1.0
+        Omega = [2.0, 3.0]
+        [output]
+        path = "out/f.nc"
+        """))
+    for command in ("info", "plot", "export"):
+        argv = [command, "f.toml"] + (["--csv", "f.csv"] if command == "export" else [])
+        code, out = run_in_process(argv, tmp_path, monkeypatch, capsys)
+        assert code == 2
+        assert "f.toml is a study file, not a result file: run it with `sweepcore run " \
+            "f.toml` (it writes out/f.nc), then `sweepcore " + command + " out/f.nc" \
+            in out.err
+        assert "write it again" not in out.err
+
+
 def test_frequency_response_sweeps_agree_on_den_hartog():
     """Den Hartog's oscillator has one response at each frequency: both sweeps find
     it, each at the closed-form amplitude to 1e-7 relative, and nothing coexists."""

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..labels import run_statuses, timestamp, version
-from ..options import did_you_mean
+from ..keywords import did_you_mean
 from .tables import csv_tables, units_table
 from .summaries import (basin_lines, boundary_lines, describe, describe_basins,
                         describe_boundaries, forced_lines, regime_line,
@@ -141,7 +141,7 @@ def cmd_plot(args) -> int:
     """``sweepcore plot``: the natural picture of a result file."""
     from ..plot import plot_result, save
 
-    ds = _open(args.result)
+    ds = _open(args.result, "plot")
     out = Path(args.output) if args.output else Path(args.result).with_suffix(".png")
     if out.suffix.lower() != ".png":
         raise UsageError(f"picture must end in .png, got {str(out)!r}")
@@ -314,7 +314,7 @@ def cmd_compile(args) -> int:
 
 def cmd_export(args) -> int:
     """``sweepcore export``: a result file as CSV, units in the column headers."""
-    ds = _open(args.result)
+    ds = _open(args.result, "export")
     out = Path(args.csv)
     if out.suffix.lower() != ".csv":
         raise UsageError(f"--csv must end in .csv, got {str(out)!r}")
@@ -355,12 +355,32 @@ def _variable_names(args, ds, known) -> list[str]:
     return names
 
 
-def _open(path):
+def _open(path, command: str = "info"):
     from ..io import open_result
     try:
         return open_result(path)
     except (OSError, ValueError) as err:    # each names the file and what is wrong
-        raise UsageError(str(err)) from None
+        raise UsageError(_study_file(path, command) or str(err)) from None
+
+
+def _study_file(path, command: str) -> str | None:
+    """What to say when the file given for a result is a study file (TOML with an
+    [axes] table): run it first, and where its result will be. None otherwise."""
+    import tomllib
+    try:
+        if os.path.getsize(path) > 2**20:       # a study is a page of text
+            return None
+        with open(path, "rb") as fh:
+            study = tomllib.load(fh)
+    except (OSError, ValueError):
+        return None
+    if not isinstance(study.get("axes"), dict):
+        return None
+    output = study.get("output") if isinstance(study.get("output"), dict) else {}
+    result = output.get("path") or f"{Path(path).stem}.nc"
+    return (f"{path} is a study file, not a result file: run it with `sweepcore run "
+            f"{shlex.quote(str(path))}` (it writes {result}), then `sweepcore {command} "
+            f"{shlex.quote(str(result))}{' --csv OUT.csv' if command == 'export' else ''}`")
 
 
 def cmd_boundary(args) -> int:
