@@ -559,6 +559,45 @@ def test_run_and_info_name_the_axes_in_one_order(tmp_path):
     assert f"sweep of 6 points ({said})" in info.stdout
 
 
+def test_run_prints_status_counts_and_progress_lines_to_a_file(small_run):
+    """run prints the status counts beside the regime counts, as the file holds
+    them; where stderr is not a terminal (a pipe here) its progress is plain lines,
+    the last one at every point."""
+    d, proc = small_run
+    ds = open_result(d / "small.nc")
+    names = dict(zip(np.atleast_1d(ds.status.attrs["flag_values"]).tolist(),
+                     ds.status.attrs["flag_meanings"].split()))
+    codes, counts = np.unique(ds.status.values, return_counts=True)
+    expect = "status: " + ", ".join(f"{names[c]} {n}" for c, n in zip(codes.tolist(),
+                                                                      counts))
+    assert expect in proc.stdout.splitlines()
+    size = ds.status.size
+    assert re.search(rf"^sweep: {size} of {size} points \(100%\), \d+ s$",
+                     proc.stderr, re.M), proc.stderr
+
+
+def test_progress_lines_every_tenth_or_every_ten_seconds(capsys):
+    """A plain progress line every tenth of the work when points are quick, every
+    10 s when they are slow, with the time left at the pace so far."""
+    from sweepcore.resumable import ProgressLines
+    now = [0.0]
+    quick = ProgressLines(1000, clock=lambda: now[0])
+    for _ in range(1000):           # 1 ms a point
+        now[0] += 0.001
+        quick.update(1)
+    lines = capsys.readouterr().err.splitlines()
+    assert [ln.split("(")[1].split("%")[0] for ln in lines] == \
+        [str(p) for p in range(10, 101, 10)]
+    now[0] = 0.0
+    slow = ProgressLines(1000, clock=lambda: now[0])
+    for _ in range(50):             # 4 s a point: a line every third point
+        now[0] += 4.0
+        slow.update(1)
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 50 // 3
+    assert lines[0] == f"sweep: 3 of 1,000 points (0%), 12 s, about {4 * 997} s left"
+
+
 def test_info_and_export_read_a_result_without_numba(small_run, tmp_path):
     """``sweepcore info`` and ``export`` only read a file: they import neither numba
     nor the kernels (a header cost 1.1 s of CPU with them, 0.75 s without)."""

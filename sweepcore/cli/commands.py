@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import shlex
+import sys
 import time
 from pathlib import Path
 
@@ -14,7 +15,7 @@ from ..keywords import did_you_mean
 from .tables import csv_tables, units_table
 from .summaries import (basin_lines, boundary_lines, describe, describe_basins,
                         describe_boundaries, forced_lines, regime_line,
-                        simulation_summary)
+                        simulation_summary, status_line)
 
 
 class UsageError(ValueError):
@@ -86,9 +87,19 @@ def _run(args, study, grid, out, png) -> int:
     t0 = time.perf_counter()
     ds = sweep(grid, method=study.method, tol=study.tol,
                chunks=args.chunks or study.chunks, scheduler=args.scheduler, path=out,
-               progress=False if args.quiet else None, **study.options)
+               progress=_progress(args), **study.options)
     return _finish(ds, study, args, out, png, t0, grid.size,
-                   lambda d: [regime_line(d), *forced_lines(d)], study.plot)
+                   lambda d: [regime_line(d), status_line(d), *forced_lines(d)],
+                   study.plot)
+
+
+def _progress(args):
+    """A sweep's progress: a bar on a terminal, a plain line every 10 s or tenth of
+    the work where stderr goes to a file (sweepcore.resumable.ProgressLines);
+    nothing with --quiet."""
+    if args.quiet:
+        return False
+    return None if sys.stderr.isatty() else True
 
 
 def _finish(ds, study, args, out, png, t0, n, summary, plot=None, attrs=None) -> int:
@@ -470,6 +481,5 @@ def cmd_basins(args) -> int:
                          checks=b["checks"], ftol=b["ftol"], match=b["match"],
                          method=study.method, tol=study.tol,
                          chunks=args.chunks or study.chunks, scheduler=args.scheduler,
-                         path=out, progress=False if args.quiet else None,
-                         **study.options)
+                         path=out, progress=_progress(args), **study.options)
     return _finish(ds, study, args, out, png, t0, grid.size, basin_lines)

@@ -38,6 +38,14 @@ def regime_line(ds) -> str:
                                   if c)
 
 
+def status_line(ds) -> str:
+    """One line of status counts, e.g. ``status: ok 65526, unresolved 8``."""
+    if "status" not in ds or "time" in ds.dims:
+        return ""
+    return "status: " + ", ".join(f"{n} {c}" for n, c in _flag_counts(ds["status"])
+                                  if c)
+
+
 def _grid_dims(ds) -> tuple:
     """The sweep's axes, in the grid's order (C order of its points): the dimensions
     of its per-point variables (not a measured law's samples, ``law_point``)."""
