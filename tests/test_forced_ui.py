@@ -128,6 +128,29 @@ def test_simulate_flags_drive_the_slider(tmp_path, monkeypatch, capsys):
     assert (tmp_path / "run.png").read_bytes()[:8] == PNG_MAGIC
 
 
+def test_simulate_on_fixed_ground_names_the_load_and_draws_forces(tmp_path,
+                                                                  monkeypatch, capsys):
+    """At v = 0 the summary says there is no Hopf point (it printed "v* = nan
+    ... (none Hopf point)"); the picture's title names F0 and Omega with their
+    units, and its top row draws the load and the friction force instead of x and
+    xdot again (z = x - v t is x there)."""
+    code, out = run_in_process(
+        ["simulate", "--m", "1", "--k", "1", "--r-y", "0.3", "--v", "0", "--F0", "1",
+         "--Omega", "0.8", "--t-end", "20", "-o", "run.nc"], tmp_path, monkeypatch,
+        capsys)
+    assert code == 0, out.err
+    analytic = next(ln for ln in out.out.splitlines() if "analytic:" in ln)
+    assert "nan" not in analytic and "no Hopf point" in analytic
+    ds = sc.open_result(tmp_path / "run.nc")
+    fig = sc.plot_trajectory(ds)
+    title = fig._suptitle.get_text()
+    assert "$F_0$ = 1 kN" in title and r"$\Omega$ = 0.8 rad/s" in title
+    top = [ln.get_ydata() for ax in fig.axes[:3] for ln in ax.lines]
+    assert not any(np.array_equal(y, ds[n].values) for y in top for n in ("x", "xdot"))
+    assert any(np.array_equal(y, ds.external_force.values) for y in top)
+    assert any(np.array_equal(y, ds.r_a.values) for y in top)
+
+
 def test_simulate_excitation_without_frequency_refused(tmp_path, monkeypatch, capsys):
     code, out = run_in_process(
         ["simulate", "--m", "1", "--k", "1", "--r-y", "0.3", "--v", "0", "--F0", "1",

@@ -289,10 +289,12 @@ def _run_lines(ds) -> list[str]:
 def simulation_summary(ds, p) -> str:
     """Summary of a fresh simulation with the slider's analytic quantities."""
     law = "" if p.law is None else f"  {p.law.describe()}\n"
+    hopf = (f"v* = {p.v_star:.6g} cm s-1 ({p.criticality} Hopf point)"
+            if p.criticality != "none" and math.isfinite(p.v_star) else
+            "no Hopf point (no belt speed where steady sliding loses stability)")
     return (_describe_simulation(ds) + "\n" + law +
             f"  analytic: omega = {p.omega:.6g} s-1, q = {p.q:.6g} s-1 (eq. 46), "
-            f"v* = {p.v_star:.6g} cm s-1 ({p.criticality} Hopf point), "
-            f"x_eq = {p.x_eq:.6g} cm (eq. 43)")
+            f"{hopf}, x_eq = {p.x_eq:.6g} cm (eq. 43)")
 
 
 def _axis_lines(ds, skip=()) -> list[str]:
