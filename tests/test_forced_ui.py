@@ -327,6 +327,30 @@ def test_map_classes_follow_the_data():
     assert np.array(order)[cls].tolist() == [["stuck", "1", "not ok"], ["2", "1", "1"]]
 
 
+def test_map_of_chosen_variables_names_them_and_masks_stuck_points():
+    """A forced map of chosen variables is titled by them (it kept the study's
+    title), and a stuck point, which has no multiplier (the file holds floquet 1
+    there), is masked in the colour map, drawn grey and named in the legend."""
+    from sweepcore.plot.forced import plot_forced_map
+    ds = _fake_map().assign(floquet=(("F0", "Omega"), np.array([[1.0, 0.2, 0.3],
+                                                                [0.0, 0.5, 0.6]])))
+    ds.floquet.attrs["long_name"] = "largest Floquet multiplier modulus"
+    ds.amplitude.attrs["long_name"] = "vibration amplitude"
+    ds.attrs["study_title"] = "Forced response map: stops and sticks per cycle"
+    stuck = (ds.regime == 4).values
+    fig = plot_forced_map(ds, variables=("amplitude", "floquet"))
+    head = fig._suptitle.get_text().splitlines()[0]
+    assert head.startswith("vibration amplitude and largest Floquet multiplier "
+                           "modulus over")
+    ax = next(a for a in fig.axes if a.get_title().startswith("largest Floquet"))
+    drawn = np.ma.getmaskarray(ax.collections[0].get_array()).reshape(stuck.shape)
+    assert drawn[stuck].all()                   # no value where it is stuck
+    grey = np.ma.getmaskarray(ax.collections[1].get_array()).reshape(stuck.shape)
+    assert (~grey == stuck).all()               # the grey layer: the stuck cells
+    assert any(t.get_text().startswith("stuck: no motion, no floquet")
+               for t in ax.get_legend().get_texts())
+
+
 def test_continuous_motion_boundary_only_in_den_hartogs_case(monkeypatch):
     """With a theory module giving r_b(beta), F0 = r / r_b(Omega/omega) on fixed
     ground without damping; nothing on a belt or with damping."""
