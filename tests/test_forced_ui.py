@@ -351,6 +351,30 @@ def test_map_of_chosen_variables_names_them_and_masks_stuck_points():
                for t in ax.get_legend().get_texts())
 
 
+def test_frequency_response_picture_shows_the_load_and_the_multiplicity():
+    """A frequency-response curve built here: its title names the load F0 with its
+    unit, and a count per response period of a response repeating every 13
+    forcing periods reads "6 per 13 T" (it read as 6 sticks a period), once for
+    the two sweeps that agree; a period-T point gets no such mark."""
+    from sweepcore.plot.forced import plot_frequency_response
+    two = ("sweep", "Omega")
+    ds = xr.Dataset(
+        {"amplitude": (two, np.array([[1.0, 1.1], [1.0, 1.1]])),
+         "sticks_per_period": (two, np.array([[1, 6], [1, 6]])),
+         "multiplicity": (two, np.array([[1.0, 13.0], [1.0, 13.0]])),
+         "status": (two, np.zeros((2, 2), np.int8))},
+        {"sweep": ["up", "down"], "Omega": ("Omega", [1.06, 1.08],
+                                             {"units": "rad s-1"}),
+         "m": 1.0, "k": 1.0, "r_y": 1.0, "v": 1.0, "F0": 0.15, "phi": 0.0, "Y0": 0.0},
+        {"sweepcore_kind": "frequency_response", "title": "curve"})
+    ds.sticks_per_period.attrs["long_name"] = "finite sticks per period"
+    fig = plot_frequency_response(ds, ("amplitude", "sticks_per_period"))
+    assert "$F_0$ = 0.15 kN" in fig._suptitle.get_text()
+    marks = [t.get_text() for t in fig.axes[1].texts]
+    assert marks == ["6 per 13 T"]
+    assert "per response period" in fig.axes[1].get_ylabel()
+
+
 def test_continuous_motion_boundary_only_in_den_hartogs_case(monkeypatch):
     """With a theory module giving r_b(beta), F0 = r / r_b(Omega/omega) on fixed
     ground without damping; nothing on a belt or with damping."""

@@ -198,7 +198,9 @@ def plot_frequency_response(ds: xr.Dataset, variables=("amplitude", "mean")) -> 
     """A frequency-response curve (``sweepcore.frequency_response``): each variable
     against Omega, the up sweep solid with upward triangles, the down sweep dashed
     with downward ones; points whose status is not ok hollow; the band where the two
-    sweeps differ (two coexisting responses, between the jumps) shaded."""
+    sweeps differ (two coexisting responses, between the jumps) shaded. A count
+    per response period (sticks, stops) is marked ``6 per 13 T`` where the response
+    repeats only after n > 1 forcing periods T."""
     checked_result(ds)
     if ds.attrs.get("sweepcore_kind") != "frequency_response":
         raise ValueError("ds must be a frequency-response curve "
@@ -224,6 +226,10 @@ def plot_frequency_response(ds: xr.Dataset, variables=("amplitude", "mean")) -> 
                 ax.axvspan(0.5 * (lo + w[i]), 0.5 * (w[i] + w[min(i + 1, w.size - 1)]),
                            color="0.85", lw=0, zorder=0)
         ax.set_ylabel(label(ds[name], name))
+        if name in CLASS_VARIABLES[:2]:
+            _mark_multiplicity(ax, ds, name)
+            ax.set_ylabel(label(ds[name], name).replace(" per period",
+                                                        " per response period"))
         ax.grid(alpha=0.3)
     axs[0].legend(fontsize=8, title="shaded: two coexisting responses"
                   if "coexisting" in ds and ds["coexisting"].values.any() else None,
@@ -231,6 +237,24 @@ def plot_frequency_response(ds: xr.Dataset, variables=("amplitude", "mean")) -> 
     axs[-1].set_xlabel(_axis_label(ds, "Omega"))
     fig.suptitle(f"{ds.attrs.get('title', '')}\n{fixed_parameters(ds)}", fontsize=9)
     return fig
+
+
+def _mark_multiplicity(ax, ds: xr.Dataset, name: str) -> None:
+    """A count per response period means per n forcing periods T: where n > 1 the
+    point says so (``6 per 13 T``), once where both sweeps agree."""
+    if "multiplicity" not in ds:
+        return
+    w = ds["Omega"].values
+    for i in range(w.size):
+        said = set()
+        for s in ds["sweep"].values:
+            point = ds.sel(sweep=s).isel(Omega=i)
+            n, count = float(point["multiplicity"]), int(point[name])
+            if int(point["status"]) != codes.OK or not n > 1 or (count, n) in said:
+                continue
+            said.add((count, n))
+            ax.annotate(f"{count} per {n:.0f} T", (w[i], count), xytext=(6, -3),
+                        textcoords="offset points", fontsize=8, color="0.25")
 
 
 @checked_keywords
