@@ -16,7 +16,7 @@ What is proven:
   (nothing is created), a closed output pipe ends the command quietly;
 * the compile notice appears exactly when numba's cache is cold;
 * ``sweepcore export`` writes CSV whose values are the file's, under the variables'
-  names, with a table of their units.
+  names and units (``amplitude [cm]``), with a table of their units.
 Subprocess tests run ``python -m sweepcore`` with the source tree on PYTHONPATH.
 """
 from __future__ import annotations
@@ -457,7 +457,9 @@ def test_export_csv_holds_the_file_values(small_run, tmp_path):
                      cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     import pandas as pd
-    table = pd.read_csv(tmp_path / "small.csv")
+    # the plain names, as docs/variables.md says
+    table = pd.read_csv(tmp_path / "small.csv").rename(
+        columns=lambda c: c.split(" [")[0])
     ds = open_result(d / "small.nc")
     assert len(table) == ds.sizes["k"] * ds.sizes["v"]
     for _, row in table.iterrows():
@@ -471,9 +473,11 @@ def test_export_csv_holds_the_file_values(small_run, tmp_path):
         assert row["sticks_per_period"] == int(point.sticks_per_period)   # a count
 
 
-def test_export_names_columns_plainly_and_tables_their_units(small_run, tmp_path):
-    """Column names are the variables' names (pandas reads them as they are); the
-    units and long names of every column are in OUT_units.csv, the file's own."""
+def test_export_headers_carry_units_and_tables_them(small_run, tmp_path):
+    """Every column with units says them in its header, ``amplitude [cm]`` (the
+    headers carried no units), and pandas still reads the numbers as numbers; the
+    name, units and long name of every column are in OUT_units.csv, the file's
+    own."""
     d, _ = small_run
     proc = sweepcore("export", d / "small.nc", "--csv", tmp_path / "small.csv",
                      cwd=tmp_path)
@@ -483,10 +487,15 @@ def test_export_names_columns_plainly_and_tables_their_units(small_run, tmp_path
     units = pd.read_csv(tmp_path / "small_units.csv", keep_default_na=False)
     ds = open_result(d / "small.nc")
     assert list(units["column"]) == list(table.columns)
-    assert set(table.columns) == set(ds.variables) - {"point"}
+    assert set(units["name"]) == set(ds.variables) - {"point"}
     for _, row in units.iterrows():
-        assert row["units"] == ds[row["column"]].attrs.get("units", ""), row["column"]
-        assert row["long_name"] == ds[row["column"]].attrs.get("long_name", "")
+        given = ds[row["name"]].attrs.get("units", "")
+        stated = "" if given == "1" else given
+        assert row["column"] == (f"{row['name']} [{stated}]" if stated
+                                 else row["name"])
+        assert row["units"] == stated
+        assert row["long_name"] == ds[row["name"]].attrs.get("long_name", "")
+    assert table["amplitude [cm]"].dtype == np.float64
 
 
 def test_export_simulation_splits_events(tmp_path):
@@ -499,10 +508,10 @@ def test_export_simulation_splits_events(tmp_path):
     samples = pd.read_csv(tmp_path / "run.csv")
     events = pd.read_csv(tmp_path / "run_events.csv")
     assert len(samples) == ds.sizes["time"] and len(events) == ds.sizes["event"]
-    np.testing.assert_array_equal(samples["time"], ds.time.values)
-    np.testing.assert_array_equal(samples["x"], ds.x.values)
+    np.testing.assert_array_equal(samples["time [s]"], ds.time.values)
+    np.testing.assert_array_equal(samples["x [cm]"], ds.x.values)
     units = pd.read_csv(tmp_path / "run_units.csv")
-    assert dict(zip(units["column"], units["units"]))["time"] == "s"
+    assert dict(zip(units["column"], units["units"]))["time [s]"] == "s"
     assert set(events["event_kind"]) <= set(ds.event_kind.attrs["flag_meanings"].split())
 
 

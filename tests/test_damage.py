@@ -255,8 +255,8 @@ def test_export_of_a_one_point_sweep_is_one_row(tmp_path):
     lines = (tmp_path / "one.csv").read_text().splitlines()
     assert len(lines) == 2
     row = dict(zip(lines[0].split(","), lines[1].split(",")))
-    assert float(row["v"]) == 4.0 and float(row["m"]) == 5.0
-    assert float(row["amplitude"]) == float(open_result(path)["amplitude"])
+    assert float(row["v [cm s-1]"]) == 4.0 and float(row["m [kN s2 cm-1]"]) == 5.0
+    assert float(row["amplitude [cm]"]) == float(open_result(path)["amplitude"])
 
 
 def test_plot_with_the_same_axis_twice_is_refused(tmp_path, capsys):

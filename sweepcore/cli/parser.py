@@ -365,8 +365,10 @@ SUBCOMMANDS = {
         "Write a result as CSV: a sweep as one row per grid point (the swept "
         "parameters, then every variable), a simulation as one row per time sample "
         "(its event log goes to <OUT stem>_events.csv). Column headers are the "
-        "variables' names (as pandas reads them); their units and long names go to "
-        "<OUT stem>_units.csv; regime, status and other flag variables are "
+        "variables' names with their units, 'amplitude [cm]' (pandas reads the "
+        "numbers as numbers; dimensionless columns bare); each column's name, units "
+        "and long name also go to <OUT stem>_units.csv; regime, status and other "
+        "flag variables are "
         f"written as names. Meanings: {doc('variables.md')}.",
         _export_options),
     "boundary": (
