@@ -260,6 +260,9 @@ def _simulated_params(args):
     given += [f"--{n}" for n in ("alpha1", "alpha2") if getattr(args, n) != 0.0]
     if given:
         raise UsageError(f"--law-table gives the friction law: drop {', '.join(given)}")
+    if not args.law_table.strip():        # Path("") is ".", "a directory"
+        raise UsageError(f"--law-table {args.law_table!r}: the path is empty; give the "
+                         "friction table's CSV file (--law-table friction.csv)")
     from ..laws import TableLaw
     law = TableLaw.from_csv(args.law_table, static=args.static, smoothing=args.smoothing)
     return Params(m=args.m, k=args.k, v=args.v, c=args.c, law=law, **forcing)
