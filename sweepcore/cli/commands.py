@@ -437,9 +437,6 @@ def _no_curves(grid, b) -> str | None:
     decided before any work)."""
     if b["diagram"] or b["continuation"]:
         return None
-    if b["along"] != "v":
-        return (f"boundary curves are drawn for searches along v, this one is along "
-                f"{b['along']}")
     if not any(d != "v" and n > 1 for d, n in zip(grid.dims, grid.shape)):
         return ("boundary curves are drawn over a second swept parameter, and this "
                 "study sweeps v only (its one point per boundary is in the summary)")
