@@ -51,9 +51,11 @@ def open_store(path, fixed: dict, readable: dict, n_points: int, ncols: int | No
 
 def progress_bar(size: int, initial: int, progress, desc: str = "sweep"):
     """A tqdm bar on stderr; ``progress`` None: only on a terminal, after 0.5 s;
-    True with stderr not a terminal (a log file): :class:`ProgressLines`."""
+    True with stderr not a terminal (a log file) nor a notebook (tqdm's widget):
+    :class:`ProgressLines`."""
+    from tqdm import autonotebook
     terminal = sys.stderr.isatty()
-    if progress and not terminal:
+    if progress and not terminal and autonotebook.tqdm.__module__ == "tqdm.std":
         return ProgressLines(size, initial, desc)
     show = terminal if progress is None else bool(progress)
     return tqdm(total=size, initial=initial, unit="pt", unit_scale=True, desc=desc,
