@@ -26,8 +26,9 @@ HERE = Path(__file__).resolve().parent
 
 # a damped slider on a belt (v = 1) with a steep Stribeck drop (static 1, kinetic
 # 0.5, v_s = 0.1) under a load F0 = 0.15: the response slides without sticking
-# away from resonance and sticks once a cycle where the linear response's velocity
-# amplitude would exceed the belt speed; started sliding slower than the belt
+# away from resonance and sticks where the linear response's velocity amplitude
+# would exceed the belt speed (once a forcing period, or a few times in a response
+# of several periods); started sliding slower than the belt
 RESPONSE = dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.1, c=0.1, v=1.0, F0=0.15,
                 Omega=1.0)
 RESPONSE_START = dict(x0=0.5, xdot0=0.9)
@@ -51,16 +52,49 @@ def response_curve(out: Path) -> None:
     save(plot_frequency_response(ds, ("amplitude", "mean", "sticks_per_period")),
          out / "forced_response.png")
     band = ds.Omega.values[ds.coexisting.values.astype(bool)]
-    stick = ds.Omega.values[(ds.sticks_per_period > 0).any("sweep").values]
     both = (ds.status == 0).all("sweep")
     gap = float(abs(ds.amplitude.sel(sweep="up") - ds.amplitude.sel(sweep="down"))
                 .where(both).max() / ds.amplitude.max())
-    bad = {f"{w:g}": [str(x) for x in ds.status.sel(Omega=w).values]
-           for w in ds.Omega.values[~both.values]}
-    print(f"forced_response: status codes (up, down) not ok at Omega {bad}; sticks at "
-          f"Omega in [{stick.min():.3g}, {stick.max():.3g}] rad/s; largest "
-          f"|A_up - A_down| / max A where both are ok = {gap:.2g}; coexisting "
-          f"responses at Omega = {band} rad/s")
+    names = dict(zip(np.atleast_1d(ds.status.attrs["flag_values"]).tolist(),
+                     ds.status.attrs["flag_meanings"].split()))
+    bad = [f"{s} at Omega = {w:g} rad/s ({names[int(c)]})"
+           for s in ds.sweep.values for w, c in zip(ds.Omega.values,
+                                                    ds.status.sel(sweep=s).values)
+           if c != 0]
+    print(f"forced_response: not ok: {'; '.join(bad) or 'none'}; sticks: "
+          f"{', '.join(stick_bands(ds)) or 'none'}; largest |A_up - A_down| / max A "
+          f"where both are ok = {gap:.2g}; coexisting responses: "
+          + (f"at Omega = {', '.join(f'{w:g}' for w in band)} rad/s" if band.size
+             else "none"))
+
+
+def stick_bands(ds) -> list[str]:
+    """The finite sticks per response period of n forcing periods T, over runs of
+    neighbouring frequencies: ``1 per T at Omega in [0.92, 1.06] rad/s``, ``6 per
+    13 T at Omega = 1.08 rad/s``; from the ok points of both sweeps (where the
+    two disagree: "the sweeps differ")."""
+    w = ds.Omega.values
+    kinds = []
+    for i in range(w.size):
+        point = ds.isel(Omega=i)
+        seen = {(int(point.sticks_per_period[j]), int(point.multiplicity[j]))
+                for j in range(point.sizes["sweep"]) if point.status[j] == 0}
+        kinds.append(seen.pop() if len(seen) == 1 else "the sweeps differ" if seen
+                     else None)
+    out, start = [], 0
+    for i in range(1, w.size + 1):
+        if i < w.size and kinds[i] == kinds[start]:
+            continue
+        kind, span = kinds[start], w[start:i]
+        where = (f"Omega = {span[0]:g}" if span.size == 1 else
+                 f"Omega in [{span[0]:g}, {span[-1]:g}]") + " rad/s"
+        if isinstance(kind, str):
+            out.append(f"{kind} at {where}")
+        elif kind is not None and kind[0] > 0:
+            sticks, n = kind
+            out.append(f"{sticks} per {'' if n == 1 else f'{n} '}T at {where}")
+        start = i
+    return out
 
 
 def strobe(out: Path) -> None:

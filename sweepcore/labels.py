@@ -6,6 +6,10 @@ variables read from :mod:`sweepcore.law` over a result's coordinates
 (:func:`analytic`, :func:`stick_onset_estimate`). Used by sweep, simulate, the
 boundary searches and the diagrams; the metadata of each variable is declared once,
 in :mod:`sweepcore.variables`.
+
+What reads a result (``sweepcore info``, ``export``) imports this module without
+the law modules (and numba with them): they are imported where the analytic
+variables are computed.
 """
 from __future__ import annotations
 
@@ -15,9 +19,6 @@ from importlib.metadata import PackageNotFoundError, version as _installed
 
 import numpy as np
 import xarray as xr
-
-from . import law, variables
-from .laws import ANALYTIC, LAW_DIM
 
 REFERENCE = ('C.-S. Liu, "Coulomb friction applied to analyze the cutting vibration '
              'of tool on workpiece"')
@@ -133,10 +134,21 @@ def slider_parameters(ds: xr.Dataset) -> list[tuple[str, float]]:
 
 
 # ------------------------------------------------------------ analytic variables
-def _over(coords, name: str, formula, laws=(ANALYTIC,)) -> xr.DataArray:
+def _laws(laws) -> tuple:
+    """The laws of a result: ``laws``, or (None) the analytic law alone."""
+    if laws is None:
+        from .laws import ANALYTIC
+        return (ANALYTIC,)
+    return tuple(laws)
+
+
+def _over(coords, name: str, formula, laws=None) -> xr.DataArray:
     """``formula(source)`` over the coordinates that ``law.derived(name)`` takes,
     broadcast by dimension name (dask arrays stay lazy); with several ``laws`` (the
     ``law`` dimension of ``coords``) one law at a time, stacked along ``law``."""
+    from . import law
+    from .laws import LAW_DIM
+    laws = _laws(laws)
     if len(laws) > 1:
         first = _over(coords, name, formula, laws[:1])
         if not hasattr(first.data, "dask"):
@@ -161,12 +173,13 @@ def _over(coords, name: str, formula, laws=(ANALYTIC,)) -> xr.DataArray:
                           dask="parallelized", output_dtypes=[np.float64])
 
 
-def analytic(name: str, coords, dims=None, laws=(ANALYTIC,)) -> xr.DataArray:
+def analytic(name: str, coords, dims=None, laws=None) -> xr.DataArray:
     """Analytic variable ``name`` (a key of ``variables.ANALYTIC``) of
     :mod:`sweepcore.law` over ``coords`` (a Dataset, or a mapping of DataArrays or
     Variables: then a Variable), labelled from ``variables.ANALYTIC``; its
     dimensions in the order of ``dims``; ``laws`` the grid's laws (a ``law``
-    dimension where there are several)."""
+    dimension where there are several; None: the analytic law)."""
+    from . import law, variables
     da = _over(coords, name, lambda src: law.derived(name, src), laws)
     if dims is not None:
         da = da.transpose(*(d for d in dims if d in da.dims))
@@ -174,15 +187,17 @@ def analytic(name: str, coords, dims=None, laws=(ANALYTIC,)) -> xr.DataArray:
     return da
 
 
-def criticality(coords, laws=(ANALYTIC,)) -> xr.DataArray:
+def criticality(coords, laws=None) -> xr.DataArray:
     """Codes of ``law.CRITICALITY`` (int8) over ``coords``, on the dimensions of
     ``v_star`` (:func:`sweepcore.law.criticality_code`)."""
+    from . import law
     return _over(coords, "criticality", law.criticality_code, laws).astype(np.int8)
 
 
-def stick_onset_estimate(coords, laws=(ANALYTIC,)) -> xr.DataArray:
+def stick_onset_estimate(coords, laws=None) -> xr.DataArray:
     """The averaging estimate of the stick onset (:func:`sweepcore.law.
     stick_onset_estimate`) over ``coords``, on the dimensions of ``v_star``."""
+    from . import law, variables
     da = _over(coords, "v_star", law.stick_onset_estimate, laws)
     da.attrs = attrs(*variables.STICK_ONSET_ESTIMATE)
     return da
@@ -219,6 +234,7 @@ def law_labels(laws) -> tuple[dict, dict]:
     object its attributes (``FrictionLaw.attrs``) and its table (``law_speed``,
     ``law_force`` on ``law_point``, where it has one); for a ``law`` dimension each
     attribute as a variable over ``law`` and the tables side by side (NaN-padded)."""
+    from .laws import LAW_DIM
     laws = tuple(one for one in laws if one.attrs())     # the analytic law has none
     if not laws:
         return {}, {}
@@ -263,6 +279,7 @@ BEYOND_TABLE = {
 def beyond_table(ds: xr.Dataset, laws):
     """``beyond_table`` over a sweep's points (int8), or None where no law of the
     sweep is a table (``FrictionLaw.speed_span`` finite)."""
+    from .laws import LAW_DIM
     spans = np.array([one.speed_span() for one in laws], np.float64)
     if np.isinf(spans).all() or "xdot_max" not in ds:
         return None

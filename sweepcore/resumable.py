@@ -16,6 +16,7 @@ import functools
 import hashlib
 import json
 import sys
+import time
 from pathlib import Path
 
 import numba
@@ -49,11 +50,58 @@ def open_store(path, fixed: dict, readable: dict, n_points: int, ncols: int | No
 
 
 def progress_bar(size: int, initial: int, progress, desc: str = "sweep"):
-    """A tqdm bar on stderr; ``progress`` None: only on a terminal, after 0.5 s."""
-    show = sys.stderr.isatty() if progress is None else bool(progress)
+    """A tqdm bar on stderr; ``progress`` None: only on a terminal, after 0.5 s;
+    True with stderr not a terminal (a log file) nor a notebook (tqdm's widget):
+    :class:`ProgressLines`."""
+    from tqdm import autonotebook
+    terminal = sys.stderr.isatty()
+    if progress and not terminal and autonotebook.tqdm.__module__ == "tqdm.std":
+        return ProgressLines(size, initial, desc)
+    show = terminal if progress is None else bool(progress)
     return tqdm(total=size, initial=initial, unit="pt", unit_scale=True, desc=desc,
                 disable=not show, delay=0.5 if progress is None else 0.0,
                 file=sys.stderr)
+
+
+class ProgressLines:
+    """Progress as plain lines on stderr, for a log file where a bar's carriage
+    returns would pile up: a line every ``every`` seconds or every tenth of the
+    work, whichever comes first, and one at the end, e.g. ``sweep: 6,554 of 65,536
+    points (10%), 7 s, about 63 s left``. The same ``update(n)`` as a tqdm bar."""
+
+    def __init__(self, size: int, initial: int = 0, desc: str = "sweep",
+                 every: float = 10.0, clock=time.monotonic):
+        self.size, self.done, self.desc = size, initial, desc
+        self.first, self.every, self.clock = initial, every, clock
+        self.start = self.last = clock()
+        self.tenth = self._tenth()
+
+    def _tenth(self) -> int:
+        return int(10 * self.done / self.size) if self.size else 10
+
+    def update(self, n: int) -> None:
+        self.done += n
+        now = self.clock()
+        if self.done >= self.size or now - self.last >= self.every or \
+                self._tenth() > self.tenth:
+            self.last, self.tenth = now, self._tenth()
+            print(self.line(now), file=sys.stderr, flush=True)
+
+    def line(self, now: float) -> str:
+        took = now - self.start
+        text = (f"{self.desc}: {self.done:,} of {self.size:,} points "
+                f"({100 * self.done // self.size if self.size else 100}%), "
+                f"{took:.0f} s")
+        if self.first < self.done < self.size:
+            left = took / (self.done - self.first) * (self.size - self.done)
+            text += f", about {left:.0f} s left"
+        return text
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        return False
 
 
 def compute_in_memory(size: int, chunk: int, kind, target, task, progress,

@@ -159,7 +159,8 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
         file, the bytes needed and the space free, and keeps the store resumable.
     progress : bool, optional
         Show a tqdm bar; default: only when stderr is a terminal (and the sweep
-        lasts more than half a second).
+        lasts more than half a second). True where stderr is not a terminal (a log
+        file): a plain line every 10 s or every tenth of the points.
     scheduler : {"threads", "processes", "synchronous"} or str, optional
         Run one dask task per chunk with this local scheduler (or a scheduler
         address). Default (with no ``client``): numba threads in this process.

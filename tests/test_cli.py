@@ -16,7 +16,7 @@ What is proven:
   (nothing is created), a closed output pipe ends the command quietly;
 * the compile notice appears exactly when numba's cache is cold;
 * ``sweepcore export`` writes CSV whose values are the file's, under the variables'
-  names, with a table of their units.
+  names and units (``amplitude [cm]``), with a table of their units.
 Subprocess tests run ``python -m sweepcore`` with the source tree on PYTHONPATH.
 """
 from __future__ import annotations
@@ -239,6 +239,28 @@ def test_help_states_units(capsys):
         assert command in out
 
 
+def test_help_says_what_the_forced_scene_offers(capsys):
+    """``sweepcore --help`` names the forced slider's ways in (a study's
+    [excitation] table, simulate's --F0/--Omega/--phi/--Y0, frequency_response and
+    stroboscopic_diagram from Python) and the sections of the pages documenting
+    them, each of which exists."""
+    from sweepcore.cli import main
+    with pytest.raises(SystemExit):
+        main(["--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    for word in ("[excitation]", "--F0", "--Omega", "--phi", "--Y0",
+                 "sweepcore.frequency_response", "sweepcore.stroboscopic_diagram"):
+        assert word in out, word
+    for page, section in (("studies.md", "The [excitation] table"),
+                          ("variables.md", "Forced response"),
+                          ("physics.md", "Forced vibration")):
+        assert f"{page} ({section})" in out
+        headings = [ln.replace("`", "") for ln in
+                    (ROOT / "docs" / page).read_text().splitlines()
+                    if ln.startswith("#")]
+        assert any(section in h for h in headings), (page, section)
+
+
 # -------------------------------------------------- study file (in process)
 def test_key_line_finds_tables_dotted_and_inline_keys():
     text = textwrap.dedent("""\
@@ -435,7 +457,9 @@ def test_export_csv_holds_the_file_values(small_run, tmp_path):
                      cwd=tmp_path)
     assert proc.returncode == 0, proc.stderr
     import pandas as pd
-    table = pd.read_csv(tmp_path / "small.csv")
+    # the plain names, as docs/variables.md says
+    table = pd.read_csv(tmp_path / "small.csv").rename(
+        columns=lambda c: c.split(" [")[0])
     ds = open_result(d / "small.nc")
     assert len(table) == ds.sizes["k"] * ds.sizes["v"]
     for _, row in table.iterrows():
@@ -449,9 +473,11 @@ def test_export_csv_holds_the_file_values(small_run, tmp_path):
         assert row["sticks_per_period"] == int(point.sticks_per_period)   # a count
 
 
-def test_export_names_columns_plainly_and_tables_their_units(small_run, tmp_path):
-    """Column names are the variables' names (pandas reads them as they are); the
-    units and long names of every column are in OUT_units.csv, the file's own."""
+def test_export_headers_carry_units_and_tables_them(small_run, tmp_path):
+    """Every column with units says them in its header, ``amplitude [cm]`` (the
+    headers carried no units), and pandas still reads the numbers as numbers; the
+    name, units and long name of every column are in OUT_units.csv, the file's
+    own."""
     d, _ = small_run
     proc = sweepcore("export", d / "small.nc", "--csv", tmp_path / "small.csv",
                      cwd=tmp_path)
@@ -461,10 +487,15 @@ def test_export_names_columns_plainly_and_tables_their_units(small_run, tmp_path
     units = pd.read_csv(tmp_path / "small_units.csv", keep_default_na=False)
     ds = open_result(d / "small.nc")
     assert list(units["column"]) == list(table.columns)
-    assert set(table.columns) == set(ds.variables) - {"point"}
+    assert set(units["name"]) == set(ds.variables) - {"point"}
     for _, row in units.iterrows():
-        assert row["units"] == ds[row["column"]].attrs.get("units", ""), row["column"]
-        assert row["long_name"] == ds[row["column"]].attrs.get("long_name", "")
+        given = ds[row["name"]].attrs.get("units", "")
+        stated = "" if given == "1" else given
+        assert row["column"] == (f"{row['name']} [{stated}]" if stated
+                                 else row["name"])
+        assert row["units"] == stated
+        assert row["long_name"] == ds[row["name"]].attrs.get("long_name", "")
+    assert table["amplitude [cm]"].dtype == np.float64
 
 
 def test_export_simulation_splits_events(tmp_path):
@@ -477,10 +508,10 @@ def test_export_simulation_splits_events(tmp_path):
     samples = pd.read_csv(tmp_path / "run.csv")
     events = pd.read_csv(tmp_path / "run_events.csv")
     assert len(samples) == ds.sizes["time"] and len(events) == ds.sizes["event"]
-    np.testing.assert_array_equal(samples["time"], ds.time.values)
-    np.testing.assert_array_equal(samples["x"], ds.x.values)
+    np.testing.assert_array_equal(samples["time [s]"], ds.time.values)
+    np.testing.assert_array_equal(samples["x [cm]"], ds.x.values)
     units = pd.read_csv(tmp_path / "run_units.csv")
-    assert dict(zip(units["column"], units["units"]))["time"] == "s"
+    assert dict(zip(units["column"], units["units"]))["time [s]"] == "s"
     assert set(events["event_kind"]) <= set(ds.event_kind.attrs["flag_meanings"].split())
 
 
@@ -535,6 +566,61 @@ def test_run_and_info_name_the_axes_in_one_order(tmp_path):
     said = re.search(r"\((\w+: \d+ x \w+: \d+)\)", run.stdout)[1]
     assert said == "alpha2: 3 x v: 2"
     assert f"sweep of 6 points ({said})" in info.stdout
+
+
+def test_run_prints_status_counts_and_progress_lines_to_a_file(small_run):
+    """run prints the status counts beside the regime counts, as the file holds
+    them; where stderr is not a terminal (a pipe here) its progress is plain lines,
+    the last one at every point."""
+    d, proc = small_run
+    ds = open_result(d / "small.nc")
+    names = dict(zip(np.atleast_1d(ds.status.attrs["flag_values"]).tolist(),
+                     ds.status.attrs["flag_meanings"].split()))
+    codes, counts = np.unique(ds.status.values, return_counts=True)
+    expect = "status: " + ", ".join(f"{names[c]} {n}" for c, n in zip(codes.tolist(),
+                                                                      counts))
+    assert expect in proc.stdout.splitlines()
+    size = ds.status.size
+    assert re.search(rf"^sweep: {size} of {size} points \(100%\), \d+ s$",
+                     proc.stderr, re.M), proc.stderr
+
+
+def test_progress_lines_every_tenth_or_every_ten_seconds(capsys):
+    """A plain progress line every tenth of the work when points are quick, every
+    10 s when they are slow, with the time left at the pace so far."""
+    from sweepcore.resumable import ProgressLines
+    now = [0.0]
+    quick = ProgressLines(1000, clock=lambda: now[0])
+    for _ in range(1000):           # 1 ms a point
+        now[0] += 0.001
+        quick.update(1)
+    lines = capsys.readouterr().err.splitlines()
+    assert [ln.split("(")[1].split("%")[0] for ln in lines] == \
+        [str(p) for p in range(10, 101, 10)]
+    now[0] = 0.0
+    slow = ProgressLines(1000, clock=lambda: now[0])
+    for _ in range(50):             # 4 s a point: a line every third point
+        now[0] += 4.0
+        slow.update(1)
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 50 // 3
+    assert lines[0] == f"sweep: 3 of 1,000 points (0%), 12 s, about {4 * 997} s left"
+
+
+def test_info_and_export_read_a_result_without_numba(small_run, tmp_path):
+    """``sweepcore info`` and ``export`` only read a file: they import neither numba
+    nor the kernels (a header cost 1.1 s of CPU with them, 0.75 s without)."""
+    d, _ = small_run
+    code = ("import sys\nfrom sweepcore.cli import main\n"
+            f"assert main(['info', {str(d / 'small.nc')!r}]) == 0\n"
+            f"assert main(['export', {str(d / 'small.nc')!r}, '--csv', "
+            f"{str(tmp_path / 'small.csv')!r}]) == 0\n"
+            "print(sorted(m for m in ('numba', 'sweepcore._kernels', 'matplotlib') "
+            "if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120, cwd=tmp_path)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip().splitlines()[-1] == "[]"
 
 
 def test_help_answers_without_numba():

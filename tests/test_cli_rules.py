@@ -172,3 +172,16 @@ def test_simulate_help_says_why_its_tolerance_is_tighter(capsys):
     import inspect
     doc = " ".join(inspect.getdoc(sc.simulate).split())
     assert "``tol`` defaults to 1e-10, tighter than the 1e-8 of" in doc
+
+
+def test_simulate_refuses_an_empty_law_table_by_name(tmp_path, monkeypatch, capsys):
+    """``--law-table ''`` is refused as an empty path, named as given (it said
+    "'.' is a directory": Path("") is "."); so is ``TableLaw.from_csv("")``."""
+    code, out = run(["simulate", "--m", "1", "--k", "1", "--v", "1", "--law-table",
+                     ""], tmp_path, monkeypatch, capsys)
+    assert code == 2
+    assert "--law-table '': the path is empty" in out.err
+    assert "directory" not in out.err
+    with pytest.raises(OSError) as err:
+        sc.TableLaw.from_csv("")
+    assert str(err.value).startswith("cannot read the friction table '': No such file")

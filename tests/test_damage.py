@@ -232,6 +232,28 @@ def test_boundary_output_refuses_what_sweep_refuses(tmp_path, capsys, no_hang):
     assert (tmp_path / "target.nc").read_bytes() == b"keep"
 
 
+def test_boundary_along_another_parameter_writes_its_picture(tmp_path, capsys):
+    """A search along alpha2 (v the second axis) wrote its result and no picture
+    ("boundary curves are drawn for searches along v"): now the picture, the
+    located curves with alpha2 across in its units, and plot draws the file too."""
+    (tmp_path / "s.toml").write_text(STUDY_V_ONLY.replace(
+        "alpha2 = 0.01\n", "alpha2 = { start = 0.005, stop = 0.02, num = 6 }\n").replace(
+        "start = 4.0, stop = 8.0, num = 5", "start = 5.0, stop = 7.0, num = 3")
+        + "[boundary]\nalong = \"alpha2\"\nscan = 8\n")
+    b, png = tmp_path / "b.nc", tmp_path / "b.png"
+    assert main(["boundary", str(tmp_path / "s.toml"), "-o", str(b)]) == 0
+    assert "no picture" not in capsys.readouterr().out
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    fig = sc.plot_result(open_result(b))
+    ax = fig.axes[0]
+    assert ax.get_xlabel().startswith("cubic friction-speed coefficient")
+    assert "kN s$^3$/cm$^3$" in ax.get_xlabel()
+    drawn = [ln.get_xdata() for ln in ax.lines]
+    v_hopf = open_result(b)["v_hopf"].values
+    assert np.isfinite(v_hopf).all()
+    np.testing.assert_array_equal(drawn[0], v_hopf)
+
+
 def test_boundary_of_one_swept_axis_refuses_a_picture_before_writing(tmp_path,
                                                                      capsys):
     (tmp_path / "s.toml").write_text(STUDY_V_ONLY)
@@ -255,8 +277,8 @@ def test_export_of_a_one_point_sweep_is_one_row(tmp_path):
     lines = (tmp_path / "one.csv").read_text().splitlines()
     assert len(lines) == 2
     row = dict(zip(lines[0].split(","), lines[1].split(",")))
-    assert float(row["v"]) == 4.0 and float(row["m"]) == 5.0
-    assert float(row["amplitude"]) == float(open_result(path)["amplitude"])
+    assert float(row["v [cm s-1]"]) == 4.0 and float(row["m [kN s2 cm-1]"]) == 5.0
+    assert float(row["amplitude [cm]"]) == float(open_result(path)["amplitude"])
 
 
 def test_plot_with_the_same_axis_twice_is_refused(tmp_path, capsys):

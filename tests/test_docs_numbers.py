@@ -377,3 +377,29 @@ def test_every_script_answers_help_without_running(script):
     assert done.returncode == 0, done.stderr[-2000:]
     assert done.stdout.startswith("usage: "), done.stdout[:300]
     assert done.stderr == ""
+
+
+def test_forced_response_is_quoted_as_it_prints(tmp_path):
+    """docs/studies.md says what studies/forced_response.py computes: each band of
+    sticks with its multiplicity (it said "sticks once a cycle" up to a frequency
+    where the response repeats every 13 forcing periods), the point not ok by its
+    status name (the script printed codes), the two sweeps' agreement."""
+    text = _run("forced_response", "--only", "response", "--out", str(tmp_path))
+    doc = _doc("studies.md")
+    bands = re.findall(r"(\d+) per (?:(\d+) )?T at Omega (?:= ([\d.]+)|in "
+                       r"\[([\d.]+), ([\d.]+)\]) rad/s", text)
+    assert bands, text
+    for sticks, n, at, low, high in bands:
+        if n:
+            assert (f"at {at} rad/s the response repeats only every {n} forcing "
+                    f"periods, with {sticks} sticks in them") in doc
+        else:
+            times = "once" if sticks == "1" else f"{sticks} times"
+            assert f"between Omega = {low} and {high} rad/s it sticks {times} a " \
+                "forcing period" in doc
+    bad = re.findall(r"(up|down) at Omega = ([\d.]+) rad/s \((\w+)\)", text)
+    assert bad and not re.search(r"'\d+'", text)          # names, not codes
+    for sweep, at, status in bad:
+        assert f"the {sweep} sweep's at {at} rad/s, ends `{status}`" in doc
+    gap = _number(r"where both are ok = (\S+);", text)
+    assert f"|A_up - A_down| / max A = {gap}" in doc

@@ -128,6 +128,29 @@ def test_simulate_flags_drive_the_slider(tmp_path, monkeypatch, capsys):
     assert (tmp_path / "run.png").read_bytes()[:8] == PNG_MAGIC
 
 
+def test_simulate_on_fixed_ground_names_the_load_and_draws_forces(tmp_path,
+                                                                  monkeypatch, capsys):
+    """At v = 0 the summary says there is no Hopf point (it printed "v* = nan
+    ... (none Hopf point)"); the picture's title names F0 and Omega with their
+    units, and its top row draws the load and the friction force instead of x and
+    xdot again (z = x - v t is x there)."""
+    code, out = run_in_process(
+        ["simulate", "--m", "1", "--k", "1", "--r-y", "0.3", "--v", "0", "--F0", "1",
+         "--Omega", "0.8", "--t-end", "20", "-o", "run.nc"], tmp_path, monkeypatch,
+        capsys)
+    assert code == 0, out.err
+    analytic = next(ln for ln in out.out.splitlines() if "analytic:" in ln)
+    assert "nan" not in analytic and "no Hopf point" in analytic
+    ds = sc.open_result(tmp_path / "run.nc")
+    fig = sc.plot_trajectory(ds)
+    title = fig._suptitle.get_text()
+    assert "$F_0$ = 1 kN" in title and r"$\Omega$ = 0.8 rad/s" in title
+    top = [ln.get_ydata() for ax in fig.axes[:3] for ln in ax.lines]
+    assert not any(np.array_equal(y, ds[n].values) for y in top for n in ("x", "xdot"))
+    assert any(np.array_equal(y, ds.external_force.values) for y in top)
+    assert any(np.array_equal(y, ds.r_a.values) for y in top)
+
+
 def test_simulate_excitation_without_frequency_refused(tmp_path, monkeypatch, capsys):
     code, out = run_in_process(
         ["simulate", "--m", "1", "--k", "1", "--r-y", "0.3", "--v", "0", "--F0", "1",
@@ -170,6 +193,36 @@ def test_run_info_plot_of_a_forced_study(tmp_path, monkeypatch, capsys):
 
 # ------------------------------------------------------------------ curves
 DH = sc.Params(m=1.0, k=1.0, r_y=0.3, v=0.0, F0=1.0, Omega=2.0)
+
+
+def test_info_names_stroboscopic_samples_and_study_files(tmp_path, monkeypatch,
+                                                         capsys):
+    """info calls a stroboscopic diagram's samples what they are (x at t = j T),
+    not a law's table; given a study file, info, plot and export say to run it,
+    with the command and the result the study writes (not "write it again")."""
+    ds = sc.stroboscopic_diagram(DH, "Omega", [2.0, 2.5], periods=3, transient=2)
+    sc.write_netcdf(ds, tmp_path / "s.nc")
+    code, out = run_in_process(["info", "s.nc"], tmp_path, monkeypatch, capsys)
+    assert code == 0, out.err
+    line = next(ln for ln in out.out.splitlines() if ln.startswith("  sample:"))
+    assert "law" not in line
+    assert line.startswith("  sample: 3 stroboscopic samples per value of Omega (x, "
+                           "xdot at t = j T")
+    (tmp_path / "f.toml").write_text(BASE + textwrap.dedent("""\
+        [excitation]
+        F0 = 1.0
+        Omega = [2.0, 3.0]
+        [output]
+        path = "out/f.nc"
+        """))
+    for command in ("info", "plot", "export"):
+        argv = [command, "f.toml"] + (["--csv", "f.csv"] if command == "export" else [])
+        code, out = run_in_process(argv, tmp_path, monkeypatch, capsys)
+        assert code == 2
+        assert "f.toml is a study file, not a result file: run it with `sweepcore run " \
+            "f.toml` (it writes out/f.nc), then `sweepcore " + command + " out/f.nc" \
+            in out.err
+        assert "write it again" not in out.err
 
 
 def test_frequency_response_sweeps_agree_on_den_hartog():
@@ -272,6 +325,54 @@ def test_map_classes_follow_the_data():
     assert names.tolist() == [["stuck", "2", "not ok"], ["0", "2", "2"]]
     cls, order = _classes(_fake_map(), "multiplicity")
     assert np.array(order)[cls].tolist() == [["stuck", "1", "not ok"], ["2", "1", "1"]]
+
+
+def test_map_of_chosen_variables_names_them_and_masks_stuck_points():
+    """A forced map of chosen variables is titled by them (it kept the study's
+    title), and a stuck point, which has no multiplier (the file holds floquet 1
+    there), is masked in the colour map, drawn grey and named in the legend."""
+    from sweepcore.plot.forced import plot_forced_map
+    ds = _fake_map().assign(floquet=(("F0", "Omega"), np.array([[1.0, 0.2, 0.3],
+                                                                [0.0, 0.5, 0.6]])))
+    ds.floquet.attrs["long_name"] = "largest Floquet multiplier modulus"
+    ds.amplitude.attrs["long_name"] = "vibration amplitude"
+    ds.attrs["study_title"] = "Forced response map: stops and sticks per cycle"
+    stuck = (ds.regime == 4).values
+    fig = plot_forced_map(ds, variables=("amplitude", "floquet"))
+    head = fig._suptitle.get_text().splitlines()[0]
+    assert head.startswith("vibration amplitude and largest Floquet multiplier "
+                           "modulus over")
+    ax = next(a for a in fig.axes if a.get_title().startswith("largest Floquet"))
+    drawn = np.ma.getmaskarray(ax.collections[0].get_array()).reshape(stuck.shape)
+    assert drawn[stuck].all()                   # no value where it is stuck
+    grey = np.ma.getmaskarray(ax.collections[1].get_array()).reshape(stuck.shape)
+    assert (~grey == stuck).all()               # the grey layer: the stuck cells
+    assert any(t.get_text().startswith("stuck: no motion, no floquet")
+               for t in ax.get_legend().get_texts())
+
+
+def test_frequency_response_picture_shows_the_load_and_the_multiplicity():
+    """A frequency-response curve built here: its title names the load F0 with its
+    unit, and a count per response period of a response repeating every 13
+    forcing periods reads "6 per 13 T" (it read as 6 sticks a period), once for
+    the two sweeps that agree; a period-T point gets no such mark."""
+    from sweepcore.plot.forced import plot_frequency_response
+    two = ("sweep", "Omega")
+    ds = xr.Dataset(
+        {"amplitude": (two, np.array([[1.0, 1.1], [1.0, 1.1]])),
+         "sticks_per_period": (two, np.array([[1, 6], [1, 6]])),
+         "multiplicity": (two, np.array([[1.0, 13.0], [1.0, 13.0]])),
+         "status": (two, np.zeros((2, 2), np.int8))},
+        {"sweep": ["up", "down"], "Omega": ("Omega", [1.06, 1.08],
+                                             {"units": "rad s-1"}),
+         "m": 1.0, "k": 1.0, "r_y": 1.0, "v": 1.0, "F0": 0.15, "phi": 0.0, "Y0": 0.0},
+        {"sweepcore_kind": "frequency_response", "title": "curve"})
+    ds.sticks_per_period.attrs["long_name"] = "finite sticks per period"
+    fig = plot_frequency_response(ds, ("amplitude", "sticks_per_period"))
+    assert "$F_0$ = 0.15 kN" in fig._suptitle.get_text()
+    marks = [t.get_text() for t in fig.axes[1].texts]
+    assert marks == ["6 per 13 T"]
+    assert "per response period" in fig.axes[1].get_ylabel()
 
 
 def test_continuous_motion_boundary_only_in_den_hartogs_case(monkeypatch):

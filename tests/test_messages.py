@@ -7,6 +7,7 @@ names its unit.
 """
 import inspect
 
+import numpy as np
 import pytest
 
 import sweepcore as sc
@@ -55,3 +56,35 @@ def test_params_signature_and_behaviour_unchanged():
 def test_simulate_settings_name_their_units(kwargs, message):
     with pytest.raises(ValueError, match=message):
         sc.simulate(sc.Params(m=5.0, k=50.0, r_y=10.0, v=5.0), **kwargs)
+
+
+@pytest.mark.parametrize("f, speed, value", [
+    (lambda s: 1.0 / s, 1e-300, 1e300),            # infinite at 0: asked at 1e-300
+    (lambda s: 1.0 / s + 0.5, 1e-300, 1e300),
+    (lambda s: 1.0 / (s - 2.0), 2.0, float("inf"))])
+def test_from_function_says_which_speed_gave_what(f, speed, value):
+    """A function infinite or beyond 1e100 kN somewhere on the range is refused
+    with the speed and the value (it said "f holds 1e+300 kN" only), and the way
+    out for a law infinite at 0: sample it from a small speed s0."""
+    with np.errstate(divide="ignore"), pytest.raises(ValueError) as err:
+        sc.TableLaw.from_function(f, 8.0)
+    text = str(err.value)
+    assert text.startswith(f"f({speed!r} cm/s) = ")
+    assert float(text.split(" = ")[1].split(" kN")[0]) == pytest.approx(value)
+    assert "from_function(lambda s: f(np.maximum(s, s0)), ...)" in text
+
+
+def test_from_csv_refuses_a_large_file_before_reading_it(tmp_path, monkeypatch):
+    """A CSV file above the table's byte limit is refused at once by its size,
+    naming the file, its bytes and the limit (a 100 MB file was read for 41 s,
+    then refused by its row count); the reader is never called."""
+    from sweepcore.laws import table
+    path = tmp_path / "big.csv"
+    path.write_text("speed [cm/s],force [kN]\n" + "0.5,1.0\n" * 40)
+    monkeypatch.setattr(table, "MAX_BYTES", 100)
+    monkeypatch.setattr(table.csv, "reader", lambda *a, **k: pytest.fail("read"))
+    with pytest.raises(ValueError) as err:
+        sc.TableLaw.from_csv(path)
+    size = path.stat().st_size
+    assert f"the friction table {str(path)!r} is {size:,} bytes; a table's file " \
+        "holds at most 100 " in str(err.value)

@@ -11,6 +11,7 @@ sweeps (facets, series) and simulations all draw and save a PNG.
 import math
 
 import numpy as np
+import xarray as xr
 import pytest
 
 import sweepcore as sc
@@ -82,6 +83,21 @@ def test_uniform_field_is_not_stretched(hopf_small):
     mesh = fig.axes[0].collections[0]
     assert mesh.norm.vmax - mesh.norm.vmin == pytest.approx(0.15)
     assert any("uniform: 1.5" in t.get_text() for t in fig.axes[0].texts)
+
+
+def test_analytic_variable_keeps_its_digits(hopf_small):
+    """q is a closed form (eq. 46): a spread of 1e-8 relative over a map (a
+    Stribeck term at large v) is its value, drawn on a colour scale over its
+    range; it was drawn as one rounded "uniform" value, the rule for measured
+    observables (accuracy 1e-6)."""
+    ds = hopf_small.copy()
+    step = 1e-9 * np.arange(ds.sizes["v"])              # 1e-8 of q's -0.1 across v
+    ds["q"] = (ds.q * 0 - 0.1 + xr.DataArray(step, dims="v")).assign_attrs(
+        hopf_small.q.attrs)
+    fig = plot.plot_map(ds, variables=("q",))
+    mesh = fig.axes[0].collections[0]
+    assert (mesh.norm.vmin, mesh.norm.vmax) == (float(ds.q.min()), float(ds.q.max()))
+    assert not any("uniform" in t.get_text() for t in fig.axes[0].texts)
 
 
 def test_line_figure_draws_references_and_series(tmp_path):

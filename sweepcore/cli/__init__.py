@@ -36,6 +36,10 @@ def __getattr__(name):
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
+# the commands that only read a result file: they compile no kernel, and import
+# neither numba nor the kernels (`sweepcore info` answers in the time xarray takes)
+READERS = ("info", "export")
+
 # what an interruption leaves, per command (a command says more where it knows:
 # args.on_interrupt)
 INTERRUPTED = {
@@ -87,11 +91,11 @@ def _main(argv) -> int:
     from . import commands
     from .commands import SimulationFailed, UsageError
     args.func = getattr(commands, f"cmd_{args.command}")
-    from .. import compiled       # while a kernel compiles, say so on stderr
-    compiled.notice = _silent if getattr(args, "quiet", False) else _notice
+    if args.command not in READERS:
+        from .. import compiled       # while a kernel compiles, say so on stderr
+        compiled.notice = _silent if getattr(args, "quiet", False) else _notice
     if args.threads:
         set_threads(args.threads)
-    from ..study import StudyError
     try:
         return args.func(args)
     except KeyboardInterrupt:
@@ -103,8 +107,9 @@ def _main(argv) -> int:
     except SimulationFailed as err:
         print(f"sweepcore {args.command}: failed: {err}", file=sys.stderr)
         return 1
-    except (StudyError, UsageError, ValueError, TypeError) as err:
-        # refused input (Params, Grid, options, study file): one clean line. plot and
+    except (UsageError, ValueError, TypeError) as err:
+        # refused input (Params, Grid, options, study file: a StudyError is a
+        # ValueError): one clean line. plot and
         # info validate their input themselves (UsageError); a ValueError deeper in
         # them is a failure, not a refusal.
         if args.command in ("plot", "info", "export") and not isinstance(err, UsageError):

@@ -4,17 +4,18 @@ from __future__ import annotations
 
 import os
 import shlex
+import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
 from ..labels import run_statuses, timestamp, version
-from ..options import did_you_mean
+from ..keywords import did_you_mean
 from .tables import csv_tables, units_table
 from .summaries import (basin_lines, boundary_lines, describe, describe_basins,
                         describe_boundaries, forced_lines, regime_line,
-                        simulation_summary)
+                        simulation_summary, status_line)
 
 
 class UsageError(ValueError):
@@ -86,9 +87,19 @@ def _run(args, study, grid, out, png) -> int:
     t0 = time.perf_counter()
     ds = sweep(grid, method=study.method, tol=study.tol,
                chunks=args.chunks or study.chunks, scheduler=args.scheduler, path=out,
-               progress=False if args.quiet else None, **study.options)
+               progress=_progress(args), **study.options)
     return _finish(ds, study, args, out, png, t0, grid.size,
-                   lambda d: [regime_line(d), *forced_lines(d)], study.plot)
+                   lambda d: [regime_line(d), status_line(d), *forced_lines(d)],
+                   study.plot)
+
+
+def _progress(args):
+    """A sweep's progress: a bar on a terminal, a plain line every 10 s or tenth of
+    the work where stderr goes to a file (sweepcore.resumable.ProgressLines);
+    nothing with --quiet."""
+    if args.quiet:
+        return False
+    return None if sys.stderr.isatty() else True
 
 
 def _finish(ds, study, args, out, png, t0, n, summary, plot=None, attrs=None) -> int:
@@ -141,7 +152,7 @@ def cmd_plot(args) -> int:
     """``sweepcore plot``: the natural picture of a result file."""
     from ..plot import plot_result, save
 
-    ds = _open(args.result)
+    ds = _open(args.result, "plot")
     out = Path(args.output) if args.output else Path(args.result).with_suffix(".png")
     if out.suffix.lower() != ".png":
         raise UsageError(f"picture must end in .png, got {str(out)!r}")
@@ -249,6 +260,9 @@ def _simulated_params(args):
     given += [f"--{n}" for n in ("alpha1", "alpha2") if getattr(args, n) != 0.0]
     if given:
         raise UsageError(f"--law-table gives the friction law: drop {', '.join(given)}")
+    if not args.law_table.strip():        # Path("") is ".", "a directory"
+        raise UsageError(f"--law-table {args.law_table!r}: the path is empty; give the "
+                         "friction table's CSV file (--law-table friction.csv)")
     from ..laws import TableLaw
     law = TableLaw.from_csv(args.law_table, static=args.static, smoothing=args.smoothing)
     return Params(m=args.m, k=args.k, v=args.v, c=args.c, law=law, **forcing)
@@ -314,7 +328,7 @@ def cmd_compile(args) -> int:
 
 def cmd_export(args) -> int:
     """``sweepcore export``: a result file as CSV, units in the column headers."""
-    ds = _open(args.result)
+    ds = _open(args.result, "export")
     out = Path(args.csv)
     if out.suffix.lower() != ".csv":
         raise UsageError(f"--csv must end in .csv, got {str(out)!r}")
@@ -355,12 +369,32 @@ def _variable_names(args, ds, known) -> list[str]:
     return names
 
 
-def _open(path):
+def _open(path, command: str = "info"):
     from ..io import open_result
     try:
         return open_result(path)
     except (OSError, ValueError) as err:    # each names the file and what is wrong
-        raise UsageError(str(err)) from None
+        raise UsageError(_study_file(path, command) or str(err)) from None
+
+
+def _study_file(path, command: str) -> str | None:
+    """What to say when the file given for a result is a study file (TOML with an
+    [axes] table): run it first, and where its result will be. None otherwise."""
+    import tomllib
+    try:
+        if os.path.getsize(path) > 2**20:       # a study is a page of text
+            return None
+        with open(path, "rb") as fh:
+            study = tomllib.load(fh)
+    except (OSError, ValueError):
+        return None
+    if not isinstance(study.get("axes"), dict):
+        return None
+    output = study.get("output") if isinstance(study.get("output"), dict) else {}
+    result = output.get("path") or f"{Path(path).stem}.nc"
+    return (f"{path} is a study file, not a result file: run it with `sweepcore run "
+            f"{shlex.quote(str(path))}` (it writes {result}), then `sweepcore {command} "
+            f"{shlex.quote(str(result))}{' --csv OUT.csv' if command == 'export' else ''}`")
 
 
 def cmd_boundary(args) -> int:
@@ -403,9 +437,6 @@ def _no_curves(grid, b) -> str | None:
     decided before any work)."""
     if b["diagram"] or b["continuation"]:
         return None
-    if b["along"] != "v":
-        return (f"boundary curves are drawn for searches along v, this one is along "
-                f"{b['along']}")
     if not any(d != "v" and n > 1 for d, n in zip(grid.dims, grid.shape)):
         return ("boundary curves are drawn over a second swept parameter, and this "
                 "study sweeps v only (its one point per boundary is in the summary)")
@@ -450,6 +481,5 @@ def cmd_basins(args) -> int:
                          checks=b["checks"], ftol=b["ftol"], match=b["match"],
                          method=study.method, tol=study.tol,
                          chunks=args.chunks or study.chunks, scheduler=args.scheduler,
-                         path=out, progress=False if args.quiet else None,
-                         **study.options)
+                         path=out, progress=_progress(args), **study.options)
     return _finish(ds, study, args, out, png, t0, grid.size, basin_lines)

@@ -81,6 +81,19 @@ class HelpFormatter(argparse.HelpFormatter):
                              break_long_words=False)
 
 
+def _forced_help() -> str:
+    return ("Forced vibration: a harmonic load F0 cos(Omega t + phi) [kN] on the slider "
+            "and a motion Y0 cos(Omega t) [cm] of its anchor, Omega in rad/s, phi in "
+            "rad (m x'' + c (x' - y') + k (x - y) + r_a = F0 cos(Omega t + phi)). A "
+            "study's [excitation] table sweeps F0, Omega, phi, Y0 (run: stops and "
+            "sticks per period, multiplicity, amplitude; studies/forced_map.toml); "
+            "simulate --F0 F0 --Omega OMEGA [--phi PHI] [--Y0 Y0] runs one forced "
+            "slider; from Python, sweepcore.frequency_response (up and down sweeps "
+            "in Omega) and sweepcore.stroboscopic_diagram. Documented in "
+            f"{doc('studies.md')} (The [excitation] table), {doc('variables.md')} "
+            f"(Forced response) and {doc('physics.md')} (Forced vibration).")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of ``sweepcore`` (the subcommands of :data:`SUBCOMMANDS`)."""
     parser = argparse.ArgumentParser(
@@ -88,11 +101,13 @@ def build_parser() -> argparse.ArgumentParser:
         description="Parameter sweeps of the stick-slip friction oscillator (Liu): a "
                     "slider of mass m on a belt of speed v, spring k, friction "
                     "r_a = sgn(zdot) (r_k + (r_y - r_k) exp(-|zdot|/v_s)) - alpha1 zdot "
-                    "+ alpha2 zdot^3, damping c (r_k = r_y: eq. 40). " + UNITS_HELP
-                    + ".",
+                    "+ alpha2 zdot^3, damping c (r_k = r_y: eq. 40). " + _forced_help()
+                    + " " + UNITS_HELP + ".",
         epilog="Examples: sweepcore run studies/hopf_map.toml; sweepcore info "
                "out/hopf_map.nc; sweepcore export out/hopf_map.nc --csv map.csv; "
-               "sweepcore simulate --m 5 --k 50 --r-y 10 --v 5 --png fig3.png. "
+               "sweepcore simulate --m 5 --k 50 --r-y 10 --v 5 --png fig3.png; "
+               "sweepcore run studies/forced_map.toml; sweepcore simulate --m 1 --k 1 "
+               "--r-y 0.3 --v 0 --F0 1 --Omega 0.8 --png forced.png. "
                f"Output variables and codes: {doc('variables.md')}. "
                "Exit codes: 0 ok, 1 failure, 2 refused input.")
     _add_global_options(parser, argparse.SUPPRESS)
@@ -316,7 +331,9 @@ SUBCOMMANDS = {
         f"Run the sweep described by a TOML study file (format: {doc('studies.md')}), "
         "write the result as netCDF and draw it. The study file is validated first: "
         "on any error nothing is written. An interrupted run resumes when rerun with "
-        "the same output. " + UNITS_HELP + ".",
+        "the same output. A study with an [excitation] table (F0, Omega, phi, Y0) "
+        "sweeps the forced slider: the steady response each point settles on, its "
+        "stops and sticks per period and multiplicity. " + UNITS_HELP + ".",
         _run_options),
     "plot": (
         "draw the natural picture of a result file",
@@ -327,7 +344,9 @@ SUBCOMMANDS = {
     "simulate": (
         "simulate one slider: time histories and phase planes",
         "Simulate one slider from (x0, xdot0) and draw z, zdot, x, xdot against time "
-        "and the phase planes (z, zdot) and (x, xdot), as the paper's Fig. 3. "
+        "and the phase planes (z, zdot) and (x, xdot), as the paper's Fig. 3; with "
+        "--F0 or --Y0 and --Omega, under a harmonic load or anchor motion (on fixed "
+        "ground, v = 0, the top row draws the forces instead of repeating x). "
         + UNITS_HELP + ".",
         _simulate_options),
     "info": (
@@ -347,8 +366,10 @@ SUBCOMMANDS = {
         "Write a result as CSV: a sweep as one row per grid point (the swept "
         "parameters, then every variable), a simulation as one row per time sample "
         "(its event log goes to <OUT stem>_events.csv). Column headers are the "
-        "variables' names (as pandas reads them); their units and long names go to "
-        "<OUT stem>_units.csv; regime, status and other flag variables are "
+        "variables' names with their units, 'amplitude [cm]' (pandas reads the "
+        "numbers as numbers; dimensionless columns bare); each column's name, units "
+        "and long name also go to <OUT stem>_units.csv; regime, status and other "
+        "flag variables are "
         f"written as names. Meanings: {doc('variables.md')}.",
         _export_options),
     "boundary": (

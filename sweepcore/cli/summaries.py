@@ -8,9 +8,12 @@ from collections import Counter
 
 import numpy as np
 
-from .._kernels import codes
-from ..boundaries import LOCATED
 from ..labels import parameter, run_dims, run_statuses, slider_parameters
+
+
+# the heading of what `describe` summarises, by the file's sweepcore_kind
+KINDS = {"frequency_response": "frequency-response curve",
+         "stroboscopic_diagram": "stroboscopic diagram"}
 
 
 def _units(var) -> str:
@@ -32,6 +35,14 @@ def regime_line(ds) -> str:
     if "regime" not in ds:
         return ""
     return "regime: " + ", ".join(f"{n} {c}" for n, c in _flag_counts(ds["regime"])
+                                  if c)
+
+
+def status_line(ds) -> str:
+    """One line of status counts, e.g. ``status: ok 65526, unresolved 8``."""
+    if "status" not in ds or "time" in ds.dims:
+        return ""
+    return "status: " + ", ".join(f"{n} {c}" for n, c in _flag_counts(ds["status"])
                                   if c)
 
 
@@ -73,7 +84,8 @@ def describe(ds) -> str:
     dims = _grid_dims(ds)
     size = int(np.prod([ds.sizes[d] for d in dims])) if dims else 1
     shape = " x ".join(f"{d}: {ds.sizes[d]}" for d in dims)
-    lines.append(f"  sweep of {size} points ({shape})")
+    kind = KINDS.get(ds.attrs.get("sweepcore_kind"), "sweep")
+    lines.append(f"  {kind} of {size} points ({shape})")
     for key in ("study_title", "study_file"):
         if ds.attrs.get(key):
             lines.append(f"  {key.replace('_', ' ')}: {ds.attrs[key]}")
@@ -95,10 +107,7 @@ def describe(ds) -> str:
                                              for n in fixed))
     if "initial_velocity" in ds.attrs:
         lines.append(f"  start: {ds.attrs['initial_velocity']}")
-    for d in ds.dims:
-        if d not in dims:       # the samples of a measured law: data, not an axis
-            names = ", ".join(n for n in ds.data_vars if d in ds[n].dims)
-            lines.append(f"  {d}: {ds.sizes[d]} samples of the law's table ({names})")
+    lines.extend(_data_dims(ds, dims))
     for var in ("regime", "status"):
         if var in ds:
             lines.append(f"  {var} counts:")
@@ -123,6 +132,28 @@ def describe(ds) -> str:
             text = str(ds.attrs[key]).replace("\n", "\n" + " " * 16)
             lines.append(f"    {key:12s}{text}")
     return "\n".join(lines)
+
+
+def _data_dims(ds, dims) -> list[str]:
+    """What each dimension of a result that is not a grid axis holds: a measured
+    law's samples (``law_point``), a stroboscopic diagram's samples (``sample``)."""
+    lines = []
+    for d in ds.dims:
+        if d in dims:
+            continue
+        names = ", ".join(n for n in ds.data_vars if d in ds[n].dims)
+        if ds.attrs.get("sweepcore_kind") == "stroboscopic_diagram" and d == "sample":
+            along = ds.attrs.get("along", "the parameter")
+            when = ds["x"].attrs.get("comment") if "x" in ds else None
+            what = (f"stroboscopic samples per value of {along} ({names} at t = j T: "
+                    f"{when or 'T = 2 pi/Omega, the forcing period'})")
+        elif d == "law_point":
+            what = f"samples of the law's table ({names})"
+        else:
+            long_name = ds[d].attrs.get("long_name", d) if d in ds.coords else d
+            what = f"values of {long_name} ({names})"
+        lines.append(f"  {d}: {ds.sizes[d]} {what}")
+    return lines
 
 
 def _boundary_lines(ds) -> list[str]:
@@ -258,10 +289,12 @@ def _run_lines(ds) -> list[str]:
 def simulation_summary(ds, p) -> str:
     """Summary of a fresh simulation with the slider's analytic quantities."""
     law = "" if p.law is None else f"  {p.law.describe()}\n"
+    hopf = (f"v* = {p.v_star:.6g} cm s-1 ({p.criticality} Hopf point)"
+            if p.criticality != "none" and math.isfinite(p.v_star) else
+            "no Hopf point (no belt speed where steady sliding loses stability)")
     return (_describe_simulation(ds) + "\n" + law +
             f"  analytic: omega = {p.omega:.6g} s-1, q = {p.q:.6g} s-1 (eq. 46), "
-            f"v* = {p.v_star:.6g} cm s-1 ({p.criticality} Hopf point), "
-            f"x_eq = {p.x_eq:.6g} cm (eq. 43)")
+            f"{hopf}, x_eq = {p.x_eq:.6g} cm (eq. 43)")
 
 
 def _axis_lines(ds, skip=()) -> list[str]:
@@ -296,6 +329,7 @@ def describe_boundaries(ds) -> str:
 
 def boundary_lines(ds) -> list[str]:
     """Summary of a boundaries or diagram result: what was located, against v*."""
+    from ..boundaries import LOCATED
     if ds.attrs.get("sweepcore_kind") == "bifurcation_diagram":
         lines = ["  " + regime_line(ds)]
         for name in ("v_hopf", "v_stick_onset", "v_hopf_subcritical", "v_fold",
@@ -334,6 +368,7 @@ def boundary_lines(ds) -> list[str]:
 
 def coexistence_lines(ds) -> list[str]:
     """The ends of the unstable slip cycle of a boundaries result, where located."""
+    from ..boundaries import LOCATED
     lines = []
     for name, status, width in (("v_hopf_subcritical", "subcritical_status",
                                  "v_hopf_subcritical_error"),
@@ -351,6 +386,7 @@ def coexistence_lines(ds) -> list[str]:
 
 def jump_lines(ds) -> list[str]:
     """The regime changes of each scan of a diagram, in the scan's direction."""
+    from .._kernels import codes
     along = ds.attrs.get("along", "v")
     x = ds[along].values
     names = {int(k): n for k, n in codes.REGIME_NAMES.items()}

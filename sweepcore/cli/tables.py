@@ -1,5 +1,7 @@
 """What ``sweepcore export`` writes: a result as tables (one per group of
-dimensions) under the variables' names, and the table of their units."""
+dimensions), each column headed by its variable's name and units
+(``amplitude [cm]``, the form ``TableLaw.from_csv`` reads), and the table of
+their units and long names."""
 from __future__ import annotations
 
 import numpy as np
@@ -12,8 +14,9 @@ def csv_tables(ds) -> dict:
     measured boundary, are repeated along the others); a simulation one over
     ``time`` ("") and one over ``event`` ("_events"). Scalar coordinates (fixed
     parameters) are repeated as columns. Flag variables become their names; headers
-    are the variables' names (``pandas.read_csv`` gives them as they are in the
-    file), their units are in :func:`units_table`.
+    are :func:`header` (``pandas.read_csv`` gives them as they are in the file; the
+    plain names: ``frame.rename(columns=lambda c: c.split(" [")[0])``); units and
+    long names are also in :func:`units_table`.
     """
     if "event" not in ds.dims:
         return {"": _frame(ds)}
@@ -37,19 +40,35 @@ def _frame(ds):
             codes = dict(zip(np.atleast_1d(attrs["flag_values"]).tolist(),
                              str(attrs["flag_meanings"]).split()))
             frame[name] = frame[name].map(lambda c: codes.get(int(c), f"code {c}"))
-    return frame
+    return frame.rename(columns=lambda name: header(ds, name))
+
+
+def _units(ds, name) -> str:
+    """The units of column ``name`` as a CSV states them: a CF time unit
+    (``seconds since ...``) as ``s``; "" for none and for dimensionless ("1")."""
+    units = str(ds[name].attrs.get("units", "")) if name in ds.variables else ""
+    units = "s" if " since " in units else units
+    return "" if units == "1" else units
+
+
+def header(ds, name) -> str:
+    """The CSV header of variable ``name``: ``amplitude [cm]``, ``time [s]``; the
+    bare name where it has no units (counts, flags written as names)."""
+    units = _units(ds, name)
+    return f"{name} [{units}]" if units else str(name)
 
 
 def units_table(ds, columns):
-    """The ``column, units, long_name`` of every CSV column (``1``: dimensionless;
-    a simulation's time in s), the table ``sweepcore export`` writes beside the
-    data as ``<OUT stem>_units.csv``."""
+    """The ``column, name, units, long_name`` of every CSV column (``columns``, the
+    headers as written; units "" where dimensionless), the table ``sweepcore
+    export`` writes beside the data as ``<OUT stem>_units.csv``."""
     import pandas as pd
 
+    names = {header(ds, n): n for n in ds.variables}
     rows = []
-    for name in dict.fromkeys(columns):
+    for column in dict.fromkeys(columns):
+        name = names.get(column, column)
         attrs = ds[name].attrs if name in ds.variables else {}
-        units = str(attrs.get("units", ""))
-        rows.append({"column": name, "units": "s" if " since " in units else units,
+        rows.append({"column": column, "name": name, "units": _units(ds, name),
                      "long_name": attrs.get("long_name", "")})
-    return pd.DataFrame(rows, columns=["column", "units", "long_name"])
+    return pd.DataFrame(rows, columns=["column", "name", "units", "long_name"])

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-from ..options import checked_keywords
+from ..keywords import checked_keywords
 from .files import describe_oserror, path_text, temporary_name, write_failed
 
 COMPLEVEL = 4

@@ -36,11 +36,12 @@ import numpy as np
 
 from .._kernels.laws.table import Table, pack
 from . import spline
-from .base import FrictionLaw, check_name, magnitude_window, real
+from .base import WINDOW, FrictionLaw, check_name, magnitude_window, real
 
 DEGREE = spline.DEGREE
 MIN_POINTS = DEGREE + 1       # the slope estimates are polynomials through 6 or 7 points
 MAX_POINTS = 1_000_000        # a table's size rule: 72 MB of kernel data (9 floats a piece)
+MAX_BYTES = 64 * MAX_POINTS   # and its CSV file's, checked before a byte is read
 DEVIATION_TOL = 1e-9          # largest excess over the data's range, x max |F| (rounding)
 CLOSEST = 1e-12               # least step between speeds, x the branch's span
 ZERO = 1e-300                 # where from_function asks f for its limits at 0
@@ -265,10 +266,13 @@ class TableLaw(FrictionLaw):
                     raise ValueError
             except (TypeError, ValueError):
                 out = np.array([float(f(float(x))) for x in np.ravel(s)])
-            bad = np.flatnonzero(~np.isfinite(out))
-            if bad.size:
-                raise ValueError(f"f({float(s[bad[0]])!r}) = {float(out[bad[0]])!r}: "
-                                 "f must give a finite force [kN] on the sampled range")
+            bad = np.flatnonzero(~(np.abs(out) <= WINDOW[1]))     # NaN too
+            if bad.size:            # 1/s at 0 (asked at ZERO), log(s), a pole
+                at, got = float(np.ravel(s)[bad[0]]), float(out[bad[0]])
+                raise ValueError(f"f({at!r} cm/s) = {got!r} kN: f must be finite, at "
+                                 f"most {WINDOW[1]:g} kN ({ZERO:g} cm/s stands for 0); "
+                                 "infinite at 0 (as 1/s)? Sample it from a small speed "
+                                 "s0: from_function(lambda s: f(np.maximum(s, s0)), ...)")
             try:
                 magnitude_window("f", out, "kN")
             except ValueError as err:
@@ -312,8 +316,8 @@ class TableLaw(FrictionLaw):
         """Read a two-column CSV file: a header naming the columns with their units,
         such as ``speed [cm/s],force [kN]`` (speed in cm/s, m/s or mm/s; force in kN
         or N), then one row per point. A header without units is refused."""
+        rows = _csv_rows(path)      # before Path(path): Path("") is ".", a directory
         path = Path(path)
-        rows = _csv_rows(path)
         if len(rows) < 2:
             raise ValueError(f"{str(path)!r}: a header and at least one row are needed")
         header = rows[0]
@@ -482,14 +486,16 @@ def _csv_rows(path: Path) -> list:
     except OSError as err:
         raise OSError(f"cannot read the friction table {str(path)!r}: "
                       f"{err.strerror or err}") from None
-    mode = os.fstat(fd).st_mode
-    if not stat.S_ISREG(mode):
+    mode, size = os.fstat(fd).st_mode, os.fstat(fd).st_size
+    if not stat.S_ISREG(mode) or size > MAX_BYTES:      # refused before it is read
         os.close(fd)
         what = ("a directory" if stat.S_ISDIR(mode) else "a FIFO" if stat.S_ISFIFO(mode)
                 else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode)
                 else "a socket" if stat.S_ISSOCK(mode) else "not a regular file")
-        raise ValueError(f"the friction table {str(path)!r} is {what}; a CSV file "
-                         "is needed")
+        raise ValueError(f"the friction table {str(path)!r} is " + (
+            f"{what}; a CSV file is needed" if not stat.S_ISREG(mode) else f"{size:,} "
+            f"bytes; a table's file holds at most {MAX_BYTES:,} ({MAX_POINTS:,} rows of "
+            "64 characters): sample the law more coarsely"))
     os.set_blocking(fd, True)
     rows = []
     try:

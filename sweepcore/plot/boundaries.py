@@ -11,6 +11,7 @@ from matplotlib.patches import Patch
 
 from .._kernels import codes
 from ..options import checked_keywords
+from ..params import LONG_NAMES
 from .checks import checked_result, checked_title
 from .maps import map_panel
 from .style import REGIME_COLOURS, axis_scale, fixed_parameters, label
@@ -96,7 +97,9 @@ def plot_boundaries(ds: xr.Dataset, over: xr.Dataset | None = None,
     Left: the Hopf point and the stick onset over the regime map ``over`` (a 2-D
     sweep over v and the same parameter), or alone, with v* and 2 v*/sqrt(5).
     Middle: v_hopf - v* [cm/s] (with the estimated error). Right: the stick-onset
-    ratio v_stick_onset/v* against the averaging value sqrt(4/5).
+    ratio v_stick_onset/v* against the averaging value sqrt(4/5). A search along
+    another parameter than v (no analytic v* to compare with): the left panel
+    alone, its axis that parameter with its units.
     """
     checked_result(ds, "boundaries")
     checked_title(title)
@@ -111,8 +114,17 @@ def plot_boundaries(ds: xr.Dataset, over: xr.Dataset | None = None,
             raise ValueError(f"over must be a regime map over v and {p} (a sweep "
                              f"with both swept), got one over "
                              f"{', '.join(over.dims) or 'no dimension'}")
-    fig = Figure(figsize=(16.0, 5.0), layout="constrained")
-    ax, axh, axs = fig.subplots(1, 3, gridspec_kw={"width_ratios": [1.6, 1.0, 1.0]})
+    along = ds.attrs.get("along", "v")
+    if along != "v" and over is not None:
+        raise ValueError(f"over: a regime map is drawn under boundaries along v; "
+                         f"this result was searched along {along!r}")
+    if along == "v":
+        fig = Figure(figsize=(16.0, 5.0), layout="constrained")
+        ax, axh, axs = fig.subplots(1, 3,
+                                    gridspec_kw={"width_ratios": [1.6, 1.0, 1.0]})
+    else:
+        fig = Figure(figsize=(7.5, 5.0), layout="constrained")
+        ax = fig.subplots()
     y = ds[p].values
     log = axis_scale(ds, p) == "log"
     if over is not None:
@@ -122,8 +134,9 @@ def plot_boundaries(ds: xr.Dataset, over: xr.Dataset | None = None,
               ("v_stick_onset_estimate", dict(color="white" if over is not None
                                               else "0.4", ls=":", lw=1.6,
                                               label=r"averaging $2v^*/\sqrt{5}$")),
-              ("v_hopf", dict(color="black", lw=1.4, label="Hopf point (located)")),
-              ("v_stick_onset", dict(color="#CC79A7", lw=1.4,
+              ("v_hopf", dict(color="black", lw=1.4, marker=".", ms=4,
+                              label="Hopf point (located)")),
+              ("v_stick_onset", dict(color="#CC79A7", lw=1.4, marker=".", ms=4,
                                      label="stick onset (located)")))
     for name, style in curves:
         if name in ds:
@@ -137,8 +150,9 @@ def plot_boundaries(ds: xr.Dataset, over: xr.Dataset | None = None,
                 color="0.15", label="other regime changes (labels)")
     if over is None:
         ax.set_yscale("log" if log else "linear")
-        ax.set_xlabel(label(xr.Variable((), 0.0, {"units": "cm s-1",
-                                                   "long_name": "belt speed"}), "v"))
+        ax.set_xlabel(label(xr.Variable((), 0.0, {
+            "units": ds["v_hopf"].attrs.get("units", "cm s-1"),
+            "long_name": LONG_NAMES.get(along, along)}), along))
         ax.set_ylabel(label(ds[p], p))
     # one legend: the curves, then the regime map's colours (its own legend sits
     # below the panel, where this figure's layout has no room for it)
@@ -149,10 +163,13 @@ def plot_boundaries(ds: xr.Dataset, over: xr.Dataset | None = None,
         names += [f"regime: {t.get_text()}" for t in regimes.get_texts()]
         regimes.remove()
     ax.legend(handles, names, fontsize=8, loc="upper right", framealpha=0.85)
-    ax.set_title("located boundaries", fontsize=10)
-    if "v_star" not in ds:     # searched along another parameter than v
-        raise ValueError("boundary curves are drawn for boundaries along v; this "
-                         f"result was searched along {ds.attrs.get('along')!r}")
+    ax.set_title("located boundaries" + ("" if along == "v" else
+                                         f" along {along} (no analytic v*)"),
+                 fontsize=10)
+    if along != "v":
+        fig.suptitle(title or f"{ds.attrs.get('title', 'boundaries')}: "
+                     f"{fixed_parameters(ds)}", fontsize=10)
+        return fig
     dv = (ds["v_hopf"] - ds["v_star"]).values
     axh.plot(y, dv, color="black", lw=1.0, marker=".", ms=3, label=r"$v_{hopf} - v^*$")
     if "v_hopf_error" in ds:

@@ -130,32 +130,60 @@ def plot_forced_map(ds: xr.Dataset, x: str = "Omega", y: str = "F0",
             raise ValueError(f"{name!r} is not a variable of the map")
         if name in CLASS_VARIABLES:
             _class_panel(fig, ax, ds, name, xe, ye)
+            extra = []
         else:
-            data = np.ma.masked_invalid(np.where(ds["status"].values == codes.OK,
-                                                 ds[name].values.astype(float), np.nan))
-            pos = data[data > 0]
-            norm = LogNorm(pos.min(), pos.max()) if name == "amplitude" and \
-                pos.size and pos.max() > 10 * pos.min() else None
-            mesh = ax.pcolormesh(xe, ye, np.ma.masked_where(data <= 0, data) if norm
-                                 else data, norm=norm, shading="flat", rasterized=True)
-            fig.colorbar(mesh, ax=ax, shrink=0.9, pad=0.01).set_label(
-                label(ds[name], name))
-            ax.set_title(ds[name].attrs.get("long_name", name) + " (ok points)",
-                         fontsize=10)
+            extra = _value_panel(fig, ax, ds, name, xe, ye)
         if boundary is not None:
             ax.plot(fine, boundary, "k--", lw=1.2,
                     label="F0 = r / r_b(Omega/omega): no stick above (Den Hartog)")
-            if name not in CLASS_VARIABLES:
-                ax.legend(loc="lower right", fontsize=7)
+        handles = ax.get_legend_handles_labels()[0] + extra
+        if name not in CLASS_VARIABLES and handles:
+            ax.legend(handles=handles, loc="lower right", fontsize=7)
         ax.set_xscale("log" if xlog else "linear")
         ax.set_yscale("log" if ylog else "linear")
         ax.set_xlim(xe[0], xe[-1])
         ax.set_ylim(ye[0], ye[-1])
         ax.set_xlabel(_axis_label(ds, x))
         ax.set_ylabel(_axis_label(ds, y))
-    fig.suptitle(f"{ds.attrs.get('study_title', ds.attrs.get('title', ''))}\n"
-                 f"{fixed_parameters(ds)}", fontsize=9)
+    names = [ds[n].attrs.get("long_name", n) for n in variables]
+    drawn = ", ".join(names[:-1]) + " and " + names[-1] if len(names) > 1 else names[0]
+    source = ds.attrs.get("study_title") or ds.attrs.get("title")
+    fig.suptitle(f"{drawn} over ({_symbol(x)}, {_symbol(y)})\n"
+                 + (f"from: {source}\n" if source else "")
+                 + fixed_parameters(ds), fontsize=9)
     return fig
+
+
+def _symbol(name: str) -> str:
+    return SHORT.get(name, name)
+
+
+def _value_panel(fig, ax, ds, name, xe, ye) -> list:
+    """A variable that is not a count, as a colour map of its ok points (the
+    amplitude on a log scale where it spans a decade); stuck points have no
+    response to measure (no multiplier, no period: their floquet of 1 or amplitude
+    of 0 is not a value), so they are drawn grey, with a legend handle saying so
+    (returned)."""
+    ok = ds["status"].values == codes.OK
+    stuck = ok & (ds["regime"].values == codes.R_STUCK)
+    data = np.ma.masked_invalid(np.where(ok & ~stuck, ds[name].values.astype(float),
+                                         np.nan))
+    pos = data[data > 0]
+    norm = LogNorm(pos.min(), pos.max()) if name == "amplitude" and \
+        pos.size and pos.max() > 10 * pos.min() else None
+    mesh = ax.pcolormesh(xe, ye, np.ma.masked_where(data <= 0, data) if norm
+                         else data, norm=norm, shading="flat", rasterized=True)
+    fig.colorbar(mesh, ax=ax, shrink=0.9, pad=0.01).set_label(label(ds[name], name))
+    ax.set_title(ds[name].attrs.get("long_name", name) + " (ok points"
+                 + ("; stuck: grey" if stuck.any() else "") + ")", fontsize=10)
+    if not stuck.any():
+        return []
+    grey = SPECIAL_COLOURS["stuck"]
+    ax.pcolormesh(xe, ye, np.ma.masked_where(~stuck, np.zeros(stuck.shape)),
+                  cmap=ListedColormap([grey]), shading="flat", rasterized=True)
+    return [Patch(facecolor=grey, edgecolor="0.3", lw=0.5,
+                  label=f"stuck: no motion, no {name} "
+                        f"({100 * stuck.sum() / stuck.size:.0f} %)")]
 
 
 def _axis_label(ds, name: str) -> str:
@@ -170,7 +198,9 @@ def plot_frequency_response(ds: xr.Dataset, variables=("amplitude", "mean")) -> 
     """A frequency-response curve (``sweepcore.frequency_response``): each variable
     against Omega, the up sweep solid with upward triangles, the down sweep dashed
     with downward ones; points whose status is not ok hollow; the band where the two
-    sweeps differ (two coexisting responses, between the jumps) shaded."""
+    sweeps differ (two coexisting responses, between the jumps) shaded. A count
+    per response period (sticks, stops) is marked ``6 per 13 T`` where the response
+    repeats only after n > 1 forcing periods T."""
     checked_result(ds)
     if ds.attrs.get("sweepcore_kind") != "frequency_response":
         raise ValueError("ds must be a frequency-response curve "
@@ -196,6 +226,10 @@ def plot_frequency_response(ds: xr.Dataset, variables=("amplitude", "mean")) -> 
                 ax.axvspan(0.5 * (lo + w[i]), 0.5 * (w[i] + w[min(i + 1, w.size - 1)]),
                            color="0.85", lw=0, zorder=0)
         ax.set_ylabel(label(ds[name], name))
+        if name in CLASS_VARIABLES[:2]:
+            _mark_multiplicity(ax, ds, name)
+            ax.set_ylabel(label(ds[name], name).replace(" per period",
+                                                        " per response period"))
         ax.grid(alpha=0.3)
     axs[0].legend(fontsize=8, title="shaded: two coexisting responses"
                   if "coexisting" in ds and ds["coexisting"].values.any() else None,
@@ -203,6 +237,24 @@ def plot_frequency_response(ds: xr.Dataset, variables=("amplitude", "mean")) -> 
     axs[-1].set_xlabel(_axis_label(ds, "Omega"))
     fig.suptitle(f"{ds.attrs.get('title', '')}\n{fixed_parameters(ds)}", fontsize=9)
     return fig
+
+
+def _mark_multiplicity(ax, ds: xr.Dataset, name: str) -> None:
+    """A count per response period means per n forcing periods T: where n > 1 the
+    point says so (``6 per 13 T``), once where both sweeps agree."""
+    if "multiplicity" not in ds:
+        return
+    w = ds["Omega"].values
+    for i in range(w.size):
+        said = set()
+        for s in ds["sweep"].values:
+            point = ds.sel(sweep=s).isel(Omega=i)
+            n, count = float(point["multiplicity"]), int(point[name])
+            if int(point["status"]) != codes.OK or not n > 1 or (count, n) in said:
+                continue
+            said.add((count, n))
+            ax.annotate(f"{count} per {n:.0f} T", (w[i], count), xytext=(6, -3),
+                        textcoords="offset points", fontsize=8, color="0.25")
 
 
 @checked_keywords

@@ -12,7 +12,7 @@ from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from .. import law
+from .. import law, variables
 from ..io import check_flag
 from ..options import checked_keywords
 from .checks import (checked_dimension, checked_names, checked_result,
@@ -191,7 +191,7 @@ def _shared_scales(ds: xr.Dataset, variables, x: str, y: str) -> dict:
                 not _is_map(ds, name, x, y):
             continue
         data = np.ma.masked_invalid(ds[name].values.astype(float))
-        if data.count() and _uniform(data) is None:
+        if data.count() and _uniform(data, _resolution(name)) is None:
             out[name] = {"vmin": float(data.min()), "vmax": float(data.max())}
     return out
 
@@ -247,6 +247,14 @@ def _share(count: int, total: int) -> str:
     return f"{100 * count / total:.3g} %"
 
 
+def _resolution(name: str) -> float:
+    """The relative spread below which variable ``name`` is drawn "uniform": the
+    accuracy of a measured observable (1e-6, an answer's contract), the rounding of
+    an analytic one (q, v*, x_eq, ...: closed forms, every digit meant; at large v
+    q's Stribeck term is 1e-9 of it and was drawn as one rounded value)."""
+    return 1e-12 if name in variables.ANALYTIC else 1e-6
+
+
 def _uniform(data, rel: float = 1e-6):
     """(value, spread) when ``data`` is constant up to ``rel``, else None."""
     if data.count() == 0:
@@ -262,13 +270,16 @@ def _value_panel(fig, ax, ds, name, xe, ye, colorbar=True, **kwargs):
     da = ds[name]
     data = np.ma.masked_invalid(da.values.astype(float))
     kwargs.setdefault("cmap", "viridis")
-    uniform = _uniform(data)
+    rel = _resolution(name)
+    uniform = _uniform(data, rel)
     if uniform is not None and "norm" not in kwargs and "vmin" not in kwargs:
         # a colour scale stretched over rounding noise would invent structure
         c, spread = uniform
         half = max(0.05 * abs(c), 1e-12)
         kwargs.update(vmin=c - half, vmax=c + half)
-        ax.text(0.5, 0.5, f"uniform: {c:.6g} {pretty_units(da.attrs.get('units'))}\n"
+        digits = 12 if rel < 1e-6 else 6          # every digit the value means
+        ax.text(0.5, 0.5, f"uniform: {c:.{digits}g} "
+                          f"{pretty_units(da.attrs.get('units'))}\n"
                           f"(spread {spread:.2g})", transform=ax.transAxes,
                 ha="center", va="center", fontsize=10,
                 bbox=dict(facecolor="white", alpha=0.8, edgecolor="0.5"))

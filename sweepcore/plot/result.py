@@ -36,7 +36,8 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
             return plot_hysteresis(ds)     # coexisting attractors
         return plot_diagram(ds)
     if kind == "boundaries":
-        return plot_boundaries(ds, over=over_map(ds))
+        along_v = ds.attrs.get("along", "v") == "v"   # a map under curves along v
+        return plot_boundaries(ds, over=over_map(ds) if along_v else None)
     if kind == "frequency_response":
         return plot_frequency_response(ds)
     if kind == "stroboscopic_diagram":

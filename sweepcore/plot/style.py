@@ -32,7 +32,11 @@ SYMBOLS = {
     "amplitude": "A", "mean": r"\bar{x}", "velocity_amplitude": r"A_{\dot{x}}",
     "cycle_size": "R", "period": "T", "q": "q", "v_star": "v^*", "x_eq": "x_{eq}",
     "omega": r"\omega", "c": "c", "r_k": "r_k", "v_s": "v_s",
+    "F0": "F_0", "Omega": r"\Omega", "phi": r"\varphi", "Y0": "Y_0",
 }
+# the excitation's terms in a title carry their units: rad/s and rad are the ones a
+# reader could take for Hz or degrees
+EXCITATION_UNITS = {"F0": "kN", "Omega": "rad/s", "phi": "rad", "Y0": "cm"}
 
 DPI = 150
 
@@ -111,9 +115,27 @@ def fixed_parameters(ds: xr.Dataset) -> str:
                     and float(ds["r_k"]) == float(ds["r_y"]):
                 continue                      # no Stribeck term: eq. (40)
             parts.append(f"${SYMBOLS[name]}$ = {float(ds[name]):.4g}")
+    fixed = {n: float(ds[n]) for n in EXCITATION_UNITS
+             if n in ds.coords and ds[n].ndim == 0}
+    swept = [n for n in ("F0", "Y0") if n in ds.coords and ds[n].ndim > 0]
+    excitation = excitation_text(fixed, forced=bool(swept))
+    if excitation:
+        parts.append(excitation)
     if "xdot0" not in ds.coords and "x0" in ds.coords:
         parts.append("start stuck")
     return ", ".join(parts)
+
+
+def excitation_text(values: dict, forced: bool = False) -> str:
+    r"""``$F_0$ = 1 kN, $\Omega$ = 0.8 rad/s`` of an excitation's fixed terms
+    (``{name: value}``), or "" without one: a term that is 0 is left out, and
+    Omega is named only where a load or an anchor motion (``forced``: swept) acts."""
+    acting = [values.get(n, 0.0) for n in ("F0", "Y0")]
+    if not (forced or any(np.isfinite(v) and v != 0.0 for v in acting)):
+        return ""
+    return ", ".join(f"${SYMBOLS[n]}$ = {v:.4g} {EXCITATION_UNITS[n]}"
+                     for n, v in values.items()
+                     if np.isfinite(v) and (n == "Omega" or v != 0.0))
 
 
 def fmt(value) -> str:

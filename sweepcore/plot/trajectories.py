@@ -9,7 +9,7 @@ from matplotlib.figure import Figure
 from ..labels import parameter, slider_parameters
 from ..options import checked_keywords
 from .checks import checked_result, checked_title
-from .style import SYMBOLS, label
+from .style import EXCITATION_UNITS, SYMBOLS, excitation_text, label
 
 _EVENT_STYLE = {
     "slip": dict(marker="^", color="#009E73", label="slip (eq. 27)"),
@@ -52,7 +52,8 @@ def plot_trajectory(ds: xr.Dataset, title: str | None = None) -> Figure:
 
     Panels: (a) z(t), (b) zdot(t), (c) phase plane (z, zdot); (d) x(t), (e) xdot(t),
     (f) phase plane (x, xdot), with the belt speed and the events (slip, stick,
-    normal and abnormal stops) marked.
+    normal and abnormal stops) marked. On fixed ground (v = 0) z is x, and the top
+    row draws the forces instead (:func:`_force_row`).
     """
     checked_result(ds, "simulation")
     checked_title(title)
@@ -63,6 +64,9 @@ def plot_trajectory(ds: xr.Dataset, title: str | None = None) -> Figure:
     events = _events(ds)
     rows = (("z", "zdot", True), ("x", "xdot", False))
     for r, (pos, vel, relative) in enumerate(rows):
+        if relative and v == 0.0:     # z = x - v t: the row would repeat x
+            _force_row(axs[r], ds)
+            continue
         a_pos, a_vel, a_phase = axs[r]
         a_pos.plot(t, ds[pos].values, lw=1.0, color="#0072B2")
         a_vel.plot(t, ds[vel].values, lw=1.0, color="#0072B2")
@@ -86,12 +90,38 @@ def plot_trajectory(ds: xr.Dataset, title: str | None = None) -> Figure:
     return fig
 
 
+def _force_row(axs, ds: xr.Dataset) -> None:
+    """The top row of a run on fixed ground (v = 0, where z = x): (a) the load and
+    the friction force against time, (b) the friction force against the slider's
+    velocity (the law as the run traverses it, sticking at xdot = 0), (c) the load
+    against x, whose loop encloses the work it does a cycle (unforced: the restoring
+    force against x)."""
+    t = ds.time.values
+    a_t, a_v, a_x = axs
+    load = "external_force" in ds
+    if load:
+        a_t.plot(t, ds.external_force.values, lw=1.0, color="#D55E00", label="load")
+    a_t.plot(t, ds.r_a.values, lw=1.0, color="#0072B2", label="friction $r_a$")
+    a_t.set(xlabel=label(ds.time, "time"), ylabel="force [kN]")
+    a_t.legend(fontsize=7.5, loc="upper right")
+    a_v.plot(ds.xdot.values, ds.r_a.values, lw=0.9, color="#0072B2")
+    a_v.set(xlabel=label(ds.xdot, "xdot"), ylabel=label(ds.r_a, "r_a"))
+    other = "external_force" if load else "r"
+    a_x.plot(ds.x.values, ds[other].values, lw=0.9, color="#D55E00" if load
+             else "#0072B2")
+    a_x.set(xlabel=label(ds.x, "x"), ylabel=label(ds[other], other))
+    a_t.annotate("v = 0: z = x, forces drawn", (0.0, 1.0), xycoords="axes fraction",
+                 xytext=(30, 4), textcoords="offset points", fontsize=8, color="0.3")
+
+
 def _trajectory_title(ds: xr.Dataset) -> str:
     p = ", ".join(f"${SYMBOLS[n]}$ = {value:.4g}" for n, value in
                   slider_parameters(ds))
+    load = excitation_text({n: parameter(ds, n) for n in EXCITATION_UNITS})
     start = (f"start ($x_0$, $\\dot{{x}}_0$) = ({parameter(ds, 'x0'):.4g}, "
              f"{parameter(ds, 'xdot0'):.4g})")
-    return f"Single slider: {p}; {start}; method {ds.attrs.get('method', '?')}"
+    return (f"Single slider: {p}; {'excitation ' + load + '; ' if load else ''}"
+            f"{start}; method {ds.attrs.get('method', '?')}")
 
 
 @checked_keywords
