@@ -205,28 +205,21 @@ def stick_onset_estimate(coords, laws=None) -> xr.DataArray:
 
 # ------------------------------------------------------------ the law of a result
 def load_labels(loads, many: bool):
-    """``(attrs, variables)`` of a forced result's load shapes: one shape's
-    coefficients as attributes (``load``, ``load_cos``, ``load_sin``,
-    ``load_truncation``); for a ``load`` dimension its coefficients as variables
-    ``load_cos``, ``load_sin`` over (load, load_harmonic), zero-padded."""
+    """``(attrs, variables)`` of a forced result's load shapes: one load's attributes
+    (``load``, ``load_kind`` and its own: a periodic load's coefficients); for a
+    ``load`` dimension each attribute as a variable over ``load``."""
     if not many:
         return dict(loads[0].attrs()), {}
-    n = max(one.harmonics for one in loads)
-    cos = np.zeros((len(loads), n))
-    sin = np.zeros((len(loads), n))
-    for i, one in enumerate(loads):
-        cos[i, :one.harmonics] = one.cos
-        sin[i, :one.harmonics] = one.sin
-    dims = ("load", "load_harmonic")
-    return {}, {"load_cos": xr.Variable(dims, cos, {
-        "units": "1", "long_name": "cosine coefficients a_n of the load's shape",
-        "comment": "p(theta) = sum_n a_n cos(n theta) + b_n sin(n theta), n = 1 + "
-                   "load_harmonic"}),
-        "load_sin": xr.Variable(dims, sin, {
-            "units": "1", "long_name": "sine coefficients b_n of the load's shape"}),
-        "load_truncation": xr.Variable("load", np.array([one.truncation for one in loads]),
-                                       {"units": "1", "long_name": "largest difference "
-                                        "from the samples the shape was made from"})}
+    keys = [k for one in loads for k in one.attrs() if k != "load"]
+    variables = {}
+    for key in dict.fromkeys(keys):
+        vals = [one.attrs().get(key) for one in loads]
+        if all(isinstance(v, (int, float)) or v is None for v in vals):
+            data = np.array([np.nan if v is None else v for v in vals], np.float64)
+        else:
+            data = np.array(["" if v is None else str(v) for v in vals])
+        variables[key] = xr.Variable("load", data, {"long_name": key.replace("_", " ")})
+    return {}, variables
 
 
 def law_labels(laws) -> tuple[dict, dict]:

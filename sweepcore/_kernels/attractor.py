@@ -29,7 +29,7 @@ from . import codes
 from .dopri5 import scales
 from .driver import advance, init_state
 from .excitation import forced, load_bound, top_frequency
-from .excitations.none import Unforced
+from .excitations import autonomous
 from .law import (anti_damped, breakaway, certified_rest, conservative,
                   normal_form_valid, piecewise_linear, x_eq)
 from .layout import (A_DT, A_IX, A_IXD2, A_NSTICK, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX,
@@ -206,7 +206,7 @@ def setup(meth, p, lw, o, st, w, acc):
     w[W_RTOL] = o[O_RTOL]
     for i in range(NACC):
         clear(acc[i])
-    init_state(st, p[X0], p[XD0], p, lw, Unforced(), o)
+    init_state(st, p[X0], p[XD0], p, lw, autonomous(), o)
     st[S_SECTIONS] = 1.0
     if v != 0.0 and st[S_ZD] == 0.0 and st[S_MODE] != codes.STICK and st[S_X] == w[W_XS]:
         w[W_RESET_SEEN] = 1.0
@@ -231,13 +231,13 @@ def next_event(meth, st, p, lw, o, w, acc):
     w[W_MODE0] = st[S_MODE]
     step_acc = acc[ACC_STEP]
     if st[S_MODE] == codes.STICK:
-        ev, status = advance(meth, st, p, lw, Unforced(), o, step_acc, np.inf)
+        ev, status = advance(meth, st, p, lw, autonomous(), o, step_acc, np.inf)
         if ev == codes.EV_SLIP:
             w[W_T_OFF] += st[S_T]
             st[S_T] = 0.0
     else:
         t_start = st[S_T]
-        ev, status = advance(meth, st, p, lw, Unforced(), o, step_acc,
+        ev, status = advance(meth, st, p, lw, autonomous(), o, step_acc,
                              t_start + min(1.5 * w[W_T_NAT], w[W_T_BUDGET] - w[W_T_SLIDE]))
         w[W_T_SLIDE] += st[S_T] - t_start
     _merge(acc[ACC_CYC], step_acc)
@@ -424,8 +424,8 @@ def attractor_point(meth, p, lw, o_in, out, ws):
         return
     o = ws[:NO]
     copy_into(o, o_in)
-    resolve_into(meth, p, lw, Unforced(), o)
-    refused = method_status(meth, p, lw, Unforced(), o)
+    resolve_into(meth, p, lw, autonomous(), o)
+    refused = method_status(meth, p, lw, autonomous(), o)
     if refused != codes.OK:
         out[OB_REGIME] = codes.R_FAILED
         out[OB_STATUS] = refused

@@ -27,7 +27,7 @@ from .jit import kernel
 from . import codes
 from .attractor import answer_cycle, clear, method_status, resolve_options
 from .driver import advance, init_state
-from .excitations.none import Unforced
+from .excitations import autonomous
 from .law import x_eq
 from .layout import (K, M, NA, NO, NOBS, NP, NS, O_GRAZE, O_LX, O_MAX_STEPS, O_RTOL,
                      OB_NSTEPS, OB_REGIME, OB_STATUS, OB_X_MAX, OB_X_MIN, S_N, S_TOUCH,
@@ -52,14 +52,14 @@ def one_return(meth, p, lw, o, a, st, acc):
     the return's quadratures, ``st[S_N]`` counts the steps."""
     v = p[V]
     n = st[S_N]
-    init_state(st, a, 0.0, p, lw, Unforced(), o)
+    init_state(st, a, 0.0, p, lw, autonomous(), o)
     st[S_N] = n
     st[S_TOUCH] = 0.0
     clear(acc)
     section = codes.EV_XMAX if v > 0.0 else codes.EV_XMIN
     t_max = 4.0 * 2.0 * math.pi * math.sqrt(p[M] / p[K])
     for _ in range(64):
-        ev, status = advance(meth, st, p, lw, Unforced(), o, acc, t_max)
+        ev, status = advance(meth, st, p, lw, autonomous(), o, acc, t_max)
         if status != codes.OK or ev == codes.EV_STOP_TIME:
             return np.nan, np.nan, False, False
         if ev == section:
@@ -151,8 +151,8 @@ def slip_cycles(meth, p, lw, o_in, out):
         out[0, OB_REGIME] = codes.R_FAILED
         out[0, OB_STATUS] = codes.BAD_ROW
         return 0
-    o = resolve_options(meth, p, lw, Unforced(), o_in)
-    if method_status(meth, p, lw, Unforced(), o) != codes.OK or p[V] == 0.0 or meth == codes.GPS:
+    o = resolve_options(meth, p, lw, autonomous(), o_in)
+    if method_status(meth, p, lw, autonomous(), o) != codes.OK or p[V] == 0.0 or meth == codes.GPS:
         return 0
     v = p[V]
     sg = 1.0 if v > 0.0 else -1.0

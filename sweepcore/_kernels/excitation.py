@@ -23,17 +23,12 @@ kind ``none`` (the autonomous belt) defines every function: no load, the closed
 form of the stick's end (eq. 27) and the autonomous stop rules, so its kernels are
 the autonomous ones, bit for bit.
 """
-import inspect
 import math
 
 import numpy as np
-from numba import types
-from numba.core.errors import TypingError
-from numba.extending import overload
-
 from . import codes
 from .holding import critical_phases, stick_exit as _trig_exit
-from .jit import OVERLOAD_OPTIONS, kernel
+from .jit import kernel, resolved_by
 from .law import accel, field_slope, static_limits
 from .layout import C, K, OMEGA, V
 from .trig import (XC_END, XC_FTOL, XC_HEAD, XC_N, XC_OMEGA, XC_PERIOD, XC_STAGE, XC_START,
@@ -41,40 +36,14 @@ from .trig import (XC_END, XC_FTOL, XC_HEAD, XC_N, XC_OMEGA, XC_PERIOD, XC_STAGE
                    derivative, stage_loads)
 
 EPS = np.finfo(np.float64).eps
-_DEFAULTS = {}
 
 
-def _implementation(stub, fx):
+def _modules():
     from .excitations import MODULES
-    if not isinstance(fx, types.BaseNamedTuple) or fx.instance_class not in MODULES:
-        raise TypingError(f"{stub.__name__}: excitation data must be an excitation "
-                          f"table's data class (excitations.EXCITATIONS), got {fx}")
-    module = MODULES[fx.instance_class]
-    fn = getattr(module, stub.__name__, None) or _DEFAULTS.get(stub.__name__)
-    if fn is None:
-        raise TypingError(f"excitation kind {module.__name__} defines no "
-                          f"{stub.__name__}, which has no generic form")
-    return getattr(fn, "py_func", fn)
+    return MODULES
 
 
-def interface(required=False, inline=False):
-    """Declare ``stub`` an excitation function resolved by the class of ``fx``: the
-    kind module's function of that name, else the stub's body (its generic form);
-    ``required``: every kind defines it. Compiled as functions of their own, as
-    the law's, or with ``inline`` into the caller (a body without a branch or a
-    loop: numba's own inlining of one trips its scope check)."""
-    def declare(stub):
-        at = list(inspect.signature(stub).parameters).index("fx")
-        if not required:
-            _DEFAULTS[stub.__name__] = stub
-
-        def typer(*args):
-            return _implementation(stub, args[at])
-        typer.__signature__ = inspect.signature(stub)
-        overload(stub, inline="always" if inline else "never",
-                 jit_options=OVERLOAD_OPTIONS)(typer)
-        return stub
-    return declare
+interface = resolved_by("fx", _modules, "excitation")
 
 
 # ------------------------------------------------------------ every kind defines

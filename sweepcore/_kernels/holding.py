@@ -73,7 +73,7 @@ def critical_phases(xc, kv):
         root = np.nan
         if abs(derivative(xc, m, 2)) > 0.5 * m3 * w:
             if (ga > 0.0) != (gb > 0.0) or ga == 0.0:
-                root = _simple_root(xc, kv, a, b, ga)
+                root = _trig_root(xc, 1, kv, 0.0, 0.0, a, b)
         elif w <= FLOOR * T or top + 2 > cap:
             root = m                        # a double root or a near miss: a cut
         else:
@@ -93,26 +93,29 @@ def critical_phases(xc, kv):
 
 
 @kernel
-def _simple_root(xc, kv, a, b, ga):
-    """The one root of g = e' - kv in [a, b], where g is monotone and changes sign
-    (g(a) = ga): safeguarded Newton, bisection where a step leaves the bracket."""
-    t = 0.5 * (a + b)
+def _trig_root(xc, d, a0, a1, t0, lo, hi):
+    """The one root in [lo, hi] of ``f(t) = e^(d)(t) - a0 - a1 (t - t0)`` (d = 0: the
+    holding force at a level; d = 1: h'), where f changes sign once: safeguarded
+    Newton (f' = e^(d+1) - a1), bisection where a step leaves the bracket, to the
+    resolution of t."""
+    flo = derivative(xc, lo, d) - a0 - a1 * (lo - t0)
+    t = 0.5 * (lo + hi)
     for _ in range(100):
-        g = derivative(xc, t, 1) - kv
-        if g == 0.0:
+        f = derivative(xc, t, d) - a0 - a1 * (t - t0)
+        if f == 0.0:
             return t
-        if (g > 0.0) == (ga > 0.0):
-            a = t
+        if (f > 0.0) == (flo > 0.0):
+            lo = t
         else:
-            b = t
-        if b - a <= 4.0 * EPS * max(abs(b), 1.0):
+            hi = t
+        if hi - lo <= 4.0 * EPS * max(abs(hi), 1.0):
             break
-        dg = derivative(xc, t, 2)
-        tn = t - g / dg if dg != 0.0 else 0.5 * (a + b)
-        if not a < tn < b:
-            tn = 0.5 * (a + b)
+        df = derivative(xc, t, d + 1) - a1
+        tn = t - f / df if df != 0.0 else 0.5 * (lo + hi)
+        if not lo < tn < hi:
+            tn = 0.5 * (lo + hi)
         t = tn
-    return 0.5 * (a + b)
+    return 0.5 * (lo + hi)
 
 
 @kernel
@@ -153,30 +156,6 @@ def holding(xc, t, t0, x0, p):
 
 
 @kernel
-def _band_root(xc, lo, hi, t0, x0, p, level):
-    """The root of h(t) = level in [lo, hi], where h - level changes sign once (a
-    monotone piece): safeguarded Newton to the resolution of t."""
-    flo = holding(xc, lo, t0, x0, p) - level
-    t = 0.5 * (lo + hi)
-    for _ in range(100):
-        f = holding(xc, t, t0, x0, p) - level
-        if f == 0.0:
-            return t
-        if (f > 0.0) == (flo > 0.0):
-            lo = t
-        else:
-            hi = t
-        if hi - lo <= 4.0 * EPS * max(abs(hi), 1.0):
-            break
-        df = derivative(xc, t, 1) - p[K] * p[V]
-        tn = t - f / df if df != 0.0 else 0.5 * (lo + hi)
-        if not lo < tn < hi:
-            tn = 0.5 * (lo + hi)
-        t = tn
-    return hi
-
-
-@kernel
 def stick_exit(xc, t0, x0, p, lw, t_stop):
     """``(dt, slips, mode, x_slip)``: the duration of the stick entered at (t0, x0)
     until the holding force leaves the band or t_stop, whether it ends in a slip,
@@ -195,7 +174,9 @@ def stick_exit(xc, t0, x0, p, lw, t_stop):
         hb = holding(xc, b, t0, x0, p)
         if hb > r_pos or hb < -r_neg:
             up = hb > r_pos
-            tb = _band_root(xc, a, b, t0, x0, p, r_pos if up else -r_neg)
+            # h(t) = e(t) - k x0 - c v - k v (t - t0) at the level
+            level = (r_pos if up else -r_neg) + p[K] * x0 + p[C] * v
+            tb = _trig_root(xc, 0, level, p[K] * v, t0, a, b)
             return (tb - t0, True, codes.SLIDE_POS if up else codes.SLIDE_NEG,
                     x0 + v * (tb - t0))
         if b >= t_stop or (v == 0.0 and b - t0 > T):

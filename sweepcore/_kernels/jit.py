@@ -28,9 +28,12 @@ to the one implementation its arguments select, so a run compiles only the law k
 and the method it uses. ``OVERLOAD_OPTIONS`` are the options those implementations
 are compiled with.
 """
+import inspect
+
 from numba import njit, types
 from numba.core import cgutils
-from numba.extending import intrinsic
+from numba.core.errors import TypingError
+from numba.extending import intrinsic, overload
 from numba.np.arrayobj import make_array
 
 OVERLOAD_OPTIONS = {"cache": True, "error_model": "numpy", "no_cpython_wrapper": True}
@@ -90,3 +93,43 @@ def copy_into(dst, src):
     long): ``dst[:] = src`` without numba's shape check (module docstring)."""
     for i in range(dst.shape[0]):
         dst[i] = src[i]
+
+
+def resolved_by(arg, modules, what):
+    """A decorator ``interface(required=False, inline=False)`` for the functions of
+    an interface resolved by the class of their argument ``arg`` (the law's data,
+    the excitation's): each resolves, when it compiles, to the function of that name
+    in ``modules()[class]`` (the kind's module), else to the stub's own body, its
+    generic form (``required``: every kind defines it). Compiled as functions of
+    their own, or with ``inline`` into the caller (a body without a branch or a
+    loop: numba's own inlining of one trips its scope check). ``what`` names the
+    interface in the errors."""
+    defaults = {}
+
+    def implementation(stub, data):
+        table = modules()
+        if not isinstance(data, types.BaseNamedTuple) or data.instance_class not in table:
+            raise TypingError(f"{stub.__name__}: {what} data must be a {what} table's "
+                              f"data class, got {data}")
+        module = table[data.instance_class]
+        fn = getattr(module, stub.__name__, None) or defaults.get(stub.__name__)
+        if fn is None:
+            raise TypingError(f"{what} kind {module.__name__} defines no "
+                              f"{stub.__name__}, which has no generic form")
+        return getattr(fn, "py_func", fn)
+
+    def interface(required=False, inline=False):
+        def declare(stub):
+            at = list(inspect.signature(stub).parameters).index(arg)
+            if not required:
+                defaults[stub.__name__] = stub
+
+            def typer(*args):
+                return implementation(stub, args[at])
+            typer.__signature__ = inspect.signature(stub)
+            overload(stub, inline="always" if inline else "never",
+                     jit_options=OVERLOAD_OPTIONS)(typer)
+            return stub
+        return declare
+    interface.defaults = defaults       # the generic forms, by name
+    return interface

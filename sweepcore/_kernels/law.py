@@ -33,51 +33,23 @@ roundings: the analytic family defines them all, which keeps the cubic map bit f
 bit what it was); a kind that defines ``constants`` defines every function taking
 ``cf`` too (the generic ones read the generic ``constants``: ``(k, c, v, p, s)``).
 """
-import inspect
 import math
 
 import numpy as np
-from numba import types
-from numba.core.errors import TypingError
-from numba.extending import overload
 
-from .jit import OVERLOAD_OPTIONS, kernel
+from .jit import kernel, resolved_by
 from .layout import C, K, M, V
 
 EPS = np.finfo(np.float64).eps
-_DEFAULTS = {}
 
 
-def _implementation(stub, lw):
-    """The function ``stub`` resolves to for law data of numba type ``lw``."""
+def _modules():
     from .laws import MODULES
-    if not isinstance(lw, types.BaseNamedTuple) or lw.instance_class not in MODULES:
-        raise TypingError(f"{stub.__name__}: law data must be a law table's data "
-                          f"class (laws.LAWS), got {lw}")
-    module = MODULES[lw.instance_class]
-    fn = getattr(module, stub.__name__, None) or _DEFAULTS.get(stub.__name__)
-    if fn is None:
-        raise TypingError(f"law kind {module.__name__} defines no {stub.__name__}, "
-                          "which has no generic form")
-    return getattr(fn, "py_func", fn)
+    return MODULES
 
 
-def interface(required=False, inline=False):
-    """Declare ``stub`` a law function resolved by the class of its argument ``lw``:
-    the kind module's function of that name, else the stub's own body (its generic
-    form); ``required``: a primitive every kind defines (no generic form)."""
-    def declare(stub):
-        at = list(inspect.signature(stub).parameters).index("lw")
-        if not required:
-            _DEFAULTS[stub.__name__] = stub
-
-        def typer(*args):
-            return _implementation(stub, args[at])
-        typer.__signature__ = inspect.signature(stub)
-        overload(stub, inline="always" if inline else "never",
-                 jit_options=OVERLOAD_OPTIONS)(typer)
-        return stub
-    return declare
+interface = resolved_by("lw", _modules, "law")
+_DEFAULTS = interface.defaults
 
 
 # ------------------------------------------------------- the kind's primitives

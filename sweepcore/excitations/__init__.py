@@ -13,10 +13,13 @@ the slider's parameters, and columns of the kernel rows read only by the excitat
 modules (here and ``sweepcore/_kernels/excitations/``); the load's shape is data,
 as a law object is (a ``load`` dimension of a Grid over several shapes).
 
-The kinds are rows of ``EXCITATIONS`` (name, module): ``none`` (F0 = Y0 = 0: the
-autonomous belt, on the autonomous kernels, bit for bit as without this table) and
-``periodic`` (either excitation or both). ``sweepcore.excitations.theory`` holds the
-closed forms of the forced oscillator.
+The kinds are rows of ``EXCITATIONS`` (name, module, the class of its load
+objects): ``none`` (F0 = Y0 = 0: the autonomous belt, on the autonomous kernels, bit
+for bit as without this table) and ``periodic`` (a :class:`PeriodicLoad`, one cosine
+by default, and the anchor's motion). The rows of every forced kind run on the
+stroboscopic search (``sweepcore.compiled.responses``), compiled for the class of
+the load's kernel data. ``sweepcore.excitations.theory`` holds the closed forms of
+the forced oscillator.
 """
 from __future__ import annotations
 
@@ -27,9 +30,10 @@ from . import none, periodic
 from .periodic import HARMONIC, PeriodicLoad
 
 EXCITATIONS = (
-    ("none", none),
-    ("periodic", periodic),
+    ("none", none, None),
+    ("periodic", periodic, PeriodicLoad),
 )
+LOADS = tuple(row[2] for row in EXCITATIONS if row[2] is not None)   # load classes
 LOAD_DIM = "load"       # the dimension of a sweep over several load shapes
 KEYWORDS = ("F0", "Omega", "phi", "Y0")
 UNITS = {"F0": "kN", "Omega": "rad s-1", "phi": "rad", "Y0": "cm"}
@@ -62,8 +66,8 @@ def groups(P: np.ndarray):
     """``[(module, rows)]``: the rows of P (indices) of each excitation kind, with
     the kind's module (whose ``run`` solves them)."""
     which = kinds(P)
-    return [(module, np.flatnonzero(which == i)) for i, (_n, module) in
-            enumerate(EXCITATIONS) if (which == i).any()]
+    return [(module, np.flatnonzero(which == i)) for i, (_n, module, _c) in
+            enumerate(EXCITATIONS[:2]) if (which == i).any()]
 
 
 def given(values: dict) -> bool:
@@ -87,21 +91,22 @@ def load(params, t: np.ndarray) -> np.ndarray:
     [s] (``F0 p(Omega t + phi) + k y + c y'``); 0 without one."""
     if not params.forced:
         return np.zeros_like(t)
-    return periodic.force(params, t)
+    return params.loads[0].force(params, np.asarray(t, np.float64))
 
 
 def check_loads(where: str, load):
-    """The load given: None (one cosine), one :class:`PeriodicLoad`, or a tuple of
-    them with distinct names (a dimension), refused by name otherwise."""
+    """The load given: None (one cosine), one load object (a class of ``LOADS``), or
+    a tuple of them with distinct names (a dimension), refused by name otherwise."""
     many = isinstance(load, (list, tuple))
     loads = tuple(load) if many else (load,)
     if many and not loads:
         raise ValueError(f"{where}: load is an empty list: give at least one load")
     for one in loads:
-        if (one is None and not many) or isinstance(one, PeriodicLoad):
+        if (one is None and not many) or isinstance(one, LOADS):
             continue
-        raise TypeError(f"{where}: load must be a sweepcore.PeriodicLoad (or a list of "
-                        f"them), got {one!r} of type {type(one).__name__}")
+        kinds = " or ".join(f"sweepcore.{cls.__name__}" for cls in LOADS)
+        raise TypeError(f"{where}: load must be a {kinds} (or a list of them), got "
+                        f"{one!r} of type {type(one).__name__}")
     names = [one.name for one in loads if one is not None]
     if len(set(names)) < len(names):
         dup = next(n for n in names if names.count(n) > 1)

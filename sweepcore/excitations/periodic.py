@@ -157,6 +157,14 @@ class PeriodicLoad:
         """p(theta), dimensionless."""
         return _series(self.cos, self.sin, np.asarray(theta, np.float64))
 
+    def force(self, params, t) -> np.ndarray:
+        """The excitation of ``params`` (F0, Omega, phi, Y0; this shape) as one force on
+        the slider [kN] at the times t [s]: ``F0 p(Omega t + phi) + k Y0 cos(Omega t)
+        - c Omega Y0 sin(Omega t)``."""
+        w = params.Omega * np.asarray(t, np.float64)
+        return (params.F0 * self.values(w + params.phi) + params.k * params.Y0 * np.cos(w)
+                - params.c * params.Omega * params.Y0 * np.sin(w))
+
     def derivative(self, theta) -> np.ndarray:
         """dp/dtheta."""
         n = np.arange(1, self.cos.size + 1)
@@ -232,15 +240,6 @@ def _default_name(a, b) -> str:
 
 
 HARMONIC = PeriodicLoad(cos=[1.0], name="cos")    # load=None: F0 cos(Omega t + phi)
-
-
-def force(params, t: np.ndarray) -> np.ndarray:
-    """The excitation of ``params`` as one force on the slider [kN] at the times t [s]:
-    ``F0 p(Omega t + phi) + k Y0 cos(Omega t) - c Omega Y0 sin(Omega t)``."""
-    load = params.load if params.load is not None else HARMONIC
-    w = params.Omega * np.asarray(t, np.float64)
-    return (params.F0 * load.values(w + params.phi) + params.k * params.Y0 * np.cos(w)
-            - params.c * params.Omega * params.Y0 * np.sin(w))
 
 
 def run(P: np.ndarray, laws, loads, o: np.ndarray, out: np.ndarray, parallel: bool) -> None:

@@ -12,6 +12,7 @@ columns of the row, read by the kind modules only.
 * ``periodic``: a periodic load (its shape's harmonics as data) on the slider and a
   harmonic motion of the anchor.
 """
+from ..jit import kernel
 from . import none, periodic
 
 EXCITATIONS = (
@@ -22,3 +23,10 @@ MODULES = {row[1]: row[2] for row in EXCITATIONS}
 KIND_CODES = {row[0]: i for i, row in enumerate(EXCITATIONS)}
 SAMPLES = {row[0]: row[3] for row in EXCITATIONS}
 UNFORCED = none.Unforced()
+
+
+@kernel(inline="always")
+def autonomous():
+    """The data of the excitation ``none``: the autonomous belt's searches (the
+    Poincare section's, the cycle scan) run over the driver with it."""
+    return none.Unforced()
