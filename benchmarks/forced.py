@@ -1,66 +1,131 @@
-"""The cost of a forced response map against the Hopf map, per point, in one run,
-beside the independent scipy reference on a sample of the same points.
+"""The cost of forced response maps against the Hopf map, per point, in one run, now
+and at an earlier commit, beside the independent scipy reference on a sample.
 
-    python benchmarks/forced.py [--side 64] [--repeats 3] [--sample 6]
+    python -m benchmarks.forced [--side 64] [--repeats 3] [--sample 6] [--before REV]
 
-Two forced maps (m = k = 1, r_y = 1, c = 0.05; Omega/omega in [0.3, 3] and F0/r_y in
-[0.2, 4]; started at rest at x = 0): on fixed ground (v = 0, Den Hartog's case) and
-on a belt (v = 0.5 cm/s). The Hopf map is the paper's (m = 5, k = 50, r_y = 10,
+Four forced maps (m = k = 1, r_y = 1, c = 0.05; Omega/omega in [0.3, 3], started at
+rest at x = 0): on fixed ground (v = 0, Den Hartog's case) and on a belt (v = 0.5
+cm/s), each with F0/r_y in [0.2, 4] and in [1.2, 4] (the larger loads: more of the
+map moves every period). The Hopf map is the paper's (m = 5, k = 50, r_y = 10,
 alpha1 = 1, v in [0.5, 10], alpha2 in [1e-3, 0.1], started stuck on the belt) on the
 same side. Each runs through the kernels a sweep runs (``sweepcore.forced.responses``
-and ``sweepcore.execute.attractors``: no xarray), on one thread, interleaved, warm;
-CPU seconds per point, medians over the repeats; the ratio is forced / Hopf. The
-reference (``tests/reference_forced.py``: scipy DOP853 with exact sticks, a Python
-loop over points) runs on ``--sample`` points of each forced map, and its answers are
-compared with sweepcore's (amplitude, mean, counts). Saves
+and ``sweepcore.execute.attractors``: no xarray), on one thread, warm; CPU seconds per
+point, medians over the repeats; the ratio is forced / Hopf within one probe. With
+``--before REV`` the same maps run in probes of that commit's package (a temporary
+``git worktree``, its own kernel cache), interleaved with this checkout's, so that
+drifting load on a shared machine hits both alike; stepper calls a point are
+deterministic. The reference (``tests/reference_forced.py``: scipy DOP853 with exact
+sticks, a Python loop over points) runs on ``--sample`` points of each forced map, and
+its answers are compared with sweepcore's (amplitude, mean, counts). Saves
 ``benchmarks/results/forced.json``.
 """
 from __future__ import annotations
 
 import argparse
+import inspect
+import json
+import os
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
 
-from benchmarks import common  # noqa: E402
+# the forced maps: name -> (v, F0 range)
+FORCED = {"ground": (0.0, (0.2, 4.0)), "belt": (0.5, (0.2, 4.0)),
+          "ground_F0_1.2-4": (0.0, (1.2, 4.0)), "belt_F0_1.2-4": (0.5, (1.2, 4.0))}
 
 
 def grids(side):
+    """The maps as ``{name: Grid}`` (whatever sweepcore is importable builds them)."""
     import sweepcore as sc
     om = np.linspace(0.3, 3.0, side)
-    f0 = np.linspace(0.2, 4.0, side)
-    forced = {f"v={v:g}": sc.Grid(m=1.0, k=1.0, r_y=1.0, v=v, c=0.05, Omega=om, F0=f0,
-                                  x0=0.0, xdot0=0.0) for v in (0.0, 0.5)}
-    hopf = sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, v=np.linspace(0.5, 10.0, side),
-                   alpha2=np.geomspace(1e-3, 0.1, side))
-    return forced, hopf
+    out = {name: sc.Grid(m=1.0, k=1.0, r_y=1.0, v=v, c=0.05, Omega=om,
+                         F0=np.linspace(*f0, side), x0=0.0, xdot0=0.0)
+           for name, (v, f0) in FORCED.items()}
+    out["hopf"] = sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0,
+                          v=np.linspace(0.5, 10.0, side), alpha2=np.geomspace(1e-3, 0.1, side))
+    return out
 
 
 def run(grid, o):
-    """The kernels of a sweep on every row of ``grid``: (CPU seconds, rows out)."""
+    """The kernels of a sweep on every row of ``grid``: (CPU seconds, rows out).
+    Works with this checkout and with the versions before the ``load`` keyword."""
     from sweepcore import execute, forced
     from sweepcore._kernels import layout
     P = grid.rows(0, grid.size)
     t = time.process_time()
     if grid.forced:
         out = np.empty((grid.size, layout.NFOB))
-        forced.responses(P, grid.laws, grid.loads, o, out, False)
+        if "loads" in inspect.signature(forced.responses).parameters:
+            forced.responses(P, grid.laws, grid.loads, o, out, False)
+        else:
+            forced.responses(P, grid.laws, o, out, False)
     else:
         out = np.empty((grid.size, layout.NOBS))
         execute.attractors(P, grid.laws, o, out, False)
     return time.process_time() - t, out
 
 
+def probe(side: int, repeats: int, save: str | None = None) -> dict:
+    """Every map ``repeats`` times after a warm-up (compiling or loading the kernels)
+    in this process, one thread: per map the CPU microseconds a point of each repeat,
+    stepper calls a point, regime and status counts."""
+    import numba
+    from sweepcore._kernels import codes, layout
+    from sweepcore.options import make_options
+    numba.set_num_threads(1)
+    maps = grids(side)
+    o = make_options("auto", tol=1e-8)
+    for grid in maps.values():
+        run(grid, o)
+    cpu = {name: [] for name in maps}
+    outs = {}
+    for _ in range(repeats):
+        for name, grid in maps.items():
+            seconds, outs[name] = run(grid, o)
+            cpu[name].append(seconds / grid.size * 1e6)
+    res = {}
+    for name, out in outs.items():
+        entry = {"cpu_us_per_point": cpu[name],
+                 "stepper_calls_mean": float(out[:, layout.OB_NSTEPS].mean()),
+                 "stepper_calls_median": float(np.median(out[:, layout.OB_NSTEPS])),
+                 "regimes": {codes.REGIME_NAMES[int(k)]: int(c) for k, c in
+                             zip(*np.unique(out[:, layout.OB_REGIME], return_counts=True))},
+                 "statuses": {codes.STATUS_NAMES[int(k)]: int(c) for k, c in
+                              zip(*np.unique(out[:, layout.OB_STATUS], return_counts=True))}}
+        if name != "hopf":
+            stops = out[:, layout.OB_STOPS_PER_PERIOD]
+            entry["stops_per_period"] = {int(k): int(c) for k, c in
+                                         zip(*np.unique(stops[np.isfinite(stops)],
+                                                        return_counts=True))}
+        res[name] = entry
+    if save:
+        np.savez(save, **outs)
+    commit = subprocess.run(["git", "rev-parse", "HEAD"], capture_output=True, text=True,
+                            cwd=Path(sys.modules["sweepcore"].__file__).parent).stdout.strip()
+    return {"commit": commit, "maps": res}
+
+
+def _run_probe(src: Path, side: int, repeats: int, cache: str, save: str) -> dict:
+    env = dict(os.environ, PYTHONPATH=str(src), NUMBA_CACHE_DIR=cache,
+               SWEEPCORE_CACHE_DIR=cache)
+    cp = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--probe",
+                         "--side", str(side), "--repeats", str(repeats), "--save", save],
+                        env=env, cwd=src, capture_output=True, text=True, timeout=7200)
+    if cp.returncode != 0:
+        raise RuntimeError(cp.stderr[-3000:])
+    return json.loads(cp.stdout.strip().splitlines()[-1])
+
+
 def reference_sample(grid, out, count, seed=1):
     """The scipy reference at ``count`` random points of a forced grid: its seconds
     a point and the largest differences from sweepcore's answers."""
-    sys.path.insert(0, str(common.ROOT / "tests"))
+    sys.path.insert(0, str(ROOT / "tests"))
     from reference_forced import Forced, forced_steady
     from sweepcore._kernels import layout
     rng = np.random.default_rng(seed)
@@ -90,56 +155,84 @@ def reference_sample(grid, out, count, seed=1):
     return float(np.median(seconds)), worst
 
 
+def _summary(probes: list) -> dict:
+    """Medians over rounds: CPU microseconds a point, the ratio to the Hopf map within
+    each probe, stepper calls a point."""
+    names = probes[0]["maps"]
+    out = {}
+    for name in names:
+        per = [float(np.median(p["maps"][name]["cpu_us_per_point"])) for p in probes]
+        ratio = [float(np.median(p["maps"][name]["cpu_us_per_point"])) /
+                 float(np.median(p["maps"]["hopf"]["cpu_us_per_point"])) for p in probes]
+        m = probes[0]["maps"][name]
+        out[name] = {"cpu_us_per_point": float(np.median(per)),
+                     "ratio_to_hopf": float(np.median(ratio)), "round_ratios": ratio,
+                     **{k: m[k] for k in m if k != "cpu_us_per_point"}}
+    return out
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--side", type=int, default=64, help="points per axis (default 64)")
-    ap.add_argument("--repeats", type=int, default=3, help="interleaved repeats")
+    ap.add_argument("--repeats", type=int, default=3, help="timed runs a probe")
+    ap.add_argument("--rounds", type=int, default=2,
+                    help="interleaved rounds of probes (default 2)")
     ap.add_argument("--sample", type=int, default=6,
                     help="reference points per forced map (default 6)")
-    ap.add_argument("--json", default=str(common.RESULTS / "forced.json"))
+    ap.add_argument("--before", default=None,
+                    help="an earlier commit to probe beside this checkout")
+    ap.add_argument("--probe", action="store_true", help=argparse.SUPPRESS)
+    ap.add_argument("--save", default=None, help=argparse.SUPPRESS)
+    ap.add_argument("--json", default=str(ROOT / "benchmarks" / "results" / "forced.json"))
     args = ap.parse_args(argv)
-    import numba
-    from sweepcore._kernels import codes, layout
-    from sweepcore.options import make_options
-    numba.set_num_threads(1)
-    forced, hopf = grids(args.side)
-    o = make_options("auto", tol=1e-8)
-    everything = {**forced, "hopf": hopf}
-    for grid in everything.values():        # compile (or load) and warm
-        run(grid, o)
-    cpu = {name: [] for name in everything}
-    outs = {}
-    for _ in range(args.repeats):
-        for name, grid in everything.items():
-            seconds, outs[name] = run(grid, o)
-            cpu[name].append(seconds / grid.size)
+    if args.probe:      # in the sweepcore of PYTHONPATH (this checkout or another)
+        print(json.dumps(probe(args.side, args.repeats, args.save)))
+        return
+    if str(ROOT) not in sys.path:
+        sys.path.insert(0, str(ROOT))
+    from benchmarks import common
+    sides = {"after": ROOT}
+    with tempfile.TemporaryDirectory(prefix="sweepcore-forced-") as tmp:
+        sha = None
+        if args.before:
+            sha = subprocess.run(["git", "rev-parse", "--verify", args.before + "^{commit}"],
+                                 cwd=ROOT, capture_output=True, text=True,
+                                 check=True).stdout.strip()
+            wt = Path(tmp) / "tree"
+            subprocess.run(["git", "worktree", "add", "--detach", str(wt), sha], cwd=ROOT,
+                           check=True, capture_output=True)
+            sides = {"before": wt, "after": ROOT}
+        try:
+            probes = {side: [] for side in sides}
+            for _ in range(args.rounds):
+                for side, src in sides.items():
+                    probes[side].append(_run_probe(src, args.side, args.repeats,
+                                                   str(Path(tmp) / side),
+                                                   str(Path(tmp) / f"{side}.npz")))
+                    common.log(f"{side}: " + ", ".join(
+                        f"{n} {np.median(m['cpu_us_per_point']):.1f} us"
+                        for n, m in probes[side][-1]["maps"].items()))
+            outs = dict(np.load(Path(tmp) / "after.npz"))
+        finally:
+            if sha:
+                subprocess.run(["git", "worktree", "remove", "--force", str(Path(tmp) / "tree")],
+                               cwd=ROOT, capture_output=True)
     result = {"machine": common.machine(), "side": args.side, "repeats": args.repeats,
-              "tol": 1e-8, "threads": 1, "maps": {}}
-    hopf_pt = float(np.median(cpu["hopf"]))
-    for name, grid in everything.items():
-        out = outs[name]
-        per = float(np.median(cpu[name]))
-        entry = {"cpu_us_per_point": per * 1e6,
-                 "ratio_to_hopf": per / hopf_pt,
-                 "stepper_calls_mean": float(out[:, layout.OB_NSTEPS].mean()),
-                 "stepper_calls_median": float(np.median(out[:, layout.OB_NSTEPS])),
-                 "regimes": {codes.REGIME_NAMES[int(k)]: int(c) for k, c in
-                             zip(*np.unique(out[:, layout.OB_REGIME], return_counts=True))},
-                 "statuses": {codes.STATUS_NAMES[int(k)]: int(c) for k, c in
-                              zip(*np.unique(out[:, layout.OB_STATUS], return_counts=True))}}
-        if grid.forced:
-            entry["stops_per_period"] = {int(k): int(c) for k, c in zip(*np.unique(
-                out[:, layout.OB_STOPS_PER_PERIOD][np.isfinite(
-                    out[:, layout.OB_STOPS_PER_PERIOD])], return_counts=True))}
-            ref_s, worst = reference_sample(grid, out, args.sample)
-            entry["reference"] = {"cpu_s_per_point": ref_s,
-                                  "sweepcore_speedup": ref_s / per, **worst}
-        result["maps"][name] = entry
-        common.log(f"{name}: {per * 1e6:.1f} us/point CPU, x{per / hopf_pt:.2f} the Hopf "
-                   f"map, {entry['stepper_calls_mean']:.0f} stepper calls a point"
-                   + (f"; reference {entry['reference']['cpu_s_per_point']:.2f} s/point "
-                      f"(x{entry['reference']['sweepcore_speedup']:.0f}), worst amplitude "
-                      f"{entry['reference']['amplitude_L']:.1e} L" if grid.forced else ""))
+              "rounds": args.rounds, "tol": 1e-8, "threads": 1,
+              "commit_before": sha, **{side: _summary(p) for side, p in probes.items()}}
+    maps = grids(args.side)
+    for name in FORCED:
+        ref_s, worst = reference_sample(maps[name], outs[name], args.sample)
+        per = result["after"][name]["cpu_us_per_point"] * 1e-6
+        result["after"][name]["reference"] = {"cpu_s_per_point": ref_s,
+                                              "sweepcore_speedup": ref_s / per, **worst}
+    for name in maps:
+        a = result["after"][name]
+        b = result.get("before", {}).get(name)
+        common.log(f"{name}: {a['cpu_us_per_point']:.1f} us/point CPU, x{a['ratio_to_hopf']:.2f} "
+                   f"the Hopf map, {a['stepper_calls_mean']:.0f} stepper calls a point"
+                   + (f" (before: x{b['ratio_to_hopf']:.2f}, {b['stepper_calls_mean']:.0f} "
+                      "calls)" if b else ""))
     common.save_json(result, args.json)
     common.log(f"saved {args.json}")
 

@@ -13,7 +13,7 @@ Public API::
     plot_diagram, plot_hysteresis, plot_boundaries, plot_basins, plot_forced_map,
     plot_frequency_response, plot_stroboscopic,
     TableLaw, LeineLaw (every law class of ``sweepcore.laws.LAWS``),
-    PeriodicLoad (a periodic load's shape, ``sweepcore.excitations``)
+    PeriodicLoad (every load class of ``sweepcore.excitations.LOADS``)
 
 Every name is imported on first use (PEP 562): ``import sweepcore`` imports
 neither numba nor matplotlib, so the command line's ``--help`` answers at once.
@@ -46,7 +46,6 @@ _WHERE = {
     "SweepTooLarge": ".sizing", "estimate": ".sizing",
     "sweep": ".sweep",
     "frequency_response": ".response_curves", "stroboscopic_diagram": ".response_curves",
-    "PeriodicLoad": ".excitations",
 }
 PLOTS = ("plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
          "plot_friction", "plot_diagram", "plot_hysteresis", "plot_boundaries",
@@ -55,7 +54,7 @@ _NAMES = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "esti
           "SweepTooLarge",
           "hopf_boundary", "locate_boundaries", "continue_boundary",
           "bifurcation_diagram", "slip_cycles", "basin_stability", "frequency_response",
-          "stroboscopic_diagram", "PeriodicLoad",
+          "stroboscopic_diagram",
           "open_result", "write_netcdf", "check_cf", "compile", *PLOTS]
 
 
@@ -64,6 +63,13 @@ def _law_classes() -> dict:
     (sweepcore.laws.LAWS), by its name: sweepcore.TableLaw, sweepcore.LeineLaw, ..."""
     from .laws import OBJECTS
     return {cls.__name__: cls for cls in OBJECTS}
+
+
+def _load_classes() -> dict:
+    """The load objects' classes (load=): every class of the excitation table
+    (sweepcore.excitations.LOADS), by its name: sweepcore.PeriodicLoad, ..."""
+    from .excitations import LOADS
+    return {cls.__name__: cls for cls in LOADS}
 
 
 def __getattr__(name):
@@ -76,12 +82,14 @@ def __getattr__(name):
     elif name == "LAWS":
         value = tuple(_law_classes())
     elif name == "__all__":
-        value = [*_NAMES, *_law_classes(), "__version__"]
+        value = [*_NAMES, *_law_classes(), *_load_classes(), "__version__"]
     elif name == "__version__":
         from .labels import version
         value = version()
     elif name in (laws := _law_classes()):
         value = laws[name]
+    elif name in (loads := _load_classes()):
+        value = loads[name]
     elif not name.startswith("_") and importlib.util.find_spec(f"{__name__}.{name}"):
         value = importlib.import_module(f".{name}", __name__)   # a subpackage, as scipy's
     else:

@@ -129,6 +129,23 @@ def responses(P: np.ndarray, laws, loads, o: np.ndarray, out: np.ndarray,
                 out[mine] = sub
 
 
+def images(P: np.ndarray, laws, loads, o: np.ndarray, n: int, out: np.ndarray) -> None:
+    """P^n of every forced row's start (``layout.X0``, ``XD0`` at t = 0) with its
+    tangent and the run's observables into ``out`` (rows, NFOB + NIM): the
+    stroboscopic map's image (``sweepcore._kernels.strobe.image_point``), grouped as
+    :func:`responses`."""
+    which = P[:, layout.LOAD].astype(np.intp)
+    for meth, kind, rows, lw in groups(P, laws, o, forced=True):
+        for j in np.unique(which[rows]):
+            mine = rows[which[rows] == j]
+            sub = _sub(out, mine, P.shape[0])
+            with compiling("stroboscopic image", meth, kind):
+                entries.entry("image_rows", meth)(_sub(P, mine, P.shape[0]), lw,
+                                                  loads[j].data(), o, int(n), sub)
+            if sub is not out:
+                out[mine] = sub
+
+
 def cycles(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray, found: np.ndarray,
            parallel: bool = False) -> None:
     """Every slip cycle of the rows of P (``out`` (n, MAX_CYCLES, NOBS), ``found``
@@ -409,20 +426,27 @@ ANNOUNCER = _Announcer()    # told by sweepcore._kernels, whichever room compile
 # ------------------------------------------------------- ahead of time
 # the entry kernels of a (method, kind), by the name their calls announce them
 ENTRIES = {"attractor_rows": "attractor", "slip_cycles_rows": "cycle scan",
-           "trajectory": "trajectory", "options": "options"}
+           "trajectory": "trajectory", "options": "options",
+           "forced_rows": "forced response", "image_rows": "stroboscopic image"}
+FORCED_ENTRIES = ("forced_rows", "image_rows")      # a forced kind's only
+EXCITED_ENTRIES = ("trajectory", "options")         # every kind's, none included
 
 
-def _arguments(name: str, lw) -> tuple:
+def _arguments(name: str, lw, ex=_UNFORCED) -> tuple:
     """Arrays of the types the Python rooms call entry ``name`` with (only their
-    types matter: the kernel is compiled for them, not run)."""
+    types matter: the kernel is compiled for them, not run); ``ex``: the
+    excitation's data of the entries that take one."""
     from ._kernels.cycles import MAX_CYCLES
     P = np.zeros((1, layout.NP))
     o = np.zeros(layout.NO)
     f, i = np.zeros(1), np.zeros(1, np.int64)
     return {"attractor_rows": (P, lw, o, np.zeros((1, layout.NOBS))),
             "slip_cycles_rows": (P, lw, o, np.zeros((1, MAX_CYCLES, layout.NOBS)), i),
-            "trajectory": (P[0], lw, o, f, f, f, i, f, i, f, f, np.zeros(layout.NA)),
-            "options": (P[0], lw, o)}[name]
+            "trajectory": (P[0], lw, ex, o, f, f, f, i, f, i, f, f, np.zeros(layout.NA)),
+            "options": (P[0], lw, ex, o),
+            "forced_rows": (P, lw, ex, o, np.zeros((1, layout.NFOB))),
+            "image_rows": (P, lw, ex, o, 1,
+                           np.zeros((1, layout.NFOB + layout.NIM)))}[name]
 
 
 def compile_kernels(law=None, method=None) -> list:
@@ -459,9 +483,23 @@ def compile_kernels(law=None, method=None) -> list:
         for meth_name in meth_list:
             meth = codes.METHOD_CODES[meth_name]
             for name, label in ENTRIES.items():
-                build(entries.entry(name, meth), _arguments(name, lw),
-                      compiling(label, meth, kind))
+                for ex in _excitations_of(name, meth_name):
+                    build(entries.entry(name, meth), _arguments(name, lw, ex),
+                          compiling(label, meth, kind))
     return done
+
+
+def _excitations_of(name: str, meth_name: str) -> list:
+    """The excitations' data entry ``name`` is compiled for: none for the autonomous
+    entries, every forced kind's for the forced ones (not for the closed-form arcs,
+    which a load makes not applicable), both for the trajectory and the options."""
+    from ._kernels import excitations as kinds
+    forced = [row[3] for row in kinds.EXCITATIONS[1:]] if meth_name != "exact" else []
+    if name in FORCED_ENTRIES:
+        return forced
+    if name in EXCITED_ENTRIES:
+        return [_UNFORCED] + forced
+    return [None]
 
 
 @checked_keywords

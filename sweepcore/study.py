@@ -38,7 +38,7 @@ from .options import MAX_PERIODS_SOUGHT, METHODS, did_you_mean
 from .params import LONG_NAMES, RULES, UNITS, check_real
 from .study_basins import basins_table
 from .study_boundary import boundary_table
-from .study_excitation import excitation_table
+from .study_excitation import excitation_table, load_table
 from .study_law import law_table
 
 if sys.version_info >= (3, 11):
@@ -129,6 +129,7 @@ class Study:
     boundary: dict = field(default_factory=dict)
     basins: dict = field(default_factory=dict)
     law: object = None
+    load: object = None
 
     @property
     def stem(self) -> str:
@@ -148,6 +149,8 @@ class Study:
         kw = {name: ax.value() for name, ax in self.axes.items()}
         if self.law is not None:
             kw["law"] = self.law
+        if self.load is not None:
+            kw["load"] = self.load
         return kw
 
     def grid(self):
@@ -447,6 +450,7 @@ def parse_study(text: str, path: str | Path | None = None) -> Study:
     axes = _axes(ck, doc)
     law = law_table(ck, doc, axes, path)
     axes = {**axes, **excitation_table(ck, doc, _axis)}
+    load = load_table(ck, doc, path)
     solver = _solver(ck, doc)
     output = _output(ck, doc)
     plot = _plot(ck, doc, axes)
@@ -456,7 +460,7 @@ def parse_study(text: str, path: str | Path | None = None) -> Study:
                   description=description, axes=axes, method=solver["method"],
                   tol=solver["tol"], chunks=solver["chunks"], options=solver["options"],
                   output_path=output["path"], png=output["png"], plot=plot,
-                  boundary=boundary, basins=basins, law=law)
+                  boundary=boundary, basins=basins, law=law, load=load)
     if study.method != "auto":
         from .forced import check_method as check_forced
         from .options import check_method

@@ -1,18 +1,23 @@
-"""The ``[excitation]`` table of a study file: the harmonic load and the anchor's
-motion (``sweepcore.excitations``), each key a scalar or an axis written as in
-``[axes]`` (docs/studies.md)::
+"""The ``[excitation]`` table of a study file: the load and the anchor's motion
+(``sweepcore.excitations``), each key a scalar or an axis written as in ``[axes]``
+(docs/studies.md), and the load's shape::
 
     [excitation]
-    F0 = { start = 0.2, stop = 5.0, num = 256 }     # kN: F0 cos(Omega t + phi)
+    F0 = { start = 0.2, stop = 5.0, num = 256 }     # kN: F0 p(Omega t + phi)
     Omega = { start = 0.1, stop = 3.0, num = 256 }  # rad/s, > 0
     phi = 0.0                                       # rad (default 0)
     Y0 = 0.0                                        # cm: y = Y0 cos(Omega t) (default 0)
+    load = { cos = [1.0, 0.0, 0.3], sin = [0.0, 0.2] }  # p (default: cos)
+    # or  load = { samples = "force.csv" }: one period at uniform phases
+    # or  load = [{ name = "a", cos = [1.0] }, { name = "b", sin = [1.0] }]: a dimension
 
 Omega is required with F0 or Y0. The keys live here and not in ``[axes]``, so that a
 reader of the file sees at once that the slider is forced; the errors name the key
 and its line as those of ``[axes]`` do (the checker of :mod:`sweepcore.study`).
 """
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 
@@ -26,8 +31,9 @@ def excitation_table(ck, doc: dict, axis) -> dict:
     if "excitation" not in doc:
         return {}
     table = ck.table(doc, "excitation")
-    ck.known(table, excitations.KEYWORDS, ("excitation",))
-    out = {name: axis(ck, name, val, "excitation") for name, val in table.items()}
+    ck.known(table, excitations.KEYWORDS + ("load",), ("excitation",))
+    out = {name: axis(ck, name, val, "excitation") for name, val in table.items()
+           if name != "load"}
     forcing = [n for n in ("F0", "Y0") if n in out and np.any(out[n].values != 0.0)]
     if forcing and "Omega" not in out:
         ck.fail(("excitation",), f"Omega (the excitation frequency "
@@ -38,3 +44,42 @@ def excitation_table(ck, doc: dict, axis) -> dict:
             ck.fail((other,), f"[{other}] applies to the unforced slider; this study "
                               f"is forced ({' and '.join(forcing)} in [excitation])")
     return out
+
+
+def load_table(ck, doc: dict, path):
+    """The load's shape of ``[excitation]``'s ``load`` key: a
+    :class:`~sweepcore.PeriodicLoad` from its coefficients (``cos``, ``sin``) or
+    from a CSV file of samples of one period (``samples``, relative to the study
+    file), a tuple of them for an array (a ``load`` dimension), or None (one
+    cosine)."""
+    given = doc.get("excitation", {}).get("load") if isinstance(doc.get("excitation"),
+                                                                dict) else None
+    if given is None:
+        return None
+    many = isinstance(given, list)
+    tables = given if many else [given]
+    if not tables or not all(isinstance(t, dict) for t in tables):
+        ck.fail(("excitation", "load"), "must be a table { cos = [...], sin = [...] }, "
+                                        "{ samples = \"file.csv\" } or an array of them")
+    loads = []
+    for t in tables:
+        ck.known(t, ("cos", "sin", "samples", "name"), ("excitation", "load"))
+        name = ck.string(("excitation", "load", "name"), t["name"]) if "name" in t else None
+        try:
+            if "samples" in t:
+                if "cos" in t or "sin" in t:
+                    ck.fail(("excitation", "load"), "give samples or coefficients "
+                                                    "(cos, sin), not both")
+                file = Path(ck.string(("excitation", "load", "samples"), t["samples"]))
+                if not file.is_absolute() and path is not None:
+                    file = Path(path).parent / file
+                loads.append(excitations.PeriodicLoad.from_csv(file, name=name))
+            else:
+                loads.append(excitations.PeriodicLoad(t.get("cos", ()), t.get("sin", ()),
+                                                      name=name))
+        except (TypeError, ValueError) as err:
+            ck.fail(("excitation", "load"), str(err))
+    try:
+        return excitations.check_loads("[excitation]", tuple(loads) if many else loads[0])
+    except (TypeError, ValueError) as err:
+        ck.fail(("excitation", "load"), str(err))

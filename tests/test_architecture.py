@@ -152,6 +152,8 @@ def test_only_the_law_modules_test_the_laws_kind():
             continue            # builds a kind's data type by name, from the table
         if path == PACKAGE / "_kernels" / "excitation.py":
             continue            # resolves the excitation's kinds (its own unit)
+        if path == PACKAGE / "_kernels" / "jit.py":
+            continue            # resolves an interface's kinds (jit.resolved_by)
         for node in ast.walk(ast.parse(path.read_text())):
             where = f"{path.name}:{getattr(node, 'lineno', '?')}"
             if isinstance(node, ast.Attribute) and node.attr == "instance_class":
@@ -240,3 +242,44 @@ def test_the_second_compiler_names_every_kinds_law_data():
     assert set(given) == {row[0] for row in kernel_laws.LAWS}
     for kind, data in given.items():
         assert prefetch.law_type(kind) == typeof(data), kind
+
+
+# ----------------------------------------------- the excitation, one unit too
+def test_every_excitation_kind_is_a_module_with_the_primitives():
+    """The kernels' excitation table: each kind's module defines its data class and
+    the functions the interface has no generic form of; the Python side's table
+    holds a load class per forced kind, with what the rooms ask of a load."""
+    from sweepcore import excitations
+    from sweepcore._kernels import excitation as interface
+    from sweepcore._kernels import excitations as kernel_excitations
+    required = [name for name in ("work_size", "with_work", "coefficients")
+                if name not in interface.interface.defaults]
+    assert required == ["work_size", "with_work", "coefficients"]
+    for name, data, module, _sample in kernel_excitations.EXCITATIONS:
+        assert Path(module.__file__).parent == PACKAGE / "_kernels" / "excitations"
+        assert getattr(module, data.__name__) is data
+        missing = [f for f in required if not hasattr(module, f)]
+        assert missing == [], f"excitation kind {name} lacks {missing}"
+    kernel_kinds = [row[0] for row in kernel_excitations.EXCITATIONS]
+    assert [row[0] for row in excitations.EXCITATIONS] == kernel_kinds
+    for name, module, cls in excitations.EXCITATIONS:
+        assert Path(module.__file__).parent == PACKAGE / "excitations"
+        if cls is None:
+            continue
+        assert cls.kind == name
+        for attr in ("data", "force", "attrs", "describe", "fingerprint"):
+            assert callable(getattr(cls, attr, None)), f"{cls.__name__} lacks {attr}"
+
+
+def test_no_kernel_is_longer_than_80_lines():
+    """A kernel says one thing: none over 80 lines, but for the stages of the
+    eighth-order pair (its Butcher tableau, written out stage by stage)."""
+    long = []
+    for path in sorted((PACKAGE / "_kernels").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.FunctionDef) and \
+                    node.end_lineno - node.lineno + 1 > 80 and \
+                    (path.name, node.name) != ("dop853.py", "_stages"):
+                long.append(f"{path.name}:{node.name} "
+                            f"({node.end_lineno - node.lineno + 1} lines)")
+    assert long == []

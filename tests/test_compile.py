@@ -133,9 +133,22 @@ def test_ahead_of_time_signatures_are_the_calls(monkeypatch):
         with pytest.raises(Stop):
             call()
     lw = law.data()
+    unforced = [name for name in compiled.ENTRIES if name not in compiled.FORCED_ENTRIES]
     want = {name: tuple(typeof(a) for a in compiled._arguments(name, lw))
-            for name in compiled.ENTRIES}
-    assert {name: seen[name] for name in compiled.ENTRIES} == want
+            for name in unforced}
+    assert {name: seen[name] for name in unforced} == want
+    # and a forced slider's: its load's data in the excitation's place
+    derived_types = seen["derived_rows"]
+    seen.clear()
+    seen["derived_rows"] = derived_types
+    forced = sc.Params(m=1.0, k=1.0, c=C, v=0.5, law=law, F0=1.0, Omega=1.2)
+    for call in (lambda: sc.attractor(forced, method="rk4"),
+                 lambda: sc.simulate(forced, t_end=1.0, method="rk4")):
+        with pytest.raises(Stop):
+            call()
+    ex = forced.loads[0].data()
+    for name in ("forced_rows", "trajectory", "options"):
+        assert seen[name] == tuple(typeof(a) for a in compiled._arguments(name, lw, ex))
     assert seen["derived_rows"] == (typeof(np.zeros((1, layout.NP))), typeof(lw), typeof(0),
                                     typeof(np.zeros(1)))
 

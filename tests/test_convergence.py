@@ -120,7 +120,7 @@ def _dop853_tableau():
         for pat, arr in ((r"C(\d+)", c), (r"B(\d+)", b), (r"E5_(\d+)", e5),
                          (r"E3_(\d+)", e3)):
             m = re.fullmatch(pat, name)
-            if m:
+            if m and int(m[1]) <= 12:       # C14-C16: the dense output's stages
                 arr[int(m[1]) - 1] = getattr(d, name)
         m = re.fullmatch(r"A(\d+)_(\d+)", name)
         if m and int(m[1]) <= 12:           # 13-16: the dense output's stages
@@ -169,40 +169,119 @@ def test_dop853_and_dopri5_agree_on_a_stick_slip_cycle():
     assert abs(a.amplitude - b.amplitude) < 1e-11 * (P1.r_y / P1.k + P1.v / P1.omega)
 
 
+@pytest.mark.parametrize("forced", [False, True], ids=["autonomous", "a load"])
 @pytest.mark.parametrize("method,order", [("dopri5", 4), ("dop853", 7)])
-def test_dense_output_order(method, order):
+def test_dense_output_order(method, order, forced):
     """The continuous extension that events are located on (``stepper.extend``) is of
     the stated order inside the step: on a sliding arc of the linear law (alpha2 = 0:
-    the field is affine, its flow a matrix exponential) the largest error at
-    theta = 1/4, 1/2, 3/4 falls as h^(order + 1) over a ladder of steps, and the
-    interpolant meets the step's own end at theta = 1 and its start at theta = 0."""
+    the field is affine, its flow a matrix exponential; with a harmonic load
+    ``F0 cos(Omega t)`` the state grows by (cos, sin)(Omega t), still linear) the
+    largest error at theta = 1/4, 1/2, 3/4 falls as h^(order + 1) over a ladder of
+    steps, and the interpolant meets the step's own end at theta = 1 and its start at
+    theta = 0. Under the load the extension's own stages must take the load at their
+    own times (DOP853's c14, c15, c16), and the step starts at t0 != 0."""
+    from numba import njit
     from scipy.linalg import expm
 
-    from sweepcore._kernels import stepper
+    from sweepcore import compiled
+    from sweepcore._kernels import excitation, stepper
+    from sweepcore._kernels.excitations import autonomous
     from sweepcore._kernels.jit import python_callable
-    from sweepcore.laws import ANALYTIC
-    extend = python_callable(stepper.EXTEND[stepper.METHOD_CODES[method]])
-    interp = python_callable(stepper.interpolate)
-    step = python_callable(stepper.METHODS[stepper.METHOD_CODES[method]][6])
-    p = P0.row(0.0, 0.0)
-    [(_kind, _rows, lw)] = ANALYTIC.kernel_groups(p[None, :])
+    code = stepper.METHOD_CODES[method]
+    F0, Om, t0 = (1.3, 2.1, 0.7) if forced else (0.0, 1.0, 0.0)
+    params = sc.Params(5.0, 50.0, 10.0, 5.0, alpha1=1.0, alpha2=0.0, F0=F0, Omega=Om)
+    p = params.row(0.0, 0.0)
+    ((_m, _kind, _rows, lw),) = compiled.groups(p[None, :], (params.friction_law,),
+                                                make_options(method), forced=forced)
+    ex = params.loads[0].data() if forced else None
+    step_fn, extend_fn = stepper.METHODS[code][6], stepper.EXTEND[code]
+
+    @njit(cache=False)
+    def run(ex, x0, z0, h, s, o, ths, out):
+        owner = np.zeros(excitation.work_size(ex))
+        fx = excitation.with_work(ex, owner)
+        excitation.prepare(fx, p, lw)
+        x1, z1, _a, _b, _c, _d, _e, _ok, ks = step_fn(t0, x0, z0, h, s, p, lw, fx, o,
+                                                      False)
+        dc = extend_fn(t0, x0, z0, h, s, p, lw, fx, x1, z1, ks)
+        for i in range(ths.shape[0]):
+            out[i, 0], out[i, 1] = stepper.interpolate(dc, ths[i], x0, z0)
+        return x1, z1
+
+    @njit(cache=False)
+    def run_unforced(x0, z0, h, s, o, ths, out):
+        fx = autonomous()
+        x1, z1, _a, _b, _c, _d, _e, _ok, ks = step_fn(t0, x0, z0, h, s, p, lw, fx, o,
+                                                      False)
+        dc = extend_fn(t0, x0, z0, h, s, p, lw, fx, x1, z1, ks)
+        for i in range(ths.shape[0]):
+            out[i, 0], out[i, 1] = stepper.interpolate(dc, ths[i], x0, z0)
+        return x1, z1
+
     o = make_options(method, tol=1e-8)
     s = -1.0                       # zdot < 0: F = -r_y - alpha1 zdot
-    m, k, r, v, a1 = P0.m, P0.k, P0.r_y, P0.v, P0.alpha1
-    # y = (x, zdot, 1): y' = J y
-    J = np.array([[0.0, 1.0, v], [-k / m, a1 / m, -s * r / m], [0.0, 0.0, 0.0]])
+    m, k, r, v, a1 = params.m, params.k, params.r_y, params.v, params.alpha1
+    # y = (x, zdot, 1, cos(Om t), sin(Om t)): y' = J y
+    J = np.array([[0.0, 1.0, v, 0.0, 0.0], [-k / m, a1 / m, -s * r / m, F0 / m, 0.0],
+                  [0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, -Om],
+                  [0.0, 0.0, 0.0, Om, 0.0]])
     x0, z0 = 0.1, -2.0
+    y0 = np.array([x0, z0, 1.0, math.cos(Om * t0), math.sin(Om * t0)])
     hs = np.array([0.4, 0.2, 0.1, 0.05])
+    ths = np.array([0.0, 0.25, 0.5, 0.75, 1.0])
     err = []
     for h in hs:
-        x1, z1, *_q, ks = step(x0, z0, h, s, p, lw, o, False)
-        dc = extend(x0, z0, h, s, p, lw, x1, z1, ks)
+        out = np.empty((ths.size, 2))
+        x1, z1 = run(ex, x0, z0, h, s, o, ths, out) if forced else \
+            run_unforced(x0, z0, h, s, o, ths, out)
         e = 0.0
-        for th in (0.25, 0.5, 0.75):
-            xi, zi = interp(dc, th, x0, z0)
-            xe, ze, _ = expm(J * th * h) @ np.array([x0, z0, 1.0])
-            e = max(e, abs(xi - xe), abs(zi - ze) / P0.omega)
+        for i, th in enumerate(ths[1:-1], start=1):
+            xe, ze = (expm(J * th * h) @ y0)[:2]
+            e = max(e, abs(out[i, 0] - xe), abs(out[i, 1] - ze) / params.omega)
         err.append(e)
-        assert interp(dc, 1.0, x0, z0) == pytest.approx((x1, z1), abs=1e-14)
-        assert interp(dc, 0.0, x0, z0) == (x0, z0)
+        assert tuple(out[-1]) == pytest.approx((x1, z1), abs=1e-14)
+        assert tuple(out[0]) == (x0, z0)
     assert order + 0.6 < slope(hs, err) < order + 1.6
+
+
+def test_dop853_extension_stage_times_are_its_row_sums():
+    """The fractions of the step at which DOP853's stages take the load are the row
+    sums of its tableau: the step's (c2 .. c12, 1) and the extension's (1, c14, c15,
+    c16, read from Hairer's contd8), else a load is taken at the wrong times."""
+    from sweepcore._kernels import dop853
+    rows = {14: (1, 7, 8, 9, 10, 11, 12, 13), 15: (1, 6, 7, 8, 11, 12, 13, 14),
+            16: (1, 6, 7, 8, 9, 13, 14, 15)}
+    for i, c in zip((14, 15, 16), dop853.EXTENSION_C[1:]):
+        assert sum(getattr(dop853, f"A{i}_{j}") for j in rows[i]) == pytest.approx(
+            c, abs=1e-14)
+    A, _b, c, _e5, _e3 = _dop853_tableau()
+    np.testing.assert_allclose(dop853.STAGE_C, c, atol=1e-15)
+
+
+# a forced slider on a belt (two stops a period) under a harmonic load
+FORCED = sc.Params(m=1.0, k=1.0, r_y=0.5, c=0.1, v=0.4, F0=1.0, Omega=1.3)
+
+
+@pytest.fixture(scope="module")
+def forced_ref():
+    return sc.attractor(FORCED, method="dop853", tol=1e-12, x0=0.0, xdot0=0.0)
+
+
+@pytest.mark.parametrize("method,dts,lo,hi", [
+    ("gps", [2e-3, 1e-3], 0.9, 1.1),          # the paper's scheme, with time
+    ("rk4", [0.04, 0.02, 0.01], 3.7, 4.3),
+])
+def test_every_method_runs_a_forced_slider_at_its_order(forced_ref, method, dts, lo, hi):
+    """One driver for every method and excitation: the forced response's amplitude by
+    the fixed-step methods converges to dop853's at their orders (GPS first, RK4
+    fourth; the load taken at each stage's time), and dopri5's is within its
+    tolerance."""
+    assert forced_ref.status == "ok" and forced_ref.stops_per_period == 2
+    err = []
+    for d in dts:
+        res = sc.attractor(FORCED, method=method, dt=d, x0=0.0, xdot0=0.0)
+        assert res.status == "ok" and res.stops_per_period == 2, res
+        err.append(abs(res.amplitude - forced_ref.amplitude))
+    assert lo < slope(dts, err) < hi
+    res = sc.attractor(FORCED, method="dopri5", tol=1e-8, x0=0.0, xdot0=0.0)
+    assert abs(res.amplitude - forced_ref.amplitude) <= 1e-8 * (FORCED.r_y + FORCED.F0)

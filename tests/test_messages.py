@@ -25,7 +25,7 @@ def test_params_keyword_typo_did_you_mean(typo, right):
     else:
         assert "did you mean" not in text
     assert "(allowed: m, k, r_y, v, alpha1, alpha2, c, r_k, v_s, law, F0, Omega, phi, " \
-        "Y0)" in text
+        "Y0, load)" in text
 
 
 @pytest.mark.parametrize("call, right", [
@@ -39,10 +39,11 @@ def test_grid_and_simulate_keyword_typos_did_you_mean(call, right):
 
 def test_params_signature_and_behaviour_unchanged():
     """The positional order of the analytic law's parameters holds; ``law`` (a law
-    object instead of them) comes after them, the excitation's keywords last."""
+    object instead of them) comes after them, the excitation's keywords last, the
+    load's shape after them."""
     assert list(inspect.signature(sc.Params).parameters) == \
         ["m", "k", "r_y", "v", "alpha1", "alpha2", "c", "r_k", "v_s", "law", "F0", "Omega",
-         "phi", "Y0"]
+         "phi", "Y0", "load"]
     p = sc.Params(5.0, 50.0, 10.0, 5.0, 1.0, alpha2=0.01)
     assert (p.m, p.k, p.r_y, p.v, p.alpha1, p.alpha2) == (5.0, 50.0, 10.0, 5.0, 1.0, 0.01)
     with pytest.raises(ValueError, match=r"m must be > 0 \[kN s2 cm-1\], got -1"):

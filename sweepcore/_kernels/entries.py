@@ -87,7 +87,22 @@ def _forced_rows(meth):
     return forced_rows
 
 
+def _image_rows(meth):
+    @kernel(entry=True, nogil=True)
+    def image_rows(P, lw, ex, o, n, out):
+        """``strobe.image_point`` of every row of P: P^n of its start, with the
+        tangent and the run's observables (``out`` (rows, NFOB + NIM))."""
+        P, lw, o, out = unowned(P), borrowed(lw), unowned(o), unowned(out)
+        owner = np.zeros(work_size(ex))
+        fx = with_work(ex, unowned(owner))
+        for i in range(P.shape[0]):
+            strobe.image_point(meth, P[i], lw, fx, o, n, out[i])
+        owner[:] = 0.0                  # the work array lives until here
+    return image_rows
+
+
 FACTORIES = {"attractor_rows": _attractor_rows,
+             "image_rows": _image_rows,
              "forced_rows": _forced_rows,
              "slip_cycles_rows": _slip_cycles_rows,
              "trajectory": _trajectory,

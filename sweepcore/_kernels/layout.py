@@ -150,3 +150,10 @@ OB_LYAPUNOV_ERROR = 18  # its error estimate [1/s]
 OB_X_SECTION = 19      # the periodic point: x [cm] and xdot [cm/s] at t = 0 mod n T,
 OB_XDOT_SECTION = 20   # where the stroboscopic map is taken (NaN: no period found)
 NFOB = 21
+# an image of the stroboscopic map (strobe.image_point): after the NFOB columns
+IM_MODE0 = 0    # the start's phase (stuck: its velocity is v, not free)
+IM_MODE = 1     # the image's phase
+IM_X = 2        # P^n's x [cm]
+IM_XDOT = 3     # P^n's xdot [cm/s]
+IM_J = 4        # its Jacobian d(x, zdot)/d(x0, zdot0), 4 slots row by row
+NIM = 8

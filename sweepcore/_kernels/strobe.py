@@ -33,7 +33,7 @@ from .driver import advance, init_state
 from .excitation import period, prepare
 from .jit import kernel, runtime
 from .law import anti_damped
-from .layout import (A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN,
+from .layout import (IM_J, IM_MODE, IM_MODE0, IM_X, IM_XDOT, NIM, A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN,
                      K, M, NA, NFOB, NO, NP, NS, NSTATE, O_LV, O_LX, O_MAX_STEPS,
                      O_MAX_TIME, O_PERIODS, O_RTOL, OB_AMPLITUDE, OB_FLOQUET, OB_LYAPUNOV,
                      OB_LYAPUNOV_ERROR, OB_MEAN, OB_MULTIPLICITY, OB_NSTEPS, OB_PERIOD,
@@ -362,8 +362,9 @@ def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out):
             out[OB_STATUS] = codes.UNRESOLVED
         return ANSWERED, codes.OK
     if abs(mu1 - 1.0) <= 1e-3 and mu2 < 1.0 and (near or not ok):
-        # a multiplier 1 and no isolated fixed point: a neutral family (at
-        # Omega/omega = 1/(2 n), c = 0), whose member the start picks
+        # a multiplier 1 and no isolated fixed point: the motion's own numbers, never
+        # ok (a neutral family, whose member the start picks, is named by the Python
+        # side where one exists: sweepcore.excitations.periodic._flag_neutral)
         if not ok:
             keep(u, start)
             status = _image(meth, u, n, p, lw, fx, o, acc, T, work, runtime(False))
@@ -372,7 +373,6 @@ def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out):
             _observables(acc, n * T, out)
         _answer(u, n, j, mu1, p, o, T, out, tol)
         if out[OB_REGIME] != codes.R_STUCK:   # stuck throughout: exact
-            out[OB_REGIME] = codes.R_NEUTRAL
             out[OB_STATUS] = codes.UNRESOLVED
         return ANSWERED, codes.OK
     return GO_ON, codes.OK
@@ -436,3 +436,46 @@ def _answer(u, n, j, mu1, p, o, T, out, tol):
         out[OB_REGIME] = codes.R_SLIP_CYCLE
     amplified = n * o[O_RTOL] / max(1.0 - mu1, 1e-300)
     out[OB_STATUS] = codes.OK if amplified <= tol else codes.UNRESOLVED
+
+
+@kernel
+def image_point(meth, p, lw, fx, o_in, n, out):
+    """``P^n`` of the start (p[X0], p[XD0]) at t = 0 (the periodic point's coordinates:
+    a state at a whole number of forcing periods), with its tangent and the
+    observables of the run, into ``out`` (layout OB_*, length NFOB, and
+    ``IM_*``): the primitive of a continuation (``sweepcore.continuation``), whose
+    Newton and pseudo-arclength steps run in Python on these images."""
+    for i in range(NFOB + NIM):
+        out[i] = np.nan
+    if p.shape[0] != NP or o_in.shape[0] != NO or out.shape[0] != NFOB + NIM:
+        _failure(out, codes.BAD_ROW, runtime(False))
+        return
+    if not prepare(fx, p, lw):
+        _failure(out, codes.EVENT_FAILURE, runtime(False))
+        return
+    o = resolve_options(meth, p, lw, fx, o_in)
+    o[O_RTOL] = max(1e-2 * o_in[O_RTOL], RTOL_FLOOR)
+    refused = method_status(meth, p, lw, fx, o)
+    if refused != codes.OK:
+        _failure(out, refused, runtime(False))
+        return
+    u = np.zeros(NS)
+    work = np.zeros(NS)
+    acc = np.empty(NA)
+    init_state(u, p[X0], p[XD0], p, lw, fx, o)
+    u[S_SECTIONS] = 2.0
+    T = period(fx)
+    status = _image(meth, u, n, p, lw, fx, o, acc, T, work, runtime(True))
+    out[OB_NSTEPS] = u[S_N]
+    out[OB_STATUS] = status
+    if status != codes.OK:
+        out[OB_REGIME] = codes.R_FAILED
+        return
+    _observables(acc, n * T, out)
+    out[OB_PERIOD] = n * T
+    out[NFOB + IM_MODE0] = u[S_MODE]
+    out[NFOB + IM_MODE] = work[S_MODE]
+    out[NFOB + IM_X] = work[S_X]
+    out[NFOB + IM_XDOT] = work[S_ZD] + p[V]
+    for i in range(4):
+        out[NFOB + IM_J + i] = work[S_J + i]

@@ -247,6 +247,8 @@ def _simulated_params(args):
     from ..excitations import KEYWORDS
     from ..params import Params
     forcing = {n: getattr(args, n) for n in KEYWORDS}    # --F0 --Omega --phi --Y0
+    if getattr(args, "load", None) is not None:
+        forcing["load"] = _load_of(args.load)
     if args.law_table is None:
         if args.static is not None or args.smoothing is not None:
             raise UsageError("--static and --smoothing go with --law-table")
@@ -266,6 +268,19 @@ def _simulated_params(args):
     from ..laws import TableLaw
     law = TableLaw.from_csv(args.law_table, static=args.static, smoothing=args.smoothing)
     return Params(m=args.m, k=args.k, v=args.v, c=args.c, law=law, **forcing)
+
+
+def _load_of(file: str):
+    """The load's shape of ``--load FILE.csv``: one period of samples at uniform
+    phases (``sweepcore.PeriodicLoad.from_csv``)."""
+    from ..excitations import PeriodicLoad
+    if not file.strip():
+        raise UsageError(f"--load {file!r}: the path is empty; give a CSV file of one "
+                         "period of the load's samples (--load force.csv)")
+    try:
+        return PeriodicLoad.from_csv(file)
+    except ValueError as err:
+        raise UsageError(f"--load {file}: {err}") from None
 
 
 class SimulationFailed(RuntimeError):

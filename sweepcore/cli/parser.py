@@ -82,13 +82,14 @@ class HelpFormatter(argparse.HelpFormatter):
 
 
 def _forced_help() -> str:
-    return ("Forced vibration: a harmonic load F0 cos(Omega t + phi) [kN] on the slider "
+    return ("Forced vibration: a periodic load F0 p(Omega t + phi) [kN] on the slider "
+            "(p one cosine, or any shape: its harmonics or one period of samples) "
             "and a motion Y0 cos(Omega t) [cm] of its anchor, Omega in rad/s, phi in "
-            "rad (m x'' + c (x' - y') + k (x - y) + r_a = F0 cos(Omega t + phi)). A "
-            "study's [excitation] table sweeps F0, Omega, phi, Y0 (run: stops and "
-            "sticks per period, multiplicity, amplitude; studies/forced_map.toml); "
-            "simulate --F0 F0 --Omega OMEGA [--phi PHI] [--Y0 Y0] runs one forced "
-            "slider; from Python, sweepcore.frequency_response (up and down sweeps "
+            "rad (m x'' + c (x' - y') + k (x - y) + r_a = F0 p(Omega t + phi)). A "
+            "study's [excitation] table sweeps F0, Omega, phi, Y0 and names the load "
+            "(run: stops and sticks per period, multiplicity, amplitude; "
+            "studies/forced_map.toml); simulate --F0 F0 --Omega OMEGA [--phi PHI] "
+            "[--Y0 Y0] [--load FILE.csv] runs one forced slider; from Python, sweepcore.frequency_response (up and down sweeps "
             "in Omega) and sweepcore.stroboscopic_diagram. Documented in "
             f"{doc('studies.md')} (The [excitation] table), {doc('variables.md')} "
             f"(Forced response) and {doc('physics.md')} (Forced vibration).")
@@ -241,8 +242,8 @@ def _simulate_options(p):
                      help="noise of the forces [kN]: a smoothing fit (default: "
                           "interpolate)")
     forced = p.add_argument_group(
-        "a harmonic excitation (m x'' + c (x' - y') + k (x - y) + r_a = "
-        "F0 cos(Omega t + phi), y = Y0 cos(Omega t))")
+        "an excitation (m x'' + c (x' - y') + k (x - y) + r_a = "
+        "F0 p(Omega t + phi), y = Y0 cos(Omega t); p = cos unless --load)")
     forced.add_argument("--F0", type=float, default=0.0,
                         help="load amplitude [kN] (default 0: none)")
     forced.add_argument("--Omega", type=float, default=None,
@@ -252,6 +253,10 @@ def _simulate_options(p):
                         help="phase of the load [rad] (default 0)")
     forced.add_argument("--Y0", type=float, default=0.0,
                         help="amplitude of the anchor's motion [cm] (default 0: none)")
+    forced.add_argument("--load", metavar="FILE.csv", default=None,
+                        help="the load's shape p over one period, as samples at uniform "
+                             "phases (one value per row, a header allowed): the load is "
+                             "F0 p(Omega t + phi) (default p = cos)")
     p.add_argument("--x0", type=float, default=0.0, help="initial position [cm] "
                                                          "(default 0)")
     p.add_argument("--xdot0", type=float, default=None,
@@ -345,7 +350,7 @@ SUBCOMMANDS = {
         "simulate one slider: time histories and phase planes",
         "Simulate one slider from (x0, xdot0) and draw z, zdot, x, xdot against time "
         "and the phase planes (z, zdot) and (x, xdot), as the paper's Fig. 3; with "
-        "--F0 or --Y0 and --Omega, under a harmonic load or anchor motion (on fixed "
+        "--F0 or --Y0 and --Omega, under a periodic load or anchor motion (on fixed "
         "ground, v = 0, the top row draws the forces instead of repeating x). "
         + UNITS_HELP + ".",
         _simulate_options),

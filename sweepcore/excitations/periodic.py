@@ -256,7 +256,9 @@ def _flag_neutral(P: np.ndarray, laws, out: np.ndarray) -> None:
     a neutral family of responses (``theory.neutral_family``), whose member a start
     picks only on the time scale of a multiplier 1; its numbers are flagged, never a
     confident amplitude (regime neutral, status unresolved). The search's own
-    multiplier there is 1 to the accuracy of its Jacobian, not exactly."""
+    multiplier there is 1 to the accuracy of its Jacobian, not exactly (which makes
+    its error estimate large: status unresolved, or ok where the estimate passed);
+    the kernels name no response neutral themselves."""
     from .. import law
     from .._kernels import codes, layout
     from .theory import neutral_family
@@ -265,7 +267,7 @@ def _flag_neutral(P: np.ndarray, laws, out: np.ndarray) -> None:
                                 P[:, layout.C], P[:, layout.V])
     family = np.asarray(family) & law.per_law(P, laws, "closed_form", bool)
     family &= out[:, layout.OB_REGIME] != codes.R_STUCK
-    family &= out[:, layout.OB_STATUS] == codes.OK
+    family &= np.isin(out[:, layout.OB_STATUS], (codes.OK, codes.UNRESOLVED))
     out[family, layout.OB_REGIME] = codes.R_NEUTRAL
     out[family, layout.OB_STATUS] = codes.UNRESOLVED
 
