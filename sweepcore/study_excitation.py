@@ -65,11 +65,11 @@ def load_table(ck, doc: dict, path):
     for t in tables:
         ck.known(t, ("cos", "sin", "samples", "name"), ("excitation", "load"))
         name = ck.string(("excitation", "load", "name"), t["name"]) if "name" in t else None
+        if "samples" in t and ("cos" in t or "sin" in t):
+            ck.fail(("excitation", "load"), "give samples or coefficients (cos, sin), "
+                                            "not both")
         try:
             if "samples" in t:
-                if "cos" in t or "sin" in t:
-                    ck.fail(("excitation", "load"), "give samples or coefficients "
-                                                    "(cos, sin), not both")
                 file = Path(ck.string(("excitation", "load", "samples"), t["samples"]))
                 if not file.is_absolute() and path is not None:
                     file = Path(path).parent / file
