@@ -283,9 +283,10 @@ def _cache_dir() -> str:
 # Every compilation of a sweepcore kernel is announced: a line naming what compiles
 # and how long it took before, and one with the time it took. By default the lines
 # are warnings of the logger "sweepcore.compile" (on stderr where logging is not
-# configured: Python's last-resort handler); silence them with
+# configured: Python's last-resort handler), and a line every TICK s while it lasts,
+# from Python as from the command line; silence them with
 # ``logging.getLogger("sweepcore.compile").setLevel(logging.ERROR)``. The command
-# line sets ``notice`` instead (stderr, and a line every TICK s while it lasts).
+# line sets ``notice`` instead (stderr).
 log = logging.getLogger("sweepcore.compile")
 notice = None       # callable(str) told instead of the logger (the command line)
 TICK = 5.0          # seconds between the lines of a long compilation
@@ -293,11 +294,11 @@ ESTIMATES = Path(__file__).with_name("compile_estimates.json")
 _PACKAGE = str(Path(__file__).resolve().parent)
 
 
-def _say(line: str, tick: bool = False) -> None:
+def _say(line: str) -> None:
     if notice is not None:
         notice(line)
     else:
-        log.log(logging.INFO if tick else logging.WARNING, line)
+        log.warning(line)
 
 
 def _what(entry: str, meth, kind) -> str:
@@ -416,8 +417,7 @@ class _Announcer(event.Listener):
     @staticmethod
     def _tick(stop, started):
         while not stop.wait(TICK):
-            _say(f"sweepcore: ... compiling, {time.perf_counter() - started:.0f} s",
-                 tick=True)
+            _say(f"sweepcore: ... compiling, {time.perf_counter() - started:.0f} s")
 
 
 ANNOUNCER = _Announcer()    # told by sweepcore._kernels, whichever room compiles

@@ -56,9 +56,13 @@ def _compiled_files():
 
 
 def test_a_compile_from_python_is_announced_and_can_be_silenced(tmp_path):
-    cold = _run(PROBE, tmp_path)
+    """What compiles, with a line while it lasts (every ``compiled.TICK`` s: here a
+    tenth of a second) and the time it took, from Python as from the command line."""
+    cold = _run("import sweepcore.compiled\nsweepcore.compiled.TICK = 0.1\n" + PROBE,
+                tmp_path)
     assert float(cold.stdout) == pytest.approx(HOPF, rel=1e-9)
     assert "sweepcore: compiling the derived_rows kernel" in cold.stderr
+    assert "sweepcore: ... compiling, " in cold.stderr
     assert "sweepcore: compiled the derived_rows kernel in " in cold.stderr
     # the table kind compiles its own kernel: silenced, nothing on stderr
     silent = _run("import logging\nlogging.getLogger('sweepcore.compile')"

@@ -102,7 +102,7 @@ def _periodic(rng, v=None, law=None):
 
 
 MAKERS = {"periodic": _periodic}
-KINDS = [name for name, _m in excitations.EXCITATIONS if name != "none"]
+KINDS = [name for name, _m, _cls in excitations.EXCITATIONS if name != "none"]
 
 
 def test_every_kind_has_a_maker():

@@ -48,9 +48,13 @@ COARSE = 1e-6         # the loosest, of a Newton iterate far from the fixed poin
 LYAP_PERIODS = 256    # periods of the Lyapunov estimate
 LYAP_BLOCKS = 8
 NH = 40               # stroboscopic states kept (2 n + 2 of them used)
+# the start's iterate within this (in L) of a stable fixed point of P^n, and
+# contracting towards it as the fixed point's multiplier says: the response it reaches
+CERTIFY = 0.02
 # what a candidate fixed point did to the search
 GO_ON = 0
 ANSWERED = 1
+PENDING = 2
 
 
 @kernel
@@ -289,9 +293,10 @@ def strobe_point(meth, p, lw, fx, o_in, out):
 @kernel
 def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
     """Iterate P from st, trying Newton on P^n where states nearly repeat after n
-    periods. Returns ``(answered, status)``: answered when ``out`` holds the answer,
-    else the status with which the search ended (ok: the budget spent,
-    out[OB_T_SETTLE] set)."""
+    periods; a stable fixed point found is the answer once the start's own motion
+    is shown to converge to it (``_certify``). Returns ``(answered, status)``:
+    answered when ``out`` holds the answer, else the status with which the search
+    ended (ok: the budget spent, out[OB_T_SETTLE] set)."""
     nmax = min(int(o_in[O_PERIODS]), (NH - 2) // 2)
     lx = o[O_LX]
     lv = o[O_LV]
@@ -303,6 +308,9 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
     cooldown = np.zeros(nmax + 1)
     tries = np.zeros(nmax + 1)
     u = np.zeros(NS)
+    # the fixed point u pending: its n (0: none), its last check's period and
+    # distance [L], its mu1, whether it is resolved
+    pend = np.zeros(5)
     for j in range(1, jmax + 1):
         fresh(acc)
         status = run_periods(meth, st, p, lw, fx, o, acc, T, 1)
@@ -311,16 +319,31 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
         if status != codes.OK:
             return False, status
         keep(hist[j % NH], st)
+        if pend[0] > 0.0:
+            verdict = _certify(st, u, j, pend, lx, lv, o_in[O_RTOL])
+            if verdict == ANSWERED:
+                _answered(u, int(pend[0]), j, pend[3], pend[4] > 0.0, p, o, T, out,
+                          o_in[O_RTOL])
+                return True, codes.OK
+            if verdict == PENDING:
+                continue
         for n in range(1, min(nmax, j) + 1):
             d = _dist(st, hist[(j - n) % NH], lx, lv)
             if not d <= TRY or cooldown[n] > j:
                 continue
             keep(u, st)
-            verdict, status = _candidate(meth, u, n, j, d, p, lw, fx, o, o_in[O_RTOL],
-                                         acc, T, work, out)
+            verdict, status = _candidate(meth, u, n, j, p, lw, fx, o, o_in[O_RTOL],
+                                         acc, T, work, out, pend)
             st[S_N] = u[S_N]
             if status != codes.OK:
                 return False, status
+            if verdict == PENDING:      # on it already: the motion's iterate is u
+                pend[1] = j
+                pend[2] = _dist(st, u, lx, lv)
+                if pend[2] <= 10.0 * o_in[O_RTOL]:
+                    verdict = ANSWERED
+                    _answered(u, int(pend[0]), j, pend[3], pend[4] > 0.0, p, o, T, out,
+                              o_in[O_RTOL])
             if verdict == ANSWERED:
                 return True, codes.OK
             tries[n] += 1.0
@@ -331,13 +354,36 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
 
 
 @kernel
-def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out):
-    """Newton on P^n from the state u, j periods in, whose iterates came within d
-    (in L) after n periods: ``(verdict, status)``, ANSWERED when ``out`` holds the
-    response the start reaches (stable, and as near as the contraction predicts),
-    or a neutral family's member; else GO_ON."""
-    lx = o[O_LX]
-    lv = o[O_LV]
+def _certify(st, u, j, pend, lx, lv, tol):
+    """Whether the start's own motion st (period j) converges to the stable fixed
+    point u of P^n (``pend``: n, the period and distance of the last check, mu1):
+    at every n-th period its distance to u must shrink by ``(1 + |mu1|)/2`` at least,
+    and once within ``CERTIFY`` (where the map contracts onto u as its linearisation
+    says) it is the response the start reaches: ANSWERED. Still on its way: PENDING;
+    not contracting (a coexisting response it does not reach, or the pattern of its
+    motion not u's): GO_ON, and u is dropped."""
+    n = int(pend[0])
+    if (j - int(pend[1])) % n != 0:
+        return PENDING
+    e = _dist(st, u, lx, lv)
+    ratio = 0.5 * (1.0 + min(pend[3], 1.0))
+    if e <= 10.0 * tol or (e <= CERTIFY and e <= ratio * pend[2]):
+        return ANSWERED
+    if e <= ratio * pend[2]:
+        pend[1] = j
+        pend[2] = e
+        return PENDING
+    pend[0] = 0.0
+    return GO_ON
+
+
+@kernel
+def _candidate(meth, u, n, j, p, lw, fx, o, tol, acc, T, work, out, pend):
+    """Newton on P^n from the state u, j periods in: ``(verdict, status)``, PENDING
+    with u the stable fixed point (``pend``: its n, mu1 and whether it is resolved;
+    ``out``: its observables) that the start's motion must then be shown to reach
+    (``_certify``); ANSWERED for a multiplier 1 (a neutral family, never ok); else
+    GO_ON."""
     start = np.zeros(NSTATE)
     keep(start, u)
     ok, mu1, mu2, status = newton(meth, u, n, p, lw, fx, o, acc, T, work, tol, out)
@@ -346,8 +392,7 @@ def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out):
                                            mu1, out)
     if status != codes.OK:
         return GO_ON, status
-    near = _dist(u, start, lx, lv) <= max(2.0 * d / max(1.0 - mu1, 1e-3), 10.0 * tol)
-    if ok and near and mu1 < 1.0 - 1e-9:
+    if ok and mu1 < 1.0 - 1e-9:
         # the integration error of n periods, amplified by 1/(1 - mu1) in the fixed
         # point, must be within tol: else solve again, tighter
         need = n * o[O_RTOL] / (1.0 - mu1)
@@ -357,11 +402,11 @@ def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out):
                                           out)
             if status != codes.OK:
                 return GO_ON, status
-        _answer(u, n, j, mu1, p, o, T, out, tol)
-        if not ok:
-            out[OB_STATUS] = codes.UNRESOLVED
-        return ANSWERED, codes.OK
-    if abs(mu1 - 1.0) <= 1e-3 and mu2 < 1.0 and (near or not ok):
+        pend[0] = n
+        pend[3] = mu1
+        pend[4] = 1.0 if ok else 0.0
+        return PENDING, codes.OK
+    if abs(mu1 - 1.0) <= 1e-3 and mu2 < 1.0:
         # a multiplier 1 and no isolated fixed point: the motion's own numbers, never
         # ok (a neutral family, whose member the start picks, is named by the Python
         # side where one exists: sweepcore.excitations.periodic._flag_neutral)
@@ -376,6 +421,14 @@ def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out):
             out[OB_STATUS] = codes.UNRESOLVED
         return ANSWERED, codes.OK
     return GO_ON, codes.OK
+
+
+@kernel
+def _answered(u, n, j, mu1, ok, p, o, T, out, tol):
+    """The answer of the certified fixed point u of P^n (observables in ``out``)."""
+    _answer(u, n, j, mu1, p, o, T, out, tol)
+    if not ok:
+        out[OB_STATUS] = codes.UNRESOLVED
 
 
 @kernel
