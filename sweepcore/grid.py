@@ -20,8 +20,8 @@ from ._kernels import layout
 from .laws import ANALYTIC, LAW_DIM
 from .laws import analytic as _analytic
 from .options import checked_keywords
-from .params import (LONG_NAMES, RULES, UNITS, check_derived, check_law, check_real,
-                     law_ranges)
+from .params import (LONG_NAMES, PHASE_MAX, RULES, UNITS, check_derived, check_forcing,
+                     check_law, check_real, law_ranges)
 
 # axes in dimension order, with their kernel column (check_real rules: params.RULES)
 AXES = law.PARAMETERS + excitations.KEYWORDS + ("x0", "xdot0")
@@ -79,6 +79,8 @@ def _check_array(name: str, value: np.ndarray, unique: bool) -> np.ndarray:
         ok &= a > 0.0
     if rule.get("nonnegative"):
         ok &= a >= 0.0
+    if rule.get("phase"):
+        ok &= np.abs(a) <= PHASE_MAX
     if not ok.all():
         i = int(np.flatnonzero(~ok)[0])
         try:
@@ -209,6 +211,7 @@ class Grid:
             value = _check_axis(name, getattr(self, name), unique=self.mode == "product")
             object.__setattr__(self, name, value)
         excitations.check("Grid", {n: getattr(self, n) for n in excitations.KEYWORDS})
+        self._check_excitation()
         if self.mode == "points":
             lengths = {n: len(self.axis(n)) for n in self.swept}
             if len(set(lengths.values())) > 1:
@@ -235,6 +238,32 @@ class Grid:
             check_derived("Grid", ranges)
         for one in (self.laws if self.law is not None else ()):
             check_derived("Grid", law_ranges(one, ranges))
+
+    def _check_excitation(self) -> None:
+        """Refuse a swept excitation axis that changes nothing (Omega without F0 or
+        Y0, phi without F0: the load's phase), and an excitation the forced kernels
+        cannot resolve (:func:`sweepcore.params.check_forcing`)."""
+        def swept(name):
+            return isinstance(getattr(self, name), np.ndarray)
+
+        def zero(name):
+            return not np.any(getattr(self, name))
+        unused = [("Omega", "nothing excites the slider (F0 = Y0 = 0)", "F0 or Y0")
+                  ] if not self.forced else []
+        unused.append(("phi", "phi is the phase of the load F0 cos(Omega t + phi), "
+                              "and F0 = 0", "F0"))
+        for name, why, give in unused:
+            if swept(name) and (name == "Omega" or zero("F0")):
+                vals = getattr(self, name)
+                raise ValueError(f"Grid: {name} is swept ({vals.size} values in "
+                                 f"[{vals.min():g}, {vals.max():g}] "
+                                 f"{UNITS[name]}) but {why}: every value would "
+                                 f"give the same result; give {give}, or leave "
+                                 f"{name} out")
+        if self.forced:
+            check_forcing("Grid", *(getattr(self, n) for n in
+                                    ("m", "k", "c", "F0", "Omega", "Y0")),
+                          paired=self.mode == "points")
 
     def _checked_laws(self):
         """The law given: one law object, or a tuple of them (a dimension)."""

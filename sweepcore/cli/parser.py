@@ -233,7 +233,8 @@ def _simulate_options(p):
                         help="excitation frequency [rad/s], > 0 (needed with --F0 or "
                              "--Y0)")
     forced.add_argument("--phi", type=float, default=0.0,
-                        help="phase of the load [rad] (default 0)")
+                        help="phase of the load in radians, |phi| <= 2 pi (90 "
+                             "degrees: 1.5708; default 0)")
     forced.add_argument("--Y0", type=float, default=0.0,
                         help="amplitude of the anchor's motion [cm] (default 0: none)")
     p.add_argument("--x0", type=float, default=0.0, help="initial position [cm] "
