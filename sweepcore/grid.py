@@ -390,14 +390,23 @@ class Grid:
         if not 0 <= start <= stop <= self.size:
             raise IndexError(f"flat index range [{start}, {stop}) outside the grid "
                              f"of {self.size} points")
-        n = stop - start
-        P = np.empty((n, layout.NP))
         if self.mode == "points":
-            index = {name: slice(start, stop) for name in self.swept}
-        else:
-            flat = np.arange(start, stop)
-            multi = np.unravel_index(flat, self.shape) if self.shape else ()
-            index = dict(zip(self.swept, multi))
+            return self._rows({name: slice(start, stop) for name in self.swept},
+                              stop - start)
+        return self.rows_at(np.arange(start, stop))
+
+    def rows_at(self, flat: np.ndarray) -> np.ndarray:
+        """Kernel rows of the flat (C-order) indices ``flat`` (any order), as
+        :meth:`rows` gives them."""
+        flat = np.asarray(flat, np.intp)
+        if self.mode == "points":
+            return self._rows({name: flat for name in self.swept}, flat.size)
+        multi = np.unravel_index(flat, self.shape) if self.shape else ()
+        return self._rows(dict(zip(self.swept, multi)), flat.size)
+
+    def _rows(self, index: dict, n: int) -> np.ndarray:
+        """The rows of ``n`` points, each swept axis indexed by ``index[name]``."""
+        P = np.empty((n, layout.NP))
         for name in AXES:
             val = self.axis(name)
             col = COLUMNS[name]

@@ -15,10 +15,17 @@ What is proven:
   command line; 2 pi itself and -pi pass;
 * a swept Omega without F0 or Y0, or a swept phi without F0, changes nothing and is
   refused by name (it was a bare KeyError); the study of ``F0 = 0, Omega = [1, 2]``
-  is refused before anything is written (no ``.partial`` store left).
+  is refused before anything is written (no ``.partial`` store left);
+* ``frequency_response`` and ``stroboscopic_diagram`` refuse complex, object and
+  string values, a direction that is not one of the three names, a start that is
+  not a number, and every value the slider cannot take, naming the argument, before
+  any work; ``transient + periods`` beyond one simulation's samples is refused
+  naming transient and periods, and a diagram beyond the memory by the size rule
+  (``sweepcore.sizing.refuse_unaffordable``), not by a MemoryError.
 """
 from __future__ import annotations
 
+import importlib
 import math
 import re
 
@@ -27,6 +34,7 @@ import pytest
 
 import sweepcore as sc
 from sweepcore import params as sp
+from sweepcore.sizing import SweepTooLarge
 from sweepcore.study import StudyError, parse_study
 
 SLIDER = dict(m=5.0, k=50.0, r_y=10.0, v=2.0)
@@ -180,3 +188,49 @@ def test_a_study_sweeping_an_idle_frequency_is_refused_and_leaves_nothing(tmp_pa
     assert code == 2
     assert "excitation.Omega: Omega is swept but nothing excites the slider" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["idle.toml"]
+
+
+# ------------------------------------------------------------- curves and diagrams
+FORCED = sc.Params(**SLIDER, F0=1.0, Omega=1.0)
+
+
+@pytest.mark.parametrize("kw, exc, match", [
+    (dict(Omega=np.array([1 + 1j, 2.0])), TypeError,
+     r"Omega must hold real numbers, got \(1\+1j\) of type complex"),
+    (dict(Omega=np.array([1.0, "a"], dtype=object)), TypeError,
+     r"Omega must hold real numbers, got 'a' of type str"),
+    (dict(Omega=["1", "2"]), TypeError, r"Omega must hold real numbers, got '1'"),
+    (dict(Omega="12"), TypeError, r"Omega must be a 1-D array of >= 2 values, got '12'"),
+    (dict(Omega=[1.0, 1.0]), ValueError, r"Omega axis has the duplicated value 1.0"),
+    (dict(Omega=[1.0, 1e-12]), ValueError, r"Omega=1e-12 .*Omega/omega in"),
+    (dict(Omega=[1.0, 2.0], direction=["up"]), ValueError,
+     r"direction must be one of \('up', 'down', 'both'\), got \['up'\] of type list"),
+    (dict(Omega=[1.0, 2.0], x0="0"), TypeError, r"x0 must be a real number, got '0'"),
+    (dict(Omega=[1.0, 2.0], xdot0=float("nan")), ValueError, r"xdot0 must be finite")])
+def test_frequency_response_refuses_by_name_before_work(kw, exc, match, monkeypatch):
+    from sweepcore import response_curves
+    monkeypatch.setattr(response_curves, "_follow", _no_work)
+    with pytest.raises(exc, match=match):
+        sc.frequency_response(FORCED, **kw)
+
+
+def _no_work(*args, **kwargs):
+    raise AssertionError("a response was computed")
+
+
+@pytest.mark.parametrize("kw, exc, match", [
+    (dict(transient=10 ** 9), ValueError, r"transient \+ periods = 1,000,000,000 \+ 32 "
+                                          r"forcing periods.*at most 10,000,000"),
+    (dict(periods=10 ** 9), ValueError, r"transient \+ periods = 400 \+ "
+                                        r"1,000,000,000"),
+    (dict(values=np.linspace(1.0, 2.0, 10 ** 6), periods=10 ** 6), SweepTooLarge,
+     r"a stroboscopic diagram of 1,000,000 values with periods=1,000,000 .*needs "
+     r"about .* of memory"),
+    (dict(name="phi", values=[0.0, 90.0]), ValueError, r"phi is a phase in radians"),
+    (dict(x0=None), TypeError, r"x0 must be a real number, got None")])
+def test_stroboscopic_diagram_refuses_by_name_before_work(kw, exc, match, monkeypatch):
+    monkeypatch.setattr(importlib.import_module("sweepcore.simulate"), "simulate",
+                        _no_work)
+    args = {"name": "Omega", "values": [1.0, 2.0], **kw}
+    with pytest.raises(exc, match=match):
+        sc.stroboscopic_diagram(FORCED, args.pop("name"), args.pop("values"), **args)
