@@ -73,9 +73,9 @@ from .boundary import BOUNDARY_VARIABLES, hopf_boundary, reversal_cycles
 from .grid import Grid, checked_grid
 from .io import WorkingStore, check_flag, chunk_shape, result_path
 from .options import check_method, checked_keywords, make_options
-from .sizing import (MAX_SECONDS, SweepTooLarge, check_max_seconds, default_chunk,
-                     estimate, left_to_compute, refuse_if_too_large,
-                     refuse_if_too_long, size_text, time_estimate, time_text)
+from .sizing import SweepTooLarge, default_chunk, estimate, refuse_if_too_large, size_text
+from .timing import (MAX_SECONDS, check_max_seconds, left_to_compute, refuse_if_too_long,
+                     time_estimate, time_text)
 
 # estimate and SweepTooLarge live in sizing; sweepcore.sweep.estimate is documented
 __all__ = ["sweep", "estimate", "SweepTooLarge", "run_chunk", "run_chunk_parallel"]
@@ -168,9 +168,9 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
     overwrite : bool
         Replace ``path`` even if it is a read-only file.
     max_seconds : float or None
-        Refuse the sweep (:class:`sweepcore.sizing.SweepTooLong`, before any work)
+        Refuse the sweep (:class:`sweepcore.timing.SweepTooLong`, before any work)
         when it would take longer on this machine [s]: the time is measured on a
-        sample of the grid's own points (:func:`sweepcore.sizing.time_estimate`,
+        sample of the grid's own points (:func:`sweepcore.timing.time_estimate`,
         what :func:`estimate` returns as ``seconds``). Default one hour; None: no
         limit (and no sample run). Not applied with a distributed ``client``.
     **options

@@ -26,7 +26,7 @@ import pytest
 import xarray as xr
 
 import sweepcore as sc
-from sweepcore import labels, sizing
+from sweepcore import labels, timing
 from sweepcore._kernels import layout
 
 FORCED = dict(m=1.0, k=1.0, r_y=0.3, v=0.0)
@@ -46,12 +46,12 @@ def test_estimate_counts_a_forced_grids_variables():
 # ------------------------------------------------------------------- the sample
 @pytest.mark.parametrize("size, count", [(1, 1), (7, 7), (1000, 64), (2 ** 62, 64)])
 def test_the_sample_is_one_point_in_each_equal_range(size, count):
-    idx = sizing.sample_indices(size, count)
+    idx = timing.sample_indices(size, count)
     assert idx.size == count
     lo = np.array([i * size // count for i in range(count)], dtype=object)
     hi = np.array([(i + 1) * size // count for i in range(count)], dtype=object)
     assert all(a <= int(i) < b for i, a, b in zip(idx, lo, hi))
-    assert np.array_equal(idx, sizing.sample_indices(size, count))   # deterministic
+    assert np.array_equal(idx, timing.sample_indices(size, count))   # deterministic
 
 
 @pytest.mark.parametrize("mode", ["product", "points"])
@@ -67,20 +67,20 @@ def test_rows_at_are_the_grids_rows(mode):
 
 def test_the_kernels_are_loaded_untimed_then_timed_with_the_cap(monkeypatch):
     calls = []
-    real = sizing._points
+    real = timing._points
 
     def spy(grid, P, o):
         calls.append((P.shape[0], o[layout.O_MAX_STEPS]))
         return real(grid, P, o)
-    monkeypatch.setattr(sizing, "_points", spy)
-    sizing._TIMED.clear()
+    monkeypatch.setattr(timing, "_points", spy)
+    timing._TIMED.clear()
     grid = sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, alpha2=0.01,
                    v=np.linspace(0.5, 10.0, 4096))
-    timing = sc.estimate(grid, max_steps=10 ** 6)
-    assert calls[0][1] == 1.0 and calls[1][1] == sizing.SAMPLE_STEPS
+    est = sc.estimate(grid, max_steps=10 ** 6)
+    assert calls[0][1] == 1.0 and calls[1][1] == timing.SAMPLE_STEPS
     assert all(a == b for a, b in zip(calls[::2], [(n, 1.0) for n, _ in calls[1::2]]))
-    assert calls[-1][0] == timing["timed_points"] <= grid.size / sizing.SAMPLE_SHARE
-    assert timing["seconds"] == pytest.approx(timing["seconds_per_point"] * grid.size)
+    assert calls[-1][0] == est["timed_points"] <= grid.size / timing.SAMPLE_SHARE
+    assert est["seconds"] == pytest.approx(est["seconds_per_point"] * grid.size)
     calls.clear()
     sc.estimate(grid, max_steps=10 ** 6)          # the same grid and options: kept
     assert calls == []
@@ -96,8 +96,8 @@ def test_a_point_cut_at_the_samples_steps_makes_a_lower_bound():
     slow = sc.Grid(m=5.0, k=50.0, c=1.0, r_y=10.0, v=2.0, F0=1.0, Omega=3.16e-4,
                    x0=0.2, xdot0=0.0)
     cut = sc.estimate(slow)
-    assert cut["lower_bound"] and sizing.time_text(cut).startswith("at least")
-    whole = sc.estimate(slow, max_steps=sizing.SAMPLE_STEPS)     # the cap is the user's
+    assert cut["lower_bound"] and timing.time_text(cut).startswith("at least")
+    whole = sc.estimate(slow, max_steps=timing.SAMPLE_STEPS)     # the cap is the user's
     assert not whole["lower_bound"]
 
 
@@ -105,7 +105,7 @@ def test_a_point_cut_at_the_samples_steps_makes_a_lower_bound():
 def test_a_sweep_beyond_max_seconds_is_refused_and_writes_nothing(tmp_path):
     grid = sc.Grid(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, alpha2=0.01,
                    v=np.linspace(0.5, 10.0, 64))
-    with pytest.raises(sizing.SweepTooLong, match=r"a sweep of 64 points would take "
+    with pytest.raises(timing.SweepTooLong, match=r"a sweep of 64 points would take "
                                                   r"(about|at least) .* more than "
                                                   r"max_seconds=1e-09"):
         sc.sweep(grid, path=tmp_path / "map.nc", max_seconds=1e-9, progress=False)
@@ -138,7 +138,7 @@ def test_max_time_takes_durations(text, seconds):
     from sweepcore.cli.parser import build_parser, max_time
     assert max_time(text) == seconds
     args = build_parser().parse_args(["run", "s.toml"])
-    assert args.max_time == sizing.MAX_SECONDS
+    assert args.max_time == timing.MAX_SECONDS
 
 
 @pytest.mark.parametrize("text", ["0", "-5", "1x", "inf", "h"])

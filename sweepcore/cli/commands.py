@@ -84,7 +84,7 @@ def _run(args, study, grid, out, png) -> int:
         print(f"sweepcore run {args.study}: {grid.size} points "
               f"({' x '.join(f'{d}: {n}' for d, n in sizes)}), "
               f"method {study.method}, tol {study.tol:g}", flush=True)
-    from ..sizing import left_to_compute
+    from ..timing import left_to_compute
     _say_time(args, f"sweepcore run {args.study}", grid, study,
               left_to_compute(grid, out))
     t0 = time.perf_counter()
@@ -99,10 +99,11 @@ def _run(args, study, grid, out, png) -> int:
 def _say_time(args, what: str, grid, study, runs: float = 1.0, doing: str = "",
               tol: float | None = None) -> dict:
     """Print (unless --quiet) how long the kernels of the study's grid take here,
-    measured on a sample of its points (``sweepcore.sizing.time_estimate``; ``runs``
+    measured on a sample of its points (``sweepcore.timing.time_estimate``; ``runs``
     kernel runs a point), and refuse, naming --max-time, what exceeds it (the
     command then passes no limit on: one sample, one check)."""
-    from ..sizing import options_row, refuse_if_too_long, time_estimate, time_text
+    from ..sizing import options_row
+    from ..timing import refuse_if_too_long, time_estimate, time_text
     if _untimed(args):
         return {}
     timing = time_estimate(grid, options_row(grid, study.method, tol or study.tol,
@@ -122,8 +123,8 @@ def _untimed(args) -> bool:
 
 def _say_call_time(args, what: str, grid, call) -> None:
     """As :func:`_say_time` for a command whose points do more than a sweep's:
-    ``call`` itself timed on a few points (``sweepcore.sizing.time_call``)."""
-    from ..sizing import refuse_if_too_long, time_call, time_text
+    ``call`` itself timed on a few points (``sweepcore.timing.time_call``)."""
+    from ..timing import refuse_if_too_long, time_call, time_text
     if _untimed(args):
         return
     timing = time_call(grid, call)
