@@ -169,8 +169,12 @@ class Grid:
     k > 0, r_y >= 0, alpha2 >= 0, 1-D non-empty axes of real numbers, distinct values
     along a product axis, equal lengths of point axes, and magnitudes whose derived
     quantities (omega, q, x_eq, the length scale) stay finite over the axes' ranges
-    (:func:`sweepcore.params.check_derived`). Errors name the axis and the
-    offending value. Arrays are copied and frozen (read-only float64).
+    (:func:`sweepcore.params.check_derived`); an excitation the forced kernels
+    resolve (:func:`sweepcore.params.check_forcing`: Omega/omega, the forcing
+    period, the excitation's magnitude), phi in radians (``|phi| <= 2 pi``), and a
+    swept Omega or phi only where it acts (Omega with F0 or Y0, phi with F0).
+    Errors name the axis and the offending value. Arrays are copied and frozen
+    (read-only float64).
     """
 
     m: object

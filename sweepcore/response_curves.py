@@ -38,12 +38,14 @@ STROBE_SAMPLES = 10_000_000
 
 
 def _checked(params, name: str, values, x0, xdot0) -> np.ndarray:
-    """The values along ``name`` (sorted), each a slider ``params`` takes (as
-    ``Grid`` checks an axis: real numbers, finite, in the parameter's range,
+    """The values along ``name`` (sorted) of the forced slider ``params``, checked
+    as ``Grid`` checks an axis (real numbers, finite, in the parameter's range,
     distinct; then every slider, as ``Grid.points``), and the start (x0, xdot0),
     before any work; a refusal names the argument and the value."""
     if not isinstance(params, Params):
         raise TypeError(f"params must be a sweepcore.Params, got {type(params).__name__}")
+    if not params.forced:
+        raise ValueError("params must be a forced slider: give F0 or Y0 (and Omega)")
     fields = [f.name for f in dataclasses.fields(Params) if f.name != "law"]
     if not isinstance(name, str) or name not in fields:
         raise ValueError(f"name must be a parameter of Params, got {name!r}"
@@ -171,8 +173,6 @@ def frequency_response(params: Params, Omega, direction: str = "both",
     """
     _checked_direction(direction)
     values = _checked(params, "Omega", Omega, x0, xdot0)
-    if not params.forced:
-        raise ValueError("params must be a forced slider: give F0 or Y0 (and Omega)")
     start = (float(x0), None if xdot0 is None else float(xdot0))
     scans, starts = [], []
     if direction != "down":
@@ -277,8 +277,6 @@ def stroboscopic_diagram(params: Params, name: str, values, periods: int = 32,
             f"transient + periods = {transient:,} + {periods:,} forcing periods: each "
             f"value's simulation samples every one of them, at most "
             f"{STROBE_SAMPLES:,}; lower transient (default 400) or periods")
-    if not params.forced:
-        raise ValueError("params must be a forced slider: give F0 or Y0 (and Omega)")
     refuse_unaffordable(strobe_need(values.size, periods, transient))
     xs = np.full((values.size, periods), np.nan)
     vs = np.full_like(xs, np.nan)
