@@ -21,8 +21,8 @@ from .excitations import LOAD_DIM
 from .laws import ANALYTIC, LAW_DIM
 from .laws import analytic as _analytic
 from .options import checked_keywords
-from .params import (LONG_NAMES, RULES, UNITS, check_derived, check_law, check_real,
-                     law_ranges)
+from .params import (LONG_NAMES, PHASE_MAX, RULES, UNITS, check_derived, check_forcing,
+                     check_law, check_real, law_ranges)
 
 # axes in dimension order, with their kernel column (check_real rules: params.RULES)
 AXES = law.PARAMETERS + excitations.KEYWORDS + ("x0", "xdot0")
@@ -80,6 +80,8 @@ def _check_array(name: str, value: np.ndarray, unique: bool) -> np.ndarray:
         ok &= a > 0.0
     if rule.get("nonnegative"):
         ok &= a >= 0.0
+    if rule.get("phase"):
+        ok &= np.abs(a) <= PHASE_MAX
     if not ok.all():
         i = int(np.flatnonzero(~ok)[0])
         try:
@@ -176,8 +178,12 @@ class Grid:
     k > 0, r_y >= 0, alpha2 >= 0, 1-D non-empty axes of real numbers, distinct values
     along a product axis, equal lengths of point axes, and magnitudes whose derived
     quantities (omega, q, x_eq, the length scale) stay finite over the axes' ranges
-    (:func:`sweepcore.params.check_derived`). Errors name the axis and the
-    offending value. Arrays are copied and frozen (read-only float64).
+    (:func:`sweepcore.params.check_derived`); an excitation the forced kernels
+    resolve (:func:`sweepcore.params.check_forcing`: Omega/omega, the forcing
+    period, the excitation's magnitude), phi in radians (``|phi| <= 2 pi``), and a
+    swept Omega or phi only where it acts (Omega with F0 or Y0, phi with F0).
+    Errors name the axis and the offending value. Arrays are copied and frozen
+    (read-only float64).
     """
 
     m: object
@@ -226,6 +232,7 @@ class Grid:
         if isinstance(self.load, tuple) and self.mode == "points":
             raise ValueError("Grid.points takes one load; sweep several loads with "
                              "Grid(..., load=[...]) (a load dimension)")
+        self._check_excitation()
         if self.mode == "points":
             lengths = {n: len(self.axis(n)) for n in self.swept}
             if len(set(lengths.values())) > 1:
@@ -254,6 +261,32 @@ class Grid:
             check_derived("Grid", ranges)
         for one in (self.laws if self.law is not None else ()):
             check_derived("Grid", law_ranges(one, ranges))
+
+    def _check_excitation(self) -> None:
+        """Refuse a swept excitation axis that changes nothing (Omega without F0 or
+        Y0, phi without F0: the load's phase), and an excitation the forced kernels
+        cannot resolve (:func:`sweepcore.params.check_forcing`)."""
+        def swept(name):
+            return isinstance(getattr(self, name), np.ndarray)
+
+        def zero(name):
+            return not np.any(getattr(self, name))
+        unused = [("Omega", "nothing excites the slider (F0 = Y0 = 0)", "F0 or Y0")
+                  ] if not self.forced else []
+        unused.append(("phi", "phi is the phase of the load F0 p(Omega t + phi), "
+                              "and F0 = 0", "F0"))
+        for name, why, give in unused:
+            if swept(name) and (name == "Omega" or zero("F0")):
+                vals = getattr(self, name)
+                raise ValueError(f"Grid: {name} is swept ({vals.size} values in "
+                                 f"[{vals.min():g}, {vals.max():g}] "
+                                 f"{UNITS[name]}) but {why}: every value would "
+                                 f"give the same result; give {give}, or leave "
+                                 f"{name} out")
+        if self.forced:
+            check_forcing("Grid", *(getattr(self, n) for n in
+                                    ("m", "k", "c", "F0", "Omega", "Y0")),
+                          paired=self.mode == "points")
 
     def _checked_laws(self):
         """The law given: one law object, or a tuple of them (a dimension)."""
@@ -396,14 +429,23 @@ class Grid:
         if not 0 <= start <= stop <= self.size:
             raise IndexError(f"flat index range [{start}, {stop}) outside the grid "
                              f"of {self.size} points")
-        n = stop - start
-        P = np.empty((n, layout.NP))
         if self.mode == "points":
-            index = {name: slice(start, stop) for name in self.swept}
-        else:
-            flat = np.arange(start, stop)
-            multi = np.unravel_index(flat, self.shape) if self.shape else ()
-            index = dict(zip(self.swept, multi))
+            return self._rows({name: slice(start, stop) for name in self.swept},
+                              stop - start)
+        return self.rows_at(np.arange(start, stop))
+
+    def rows_at(self, flat: np.ndarray) -> np.ndarray:
+        """Kernel rows of the flat (C-order) indices ``flat`` (any order), as
+        :meth:`rows` gives them."""
+        flat = np.asarray(flat, np.intp)
+        if self.mode == "points":
+            return self._rows({name: flat for name in self.swept}, flat.size)
+        multi = np.unravel_index(flat, self.shape) if self.shape else ()
+        return self._rows(dict(zip(self.swept, multi)), flat.size)
+
+    def _rows(self, index: dict, n: int) -> np.ndarray:
+        """The rows of ``n`` points, each swept axis indexed by ``index[name]``."""
+        P = np.empty((n, layout.NP))
         for name in AXES:
             val = self.axis(name)
             col = COLUMNS[name]

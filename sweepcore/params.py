@@ -40,13 +40,18 @@ RULES = {"m": {"positive": True}, "k": {"positive": True}, "r_y": {"nonnegative"
          "v": {}, "alpha1": {}, "alpha2": {"nonnegative": True},
          "c": {"nonnegative": True}, "r_k": {"nonnegative": True},
          "v_s": {"nonnegative": True}, "x0": {}, "xdot0": {}, **excitations.RULES}
+# a phase is in radians: |phi| <= 2 pi (a phase of 90 is 90 degrees, by mistake)
+RULES["phi"] = {**RULES["phi"], "phase": True}
+PHASE_MAX = 2.0 * math.pi
 
 
-def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
+def check_real(name: str, value, *, positive=False, nonnegative=False,
+               phase=False) -> float:
     """Return ``value`` as a float, or raise naming the parameter and the value.
 
     Accepts Python and NumPy real numbers; rejects bool, complex, strings, NaN and
-    infinities. ``positive`` demands > 0, ``nonnegative`` >= 0.
+    infinities. ``positive`` demands > 0, ``nonnegative`` >= 0, ``phase`` an angle
+    in radians, ``|value| <= 2 pi`` (:func:`phase_error`).
     """
     if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
         raise TypeError(f"{name} must be a real number, got {value!r} "
@@ -66,7 +71,16 @@ def check_real(name: str, value, *, positive=False, nonnegative=False) -> float:
         hint = (" (a negative cubic coefficient makes the friction force unbounded "
                 "at high sliding speed)") if name == "alpha2" else ""
         raise ValueError(f"{name} must be >= 0{units}, got {value!r}{hint}")
+    if phase and not abs(x) <= PHASE_MAX:
+        raise ValueError(phase_error(name, x))
     return x
+
+
+def phase_error(name: str, x: float) -> str:
+    """The refusal of a phase beyond 2 pi: most likely degrees."""
+    return (f"{name} is a phase in radians, |{name}| <= 2 pi = {PHASE_MAX:.6g} [rad], "
+            f"got {x!r}; if that is {x:g} degrees, give {name} = "
+            f"{math.radians(x):.6g} (math.radians({x:g}))")
 
 
 def _short(value) -> str:
@@ -134,6 +148,119 @@ def check_derived(where: str, ranges: dict) -> None:
                          "choose units in which the magnitudes are moderate")
 
 
+# ------------------------------------------------- the excitation the kernels resolve
+# The forcing frequency against the natural one, r = Omega/omega (as law.unresolvable's
+# magnitudes, measured on the paper's slider m = 5, k = 50, r_y = 10, v = 2 with c = 1
+# and F0 = 1 against the closed form F0/sqrt((k - m Omega^2)^2 + (c Omega)^2) of its
+# stick-free response): right to 2e-14 down to r = 1e-7, where a forcing period of
+# 1/r natural periods took 8.5e8 steps (85/r; 386 s for the one point); below 1e-8
+# the rounding of t over those steps (85/r x 1.1e-16) passes the 1e-6 of an answer.
+# Above, the search's 2000 natural periods are 2000 r forcing periods of >= 1 step,
+# more than the largest step budget (2**53) from r = 4.5e12 on (measured: a status,
+# unresolved, from r = 1e5 on, where the response F0/(m Omega^2) falls below 1e-12 L).
+FORCING_RATIO = (1e-8, 1e12)
+# The forcing period [s] the drivers step through: their step floor is EPS max(|t|,
+# 1 s), so a period of 2e-14 s ended in step_size_underflow (m = 5, r = 1e14; m =
+# 5e-20 from r = 1e12 on), 4e-14 s was right.
+FORCING_PERIOD_MIN = 1e-13
+# The state the drivers keep finite (codes.DIVERGED: |x|, |zdot| > 1e150 diverged):
+# the excitation's own length (|F0| + k |Y0| + c Omega |Y0|)/k [cm] and its speed
+# Omega times that [cm/s] (measured: F0 = 1e150 with k = 50 right, 1e160 diverged).
+STATE_MAX = 1e150
+
+
+def check_forcing(where: str, m, k, c, F0, Omega, Y0, paired: bool = False) -> None:
+    """Refuse an excitation the forced kernels cannot resolve, naming the input, its
+    value and the limit: ``Omega/omega`` outside :data:`FORCING_RATIO`, a forcing
+    period ``2 pi/Omega`` below :data:`FORCING_PERIOD_MIN` or not finite, or the
+    excitation's length or speed beyond :data:`STATE_MAX`.
+
+    Each argument is a number or a 1-D array; ``paired`` arrays are read index by
+    index (``Grid.points``), else their extremes are combined (an outer product
+    holds every combination, so the extremes are attained). ``where`` (the caller,
+    or "") begins the message."""
+    arrays = {n: np.atleast_1d(np.asarray(a, np.float64)) for n, a in
+              dict(m=m, k=k, c=c, F0=F0, Omega=Omega, Y0=Y0).items()}
+    if not paired:
+        arrays = {n: np.array([a.min(), a.max()]) for n, a in arrays.items()}
+        low_m, high_m = arrays["m"]
+        low_k, high_k = arrays["k"]
+        omega = np.array([math.sqrt(low_k / high_m), math.sqrt(high_k / low_m)])
+        W = arrays["Omega"]
+        ratio = W / omega[::-1]             # the smallest and the largest
+        big = {n: np.abs(arrays[n]).max() for n in ("F0", "Y0", "c", "Omega")}
+        length = np.array([big["F0"] / low_k + big["Y0"]
+                           + big["c"] * big["Omega"] * big["Y0"] / low_k])
+        speed = big["Omega"] * length
+        at = {"Omega": W, "omega": omega[::-1]}
+    else:
+        a = dict(zip(arrays, np.broadcast_arrays(*arrays.values())))
+        with np.errstate(all="ignore"):
+            omega = np.sqrt(a["k"] / a["m"])
+            ratio = a["Omega"] / omega
+            length = (np.abs(a["F0"]) / a["k"] + np.abs(a["Y0"])
+                      + a["c"] * a["Omega"] * np.abs(a["Y0"]) / a["k"])
+            speed = a["Omega"] * length
+        at = {"Omega": a["Omega"], "omega": omega}
+    with np.errstate(all="ignore"):
+        period = 2.0 * math.pi / at["Omega"]
+    pre = f"{where}: " if where else ""
+    lo, hi = FORCING_RATIO
+    bad = np.flatnonzero(~((ratio >= lo) & (ratio <= hi)))
+    if bad.size:
+        i = bad[0]
+        W, w = float(at["Omega"][i]), float(at["omega"][i])
+        raise ValueError(
+            f"{pre}Omega={W!r} [rad s-1] is {W / w:.3g} times the natural frequency "
+            f"omega = sqrt(k/m) = {w:.6g} s-1 there; the forced kernels resolve Omega/"
+            f"omega in [{lo:g}, {hi:g}] (a forcing period 2 pi/Omega = {2 * math.pi / W:.3g}"
+            f" s of {w / W:.3g} natural periods), so give Omega in [{lo * w:.3g}, "
+            f"{min(hi * w, 2 * math.pi / FORCING_PERIOD_MIN):.3g}] rad s-1 here")
+    short = np.flatnonzero(~(period >= FORCING_PERIOD_MIN))
+    if short.size:
+        W = float(at["Omega"][short[0]])
+        raise ValueError(
+            f"{pre}Omega={W!r} [rad s-1] gives the forcing period 2 pi/Omega = "
+            f"{2 * math.pi / W:.3g} s, shorter than the {FORCING_PERIOD_MIN:g} s the "
+            "drivers step through (their step floor is 2.2e-16 s); choose a unit of "
+            "time in which the period is longer (Omega at most "
+            f"{2 * math.pi / FORCING_PERIOD_MIN:.3g} rad s-1)")
+    for what, values, unit in (("length (|F0| + k |Y0| + c Omega |Y0|)/k", length, "cm"),
+                               ("speed Omega (|F0| + k |Y0| + c Omega |Y0|)/k", speed,
+                                "cm s-1")):
+        over = np.flatnonzero(~(values <= STATE_MAX))
+        if over.size:
+            shown = ", ".join(f"{n}={_extreme(arrays[n])}" for n in
+                              ("F0", "Y0", "Omega", "k", "c") if np.any(arrays[n]))
+            raise ValueError(
+                f"{pre}the excitation's {what} is {float(values[over[0]]):.3g} "
+                f"{unit} with {shown}, beyond the {STATE_MAX:g} the drivers keep "
+                "finite (a state beyond it is diverged); choose units in which the "
+                "magnitudes are moderate")
+
+
+def checked_excitation(values: dict) -> dict:
+    """The excitation's keywords (name -> value) checked by their rules: None only
+    where the default is None (Omega: no excitation), never for F0, phi, Y0 (whose
+    default is 0: leave them out)."""
+    out = {}
+    for name, value in values.items():
+        if value is None and excitations.DEFAULTS.get(name, 0.0) is None:
+            out[name] = None
+        elif value is None:
+            raise TypeError(f"{name} must be a real number [{UNITS[name]}], got None: "
+                            f"leave it out for its default {excitations.DEFAULTS[name]!r}")
+        else:
+            out[name] = check_real(name, value, **RULES[name])
+    return out
+
+
+def _extreme(a: np.ndarray) -> str:
+    """The value, or the range, of an argument of :func:`check_forcing`."""
+    lo, hi = float(a.min()), float(a.max())
+    return f"{lo!r}" if lo == hi else f"[{lo!r}, {hi!r}]"
+
+
 def check_law(where: str, law_object, analytic: dict) -> None:
     """Refuse a law that is not a law object, or analytic parameters beside it."""
     if isinstance(law_object, OBJECTS):
@@ -199,11 +326,13 @@ class Params:
         holds its own data), and the damping c stays the slider's.
     F0, Omega, phi, Y0 : float, optional
         The external excitation (``sweepcore.excitations``): a load
-        ``F0 p(Omega t + phi)`` [kN] on the slider (phi in radians) and a motion
-        ``Y0 cos(Omega t)`` [cm] of the anchor of spring and damper (then the
-        slider's equation is ``m x'' + c (x' - y') + k (x - y) + r_a =
-        F0 p(Omega t + phi)``); Omega [rad/s] > 0 is required with either.
-        Default: none (F0 = Y0 = 0).
+        ``F0 p(Omega t + phi)`` [kN] on the slider and a motion ``Y0 cos(Omega t)``
+        [cm] of the anchor of spring and damper (then the slider's equation is
+        ``m x'' + c (x' - y') + k (x - y) + r_a = F0 p(Omega t + phi)``); Omega
+        [rad/s] > 0 is required with either, and Omega/omega must lie in
+        ``FORCING_RATIO`` (:func:`check_forcing`). The phase ``phi`` is in
+        **radians**, ``|phi| <= 2 pi`` (90 degrees is ``phi = math.radians(90)``;
+        ``phi = 90`` is refused). Default: none (F0 = Y0 = 0, phi = 0).
     load : PeriodicLoad, optional
         The load's shape p over one period (:class:`sweepcore.PeriodicLoad`: its
         harmonics); default one cosine, p = cos.
@@ -212,8 +341,9 @@ class Params:
     ------
     TypeError, ValueError
         A parameter that is not a finite real number in its range, a missing v_s,
-        analytic parameters beside ``law``, or magnitudes whose derived quantities
-        (omega, q, x_eq, the length scale) overflow.
+        analytic parameters beside ``law``, magnitudes whose derived quantities
+        (omega, q, x_eq, the length scale) overflow, or an excitation the forced
+        kernels cannot resolve (:func:`check_forcing`).
     """
 
     m: float
@@ -237,10 +367,8 @@ class Params:
             raise TypeError("Params: load must be one sweepcore.PeriodicLoad (a sweep "
                             "over several is Grid(..., load=[...]))")
         excitations.check_loads("Params", self.load)
-        for name in excitations.KEYWORDS:
-            if getattr(self, name) is not None:
-                object.__setattr__(self, name, check_real(name, getattr(self, name),
-                                                          **RULES[name]))
+        for name, value in checked_excitation(self.excitation_values()).items():
+            object.__setattr__(self, name, value)
         excitations.check("Params", self.excitation_values())
         if self.load is not None and not self.F0:
             raise ValueError(f"Params: load={self.load.name!r} given but F0 = "
@@ -250,6 +378,8 @@ class Params:
         for name in ("m", "k", "v", "c"):
             object.__setattr__(self, name, check_real(name, getattr(self, name),
                                                       **RULES[name]))
+        if self.forced:
+            check_forcing("Params", self.m, self.k, self.c, self.F0, self.Omega, self.Y0)
         if self.law is not None:
             check_law("Params", self.law, {n: getattr(self, n)
                                            for n in _analytic.PARAMETERS})

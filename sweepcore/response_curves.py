@@ -22,8 +22,10 @@ import numpy as np
 import xarray as xr
 
 from . import excitations, labels, variables
+from .grid import Grid, _check_axis
 from .options import checked_keywords, did_you_mean
-from .params import LONG_NAMES, UNITS, Params
+from .params import LONG_NAMES, UNITS, Params, check_real
+from .sizing import refuse_unaffordable, strobe_need
 
 DIRECTIONS = {"up": ("up",), "down": ("down",), "both": ("up", "down")}
 # relative difference of the two sweeps' amplitudes that marks two coexisting
@@ -31,22 +33,45 @@ DIRECTIONS = {"up": ("up",), "down": ("down",), "both": ("up", "down")}
 COEXIST_REL = 1e-4
 # forcing periods a start is settled for at most (settled_state)
 SETTLE_CAP = 4000
+# samples of one simulation (sweepcore.simulate's output_dt rule: below 10^7)
+STROBE_SAMPLES = 10_000_000
 
 
-def _checked(params, name: str, values) -> np.ndarray:
+def _checked(params, name: str, values, x0, xdot0) -> np.ndarray:
+    """The values along ``name`` (sorted) of the forced slider ``params``, checked
+    as ``Grid`` checks an axis (real numbers, finite, in the parameter's range,
+    distinct; then every slider, as ``Grid.points``), and the start (x0, xdot0),
+    before any work; a refusal names the argument and the value."""
     if not isinstance(params, Params):
         raise TypeError(f"params must be a sweepcore.Params, got {type(params).__name__}")
+    if not params.forced:
+        raise ValueError("params must be a forced slider: give F0 or Y0 (and Omega)")
     fields = [f.name for f in dataclasses.fields(Params) if f.name != "law"]
-    if name not in fields:
+    if not isinstance(name, str) or name not in fields:
         raise ValueError(f"name must be a parameter of Params, got {name!r}"
-                         f"{did_you_mean(name, fields)}")
-    values = np.asarray(values, dtype=np.float64)
-    if values.ndim != 1 or values.size < 2 or not np.all(np.isfinite(values)):
-        raise ValueError(f"{name} must be a 1-D array of >= 2 finite values, got "
-                         f"{values!r}")
-    if np.unique(values).size != values.size:
-        raise ValueError(f"{name} values must be distinct")
-    return np.sort(values)
+                         f"{did_you_mean(str(name), fields)}")
+    check_real("x0", x0)
+    if xdot0 is not None:
+        check_real("xdot0", xdot0)
+    if isinstance(values, (str, bytes)) or not isinstance(values, (list, tuple,
+                                                                   np.ndarray)):
+        raise TypeError(f"{name} must be a 1-D array of >= 2 values, got {values!r} of "
+                        f"type {type(values).__name__}")
+    checked = _check_axis(name, values, unique=True)
+    if not isinstance(checked, np.ndarray) or checked.size < 2:
+        raise ValueError(f"{name} must be a 1-D array of >= 2 values, got {values!r}")
+    # every slider along the values, checked at once as a Grid checks its axes
+    Grid(**{**params.values(), **params.excitation_values(), name: checked},
+         mode="points")
+    return np.sort(checked)
+
+
+def _checked_direction(direction) -> None:
+    if not isinstance(direction, str) or direction not in DIRECTIONS:
+        hint = did_you_mean(direction, list(DIRECTIONS)) if isinstance(direction, str) \
+            else f" of type {type(direction).__name__}"
+        raise ValueError(f"direction must be one of {tuple(DIRECTIONS)}, got "
+                         f"{direction!r}{hint}")
 
 
 def _fixed(params: Params, along: str) -> dict:
@@ -146,13 +171,9 @@ def frequency_response(params: Params, Omega, direction: str = "both",
         ``start_xdot`` [cm/s]) and, with both directions, ``coexisting`` over Omega
         (:func:`coexisting`: two steady responses at that frequency).
     """
-    if direction not in DIRECTIONS:
-        raise ValueError(f"direction must be one of {tuple(DIRECTIONS)}, got "
-                         f"{direction!r}{did_you_mean(str(direction), list(DIRECTIONS))}")
-    values = _checked(params, "Omega", Omega)
-    if not params.forced:
-        raise ValueError("params must be a forced slider: give F0 or Y0 (and Omega)")
-    start = (float(x0), xdot0)
+    _checked_direction(direction)
+    values = _checked(params, "Omega", Omega, x0, xdot0)
+    start = (float(x0), None if xdot0 is None else float(xdot0))
     scans, starts = [], []
     if direction != "down":
         rows, st = _follow(params, values, start, tol, method, options)
@@ -247,18 +268,20 @@ def stroboscopic_diagram(params: Params, name: str, values, periods: int = 32,
         each simulation (a failed one leaves NaN samples).
     """
     from .simulate import simulate
-    values = _checked(params, name, values)
-    for key, n in (("periods", periods), ("transient", transient)):
-        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < (1 if key
-                                                                               == "periods" else 0):
-            raise ValueError(f"{key} must be an integer >= {1 if key == 'periods' else 0}, "
-                             f"got {n!r}")
-    if not params.forced:
-        raise ValueError("params must be a forced slider: give F0 or Y0 (and Omega)")
+    values = _checked(params, name, values, x0, xdot0)
+    for key, n, least in (("periods", periods, 1), ("transient", transient, 0)):
+        if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < least:
+            raise ValueError(f"{key} must be an integer >= {least}, got {n!r}")
+    if transient + periods >= STROBE_SAMPLES:
+        raise ValueError(
+            f"transient + periods = {transient:,} + {periods:,} forcing periods: each "
+            f"value's simulation samples every one of them, at most "
+            f"{STROBE_SAMPLES:,}; lower transient (default 400) or periods")
+    refuse_unaffordable(strobe_need(values.size, periods, transient))
     xs = np.full((values.size, periods), np.nan)
     vs = np.full_like(xs, np.nan)
     status = []
-    start = (float(x0), xdot0)
+    start = (float(x0), None if xdot0 is None else float(xdot0))
     for i, u in enumerate(values):
         p = dataclasses.replace(params, **{name: float(u)})
         T = 2.0 * math.pi / p.Omega

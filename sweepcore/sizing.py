@@ -62,9 +62,11 @@ def _analytic_sizes(grid: Grid) -> int:
     return total
 
 
-@checked_keywords
-def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
-    """Size of a sweep, before any work: points, bytes of output, memory and disk.
+@checked_keywords(options=True)
+def estimate(grid: Grid, chunks: int | None = None, path=None, method: str = "auto",
+             tol: float = 1e-8, time: bool = True, **options) -> dict:
+    """Size and time of a sweep, before the sweep: points, bytes of output, memory,
+    disk, and the seconds it takes on this machine.
 
     Parameters
     ----------
@@ -73,6 +75,13 @@ def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
         Points per chunk (default :func:`default_chunk`).
     path : optional
         The result file: memory then follows the chunk (the result streams to disk).
+    method, tol, **options
+        As :func:`sweepcore.sweep` (a point's cost depends on them).
+    time : bool
+        Time the sweep (:func:`sweepcore.timing.time_estimate`: 64 to 4096 of its
+        points run, about a
+        second; the kernels they need compile first if the cache lacks them,
+        untimed). False: sizes only, nothing run.
 
     Returns
     -------
@@ -85,35 +94,67 @@ def estimate(grid: Grid, chunks: int | None = None, path=None) -> dict:
         ``path``: the working store plus the output's upper bound, else 0);
         ``stored_bytes`` (chunks already in the working store of ``path``);
         ``memory_available`` and ``disk_free`` [bytes] (None when unknown);
-        ``directory``, where the file and its store go (None without ``path``).
+        ``directory``, where the file and its store go (None without ``path``);
+        with ``time``: ``seconds`` [s] the kernels take on this machine's threads
+        (what :func:`sweepcore.sweep` checks against ``max_seconds``),
+        ``seconds_per_point``, ``timed_points``, ``timing_seconds`` (the estimate's
+        own cost), ``lower_bound`` (a timed point was cut at ``timing.SAMPLE_STEPS``
+        steps: the sweep may take longer) and ``threads``.
 
     Raises
     ------
     TypeError, ValueError
-        As :func:`sweepcore.sweep` for the same ``grid``, ``chunks`` and ``path``.
+        As :func:`sweepcore.sweep` for the same ``grid``, ``chunks``, ``path``,
+        ``method``, ``tol`` and options.
     """
     checked_grid(grid)
     check_chunks(chunks, " (points per chunk)")        # sweep's own rule
     if path is not None:
         path = path_text(path)
+    sizes = _sizes(grid, chunks, path)
+    if time is not True and time is not False:
+        raise TypeError(f"time must be True or False, got {time!r}")
+    if time:
+        from .timing import time_estimate
+        sizes.update(time_estimate(grid, options_row(grid, method, tol, options)))
+    return sizes
+
+
+def options_row(grid: Grid, method: str, tol: float, options: dict) -> np.ndarray:
+    """The kernel option row of a sweep of ``grid`` (its method refused where the
+    grid's points cannot use it), as :func:`sweepcore.sweep` validates it."""
+    from . import forced
+    from .options import check_method, make_options
+    o = make_options(method, tol=tol, **options)
+    if grid.forced:
+        forced.check_method(method)
+    else:
+        check_method(method, grid)
+    return o
+
+
+def _sizes(grid: Grid, chunks, path) -> dict:
+    """:func:`estimate`'s sizes (no time)."""
     n = grid.size
     chunk = default_chunk(n) if chunks is None else min(int(chunks), n)
-    n_obs = len(variables.OBSERVABLES)
+    # a forced grid's points hold a forced response's columns and variables
+    n_obs = len(variables.FORCED_OBSERVABLES if grid.forced else variables.OBSERVABLES)
+    width = layout.NFOB if grid.forced else layout.NOBS
     output = n * (8 * n_obs + 3) + 8 * _analytic_sizes(grid)
-    boundary = "v" in grid.dims and len(np.atleast_1d(grid.v)) >= 2
+    boundary = "v" in grid.dims and len(np.atleast_1d(grid.v)) >= 2 and not grid.forced
     if boundary:
         output += 8 * len(BOUNDARY_VARIABLES) * (n // len(grid.v))
     # one chunk: its kernel rows and results, the result's transpose, dask's copies
-    working = 3 * chunk * 8 * (layout.NP + layout.NOBS)
+    working = 3 * chunk * 8 * (layout.NP + width)
     if path is None:
-        memory = n * (8 * layout.NOBS + 4) + 8 * _analytic_sizes(grid) + working
+        memory = n * (8 * width + 4) + 8 * _analytic_sizes(grid) + working
         memory += 8 * n if boundary else 0
         disk = 0
     else:
         block = math.prod(chunk_shape(grid.shape, 8)) if grid.shape else 1
         # a block of one variable read, converted and compressed at a time
         memory = working + 3 * block * 8 + HDF5_CACHE + (8 * n if boundary else 0)
-        disk = n * 8 * layout.NOBS + output
+        disk = n * 8 * width + output
     return {"points": n, "chunk": chunk, "output_bytes": int(output),
             "memory_bytes": int(memory), "disk_bytes": int(disk),
             "stored_bytes": 0 if path is None else _stored_bytes(path),
@@ -285,6 +326,21 @@ def diagram_need(values: int, branches: int) -> dict:
                     f"{_count(branches, 'scan')})",
             "memory": memory, "elements": branches * values * layout.NOBS,
             "parts": "its branches", "advice": "follow fewer values"}
+
+
+def strobe_need(values: int, periods: int, transient: int) -> dict:
+    """What :func:`sweepcore.stroboscopic_diagram` needs: x and xdot of ``periods``
+    samples at ``values`` values, and one simulation of ``transient + periods``
+    samples at a time (its time, state, phase and the Dataset's seven variables)."""
+    samples = transient + periods + 2
+    result = 2 * 8 * values * periods
+    work = 3 * 8 * 10 * samples
+    return {"what": f"a stroboscopic diagram of {_count(values, 'value')} with "
+                    f"periods={_number(periods)} (transient={_number(transient)})",
+            "memory": result + work, "elements": max(values * periods, samples),
+            "parts": f"the samples {size_text(result)}, a simulation of "
+                     f"{_count(samples, 'sample')} {size_text(work)}",
+            "advice": "keep fewer periods (each is a point of the diagram)"}
 
 
 def too_large(need: dict) -> str | None:

@@ -5,13 +5,14 @@
     [excitation]
     F0 = { start = 0.2, stop = 5.0, num = 256 }     # kN: F0 p(Omega t + phi)
     Omega = { start = 0.1, stop = 3.0, num = 256 }  # rad/s, > 0
-    phi = 0.0                                       # rad (default 0)
+    phi = 0.0                                       # rad, |phi| <= 2 pi (default 0)
     Y0 = 0.0                                        # cm: y = Y0 cos(Omega t) (default 0)
     load = { cos = [1.0, 0.0, 0.3], sin = [0.0, 0.2] }  # p (default: cos)
     # or  load = { samples = "force.csv" }: one period at uniform phases
     # or  load = [{ name = "a", cos = [1.0] }, { name = "b", sin = [1.0] }]: a dimension
 
-Omega is required with F0 or Y0. The keys live here and not in ``[axes]``, so that a
+Omega is required with F0 or Y0; phi is in radians (90 degrees is 1.5708: a phase
+beyond 2 pi is refused as degrees written by mistake). The keys live here and not in ``[axes]``, so that a
 reader of the file sees at once that the slider is forced; the errors name the key
 and its line as those of ``[axes]`` do (the checker of :mod:`sweepcore.study`).
 """
@@ -22,12 +23,14 @@ from pathlib import Path
 import numpy as np
 
 from . import excitations
+from .params import check_forcing
 
 
-def excitation_table(ck, doc: dict, axis) -> dict:
+def excitation_table(ck, doc: dict, axis, axes: dict) -> dict:
     """The axes of ``[excitation]`` (name -> ``sweepcore.study.Axis``, in file
     order); empty without the table. ``axis(ck, name, val, table)`` builds one axis
-    with ``[axes]``'s rules and messages."""
+    with ``[axes]``'s rules and messages; ``axes`` are those of ``[axes]`` (the
+    slider the excitation must suit: ``sweepcore.params.check_forcing``)."""
     if "excitation" not in doc:
         return {}
     table = ck.table(doc, "excitation")
@@ -39,6 +42,22 @@ def excitation_table(ck, doc: dict, axis) -> dict:
         ck.fail(("excitation",), f"Omega (the excitation frequency "
                                  f"[{excitations.UNITS['Omega']}], > 0) is required "
                                  f"with {' and '.join(forcing)}")
+    unused = {"Omega": (not forcing, "nothing excites the slider (F0 = Y0 = 0)",
+                        "F0 or Y0"),
+              "phi": ("F0" not in forcing, "phi is the phase of the load F0 cos(Omega "
+                      "t + phi), and F0 = 0", "F0")}
+    for name, (idle, why, give) in unused.items():
+        if idle and name in out and out[name].swept:
+            ck.fail(("excitation", name), f"{name} is swept but {why}: every value "
+                                          f"would give the same result; give {give}, "
+                                          f"or leave {name} out")
+    given = {**axes, **out}
+    if forcing and "m" in given and "k" in given:
+        try:
+            check_forcing("", *(given[n].values if n in given else 0.0
+                                            for n in ("m", "k", "c", "F0", "Omega", "Y0")))
+        except ValueError as err:
+            ck.fail(("excitation",), str(err))
     for other in ("boundary", "basins"):    # searches of the autonomous attractor
         if forcing and other in doc:
             ck.fail((other,), f"[{other}] applies to the unforced slider; this study "

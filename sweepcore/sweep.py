@@ -73,8 +73,9 @@ from .boundary import BOUNDARY_VARIABLES, hopf_boundary, reversal_cycles
 from .grid import Grid, checked_grid
 from .io import WorkingStore, check_flag, chunk_shape, result_path
 from .options import check_method, checked_keywords, make_options
-from .sizing import (SweepTooLarge, default_chunk, estimate, refuse_if_too_large,
-                     size_text)
+from .sizing import SweepTooLarge, default_chunk, estimate, refuse_if_too_large, size_text
+from .timing import (MAX_SECONDS, check_max_seconds, left_to_compute, refuse_if_too_long,
+                     time_estimate, time_text)
 
 # estimate and SweepTooLarge live in sizing; sweepcore.sweep.estimate is documented
 __all__ = ["sweep", "estimate", "SweepTooLarge", "run_chunk", "run_chunk_parallel"]
@@ -121,7 +122,8 @@ def width(grid: Grid) -> int:
 @checked_keywords(options=True)
 def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | None = None,
           client=None, path=None, progress: bool | None = None, scheduler=None,
-          overwrite: bool = False, **options) -> xr.Dataset:
+          overwrite: bool = False, max_seconds: float | None = MAX_SECONDS,
+          **options) -> xr.Dataset:
     """The attractor of every point of ``grid``, as one labelled Dataset.
 
     Parameters
@@ -166,6 +168,12 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
         address). Default (with no ``client``): numba threads in this process.
     overwrite : bool
         Replace ``path`` even if it is a read-only file.
+    max_seconds : float or None
+        Refuse the sweep (:class:`sweepcore.timing.SweepTooLong`, before any work)
+        when it would take longer on this machine [s]: the time is measured on a
+        sample of the grid's own points (:func:`sweepcore.timing.time_estimate`,
+        what :func:`estimate` returns as ``seconds``). Default one hour; None: no
+        limit (and no sample run). Not applied with a distributed ``client``.
     **options
         dt, max_steps, max_periods, gps_a, graze: see
         :func:`sweepcore.options.make_options`.
@@ -191,17 +199,22 @@ def sweep(grid: Grid, method: str = "auto", tol: float = 1e-8, chunks: int | Non
         free disk space); nothing is written.
     """
     o = _checked_arguments(grid, method, tol, chunks, options, overwrite, progress)
+    check_max_seconds(max_seconds)
     target_path = None if path is None else result_path(path, overwrite=overwrite)
     kind, target = execute.resolve(client, scheduler)
     call = _call_repr(grid, method, tol, chunks, client, path, scheduler, options)
     requested = None if chunks is None else min(int(chunks), grid.size)
     chunk = default_chunk(grid.size) if requested is None else requested
-    est = estimate(grid, chunk, target_path)
+    est = estimate(grid, chunk, target_path, time=False)
     _log.info("sweep of %d points: output %s, memory about %s (available %s)",
               est["points"], size_text(est["output_bytes"]),
               size_text(est["memory_bytes"]), "unknown" if est["memory_available"] is None
               else size_text(est["memory_available"]))
     refuse_if_too_large(est)
+    if max_seconds is not None and kind != "distributed":
+        timing = time_estimate(grid, o, left_to_compute(grid, target_path))
+        _log.info("sweep of %d points: %s", grid.size, time_text(timing))
+        refuse_if_too_long(f"a sweep of {grid.size:,} points", timing, max_seconds)
     with execute.connected(kind, target) as (kind, target):
         if target_path is None:
             cols = _compute(grid, o, kind, target, chunk, progress)

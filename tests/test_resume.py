@@ -235,11 +235,13 @@ def test_sweepcore_basins_resumes_after_ctrl_c(tmp_path, monkeypatch, capsys,
         first.append(start)
         return ORIGINAL["basin_chunk"](g, start, stop, *a, **k)
     monkeypatch.setattr(basins_mod, "basin_chunk", ctrl_c_after_three)
-    assert main(["basins", "s.toml", "-o", "b.nc", "-q", "--no-png"]) == 130
+    assert main(["basins", "s.toml", "-o", "b.nc", "-q", "--no-png",
+                 "--max-time", "none"]) == 130
     err = capsys.readouterr().err
     assert "sweepcore basins: interrupted (rerun the same command to resume" in err
     resumed = spy(monkeypatch, basins_mod, "basin_chunk", path)
-    assert main(["basins", "s.toml", "-o", "b.nc", "-q", "--no-png"]) == 0
+    assert main(["basins", "s.toml", "-o", "b.nc", "-q", "--no-png",
+                 "--max-time", "none"]) == 0
     assert resumed == [3, 4, 5]
     got = open_result(path)
     for name in basins_reference.data_vars:

@@ -356,7 +356,7 @@ def test_computation_memory_follows_the_chunk_not_the_grid(warm_sweep, monkeypat
 
     def peak(chunks):
         tracemalloc.start()
-        sweep(grid, chunks=chunks, progress=False)
+        sweep(grid, chunks=chunks, progress=False, max_seconds=None)  # no timed sample
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
         return peak

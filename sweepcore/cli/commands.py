@@ -2,6 +2,7 @@
 simulate (one slider), plot, info and export (result files)."""
 from __future__ import annotations
 
+import math
 import os
 import shlex
 import sys
@@ -84,10 +85,13 @@ def _run(args, study, grid, out, png) -> int:
         print(f"sweepcore run {args.study}: {grid.size} points "
               f"({' x '.join(f'{d}: {n}' for d, n in sizes)}), "
               f"method {study.method}, tol {study.tol:g}", flush=True)
+    from ..timing import left_to_compute
+    _say_time(args, f"sweepcore run {args.study}", grid, study,
+              left_to_compute(grid, out))
     t0 = time.perf_counter()
     ds = sweep(grid, method=study.method, tol=study.tol,
                chunks=args.chunks or study.chunks, scheduler=args.scheduler, path=out,
-               progress=_progress(args), **study.options)
+               progress=_progress(args), max_seconds=None, **study.options)
     return _finish(ds, study, args, out, png, t0, grid.size,
                    lambda d: [regime_line(d), status_line(d), *forced_lines(d)],
                    study.plot)
@@ -100,6 +104,45 @@ def _progress(args):
     if args.quiet:
         return False
     return None if sys.stderr.isatty() else True
+
+
+def _say_time(args, what: str, grid, study, runs: float = 1.0, doing: str = "",
+              tol: float | None = None) -> dict:
+    """Print (unless --quiet) how long the kernels of the study's grid take here,
+    measured on a sample of its points (``sweepcore.timing.time_estimate``; ``runs``
+    kernel runs a point), and refuse, naming --max-time, what exceeds it (the
+    command then passes no limit on: one sample, one check)."""
+    from ..sizing import options_row
+    from ..timing import refuse_if_too_long, time_estimate, time_text
+    if _untimed(args):
+        return {}
+    timing = time_estimate(grid, options_row(grid, study.method, tol or study.tol,
+                                             study.options), runs)
+    if not args.quiet:
+        print(f"{what}: {time_text(timing)}{doing}", flush=True)
+    refuse_if_too_long(what, timing, args.max_time, command_line=True)
+    return timing
+
+
+def _untimed(args) -> bool:
+    """No sample to time: on a cluster (not this machine), or with nothing to say
+    (--quiet) and no limit (--max-time none)."""
+    return bool(args.scheduler and ":" in args.scheduler) or (
+        args.quiet and args.max_time is None)
+
+
+def _say_call_time(args, what: str, grid, call) -> None:
+    """As :func:`_say_time` for a command whose points do more than a sweep's:
+    ``call`` itself timed on a few points (``sweepcore.timing.time_call``)."""
+    from ..timing import refuse_if_too_long, time_call, time_text
+    if _untimed(args):
+        return
+    timing = time_call(grid, call)
+    if timing is None:
+        return
+    if not args.quiet:
+        print(f"{what}: {time_text(timing)}", flush=True)
+    refuse_if_too_long(what, timing, args.max_time, command_line=True)
 
 
 def _finish(ds, study, args, out, png, t0, n, summary, plot=None, attrs=None) -> int:
@@ -441,10 +484,29 @@ def cmd_boundary(args) -> int:
         if not args.quiet:
             print(f"(no picture: {why})")
         png = None
+    _say_time(args, f"sweepcore boundary {args.study}", grid, study,
+              *_boundary_runs(grid, b), tol=b["tol"])
     t0 = time.perf_counter()
     ds = _boundary_result(grid, study, b, args)
     return _finish(ds, study, args, out, png, t0, None, boundary_lines,
                    attrs={"over": over} if over else {})
+
+
+def _boundary_runs(grid, b) -> tuple[float, str]:
+    """Attractor runs of the boundary command per grid point (``_say_time``'s
+    ``runs``, and the words that say so): each search scans ``scan`` values and
+    bisects its two boundaries down to xtol (log2(span/xtol) runs each); a
+    diagram runs every value of its axis once per direction."""
+    along = np.atleast_1d(grid.axis(b["along"]))
+    n_along = along.size
+    if b["diagram"]:
+        sweeps = 2 if (b.get("sweep") or "both") == "both" else 1
+        return sweeps, f" ({sweeps} run(s) a point of the diagram)"
+    span = float(b["bracket"][1] - b["bracket"][0]) if b.get("bracket") else \
+        float(np.ptp(along)) or 1.0
+    search = b["scan"] + 2 * max(1, math.ceil(math.log2(max(span / b["xtol"], 2.0))))
+    return (search / n_along, f" ({search} runs a search: scan {b['scan']} and two "
+                              "bisections to xtol)")
 
 
 def _no_curves(grid, b) -> str | None:
@@ -488,13 +550,16 @@ def cmd_basins(args) -> int:
     if not args.quiet:
         print(f"sweepcore basins {args.study}: {grid.size} points, route {b['route']}, "
               f"{b['samples']} samples a point where sampled", flush=True)
+    common = dict(x0=b["x0"], xdot0=b["xdot0"], samples=b["samples"],
+                  route=b["route"], sampling=b["sampling"], seed=b["seed"],
+                  checks=b["checks"], ftol=b["ftol"], match=b["match"],
+                  method=study.method, tol=study.tol, **study.options)
+    _say_call_time(args, f"sweepcore basins {args.study}", grid,
+                   lambda g: basin_stability(g, progress=False, **common))
     t0 = time.perf_counter()
     # with path: run's rules for the file (no symbolic link, FIFO, read-only file,
     # ...) checked before any work, and an interrupted run resumes from the store
-    ds = basin_stability(grid, x0=b["x0"], xdot0=b["xdot0"], samples=b["samples"],
-                         route=b["route"], sampling=b["sampling"], seed=b["seed"],
-                         checks=b["checks"], ftol=b["ftol"], match=b["match"],
-                         method=study.method, tol=study.tol,
-                         chunks=args.chunks or study.chunks, scheduler=args.scheduler,
-                         path=out, progress=_progress(args), **study.options)
+    ds = basin_stability(grid, chunks=args.chunks or study.chunks,
+                         scheduler=args.scheduler, path=out, progress=_progress(args),
+                         **common)
     return _finish(ds, study, args, out, png, t0, grid.size, basin_lines)

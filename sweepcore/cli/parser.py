@@ -45,6 +45,31 @@ def _positive_int(text: str) -> int:
     return n
 
 
+# --max-time: seconds, or a number with a unit
+DURATION_UNITS = {"s": 1.0, "min": 60.0, "h": 3600.0, "d": 86400.0}
+
+
+def max_time(text: str) -> float | None:
+    """--max-time: ``3600``, ``90s``, ``30min``, ``2h``, ``1d`` [s], or ``none``
+    (no limit)."""
+    if text.strip().lower() == "none":
+        return None
+    number, unit = text.strip(), "s"
+    for name in sorted(DURATION_UNITS, key=len, reverse=True):
+        if number.endswith(name):
+            number, unit = number[:-len(name)].strip(), name
+            break
+    try:
+        seconds = float(number) * DURATION_UNITS[unit]
+    except ValueError:
+        seconds = float("nan")
+    if not (seconds > 0 and seconds < float("inf")):
+        raise argparse.ArgumentTypeError(
+            f"must be a duration > 0 (seconds, or with a unit: 90s, 30min, 2h, 1d) or "
+            f"'none', got {text!r}")
+    return seconds
+
+
 def _thread_count(text: str) -> int:
     """--threads: an integer from 1 to the threads numba allows (its
     NUMBA_NUM_THREADS, by default the number of cores)."""
@@ -186,6 +211,11 @@ def _add_study_options(p, output: str, png: str, scheduler: str, chunks: str,
     p.add_argument("--scheduler", metavar="ADDRESS|threads|processes|synchronous",
                    help=scheduler)
     p.add_argument("--chunks", type=_positive_int, metavar="N", help=chunks)
+    p.add_argument("--max-time", dest="max_time", type=max_time, default=3600.0,
+                   metavar="DURATION",
+                   help="refuse, before any work, a run whose time measured on a "
+                        "sample of its points exceeds this (seconds, or 90s, 30min, "
+                        "2h, 1d; 'none': no limit); default 1h")
     p.add_argument("-q", "--quiet", action="store_true", help=quiet)
 
 
@@ -250,7 +280,8 @@ def _simulate_options(p):
                         help="excitation frequency [rad/s], > 0 (needed with --F0 or "
                              "--Y0)")
     forced.add_argument("--phi", type=float, default=0.0,
-                        help="phase of the load [rad] (default 0)")
+                        help="phase of the load in radians, |phi| <= 2 pi (90 "
+                             "degrees: 1.5708; default 0)")
     forced.add_argument("--Y0", type=float, default=0.0,
                         help="amplitude of the anchor's motion [cm] (default 0: none)")
     forced.add_argument("--load", metavar="FILE.csv", default=None,
