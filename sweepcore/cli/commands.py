@@ -14,6 +14,7 @@ import numpy as np
 from ..labels import run_statuses, timestamp, version
 from ..keywords import did_you_mean
 from .tables import csv_tables, units_table
+from .timings import say_call_time, say_time
 from .summaries import (basin_lines, boundary_lines, describe, describe_basins,
                         describe_boundaries, forced_lines, regime_line,
                         simulation_summary, status_line)
@@ -86,7 +87,7 @@ def _run(args, study, grid, out, png) -> int:
               f"({' x '.join(f'{d}: {n}' for d, n in sizes)}), "
               f"method {study.method}, tol {study.tol:g}", flush=True)
     from ..timing import left_to_compute
-    _say_time(args, f"sweepcore run {args.study}", grid, study,
+    say_time(args, f"sweepcore run {args.study}", grid, study,
               left_to_compute(grid, out))
     t0 = time.perf_counter()
     ds = sweep(grid, method=study.method, tol=study.tol,
@@ -104,45 +105,6 @@ def _progress(args):
     if args.quiet:
         return False
     return None if sys.stderr.isatty() else True
-
-
-def _say_time(args, what: str, grid, study, runs: float = 1.0, doing: str = "",
-              tol: float | None = None) -> dict:
-    """Print (unless --quiet) how long the kernels of the study's grid take here,
-    measured on a sample of its points (``sweepcore.timing.time_estimate``; ``runs``
-    kernel runs a point), and refuse, naming --max-time, what exceeds it (the
-    command then passes no limit on: one sample, one check)."""
-    from ..sizing import options_row
-    from ..timing import refuse_if_too_long, time_estimate, time_text
-    if _untimed(args):
-        return {}
-    timing = time_estimate(grid, options_row(grid, study.method, tol or study.tol,
-                                             study.options), runs)
-    if not args.quiet:
-        print(f"{what}: {time_text(timing)}{doing}", flush=True)
-    refuse_if_too_long(what, timing, args.max_time, command_line=True)
-    return timing
-
-
-def _untimed(args) -> bool:
-    """No sample to time: on a cluster (not this machine), or with nothing to say
-    (--quiet) and no limit (--max-time none)."""
-    return bool(args.scheduler and ":" in args.scheduler) or (
-        args.quiet and args.max_time is None)
-
-
-def _say_call_time(args, what: str, grid, call) -> None:
-    """As :func:`_say_time` for a command whose points do more than a sweep's:
-    ``call`` itself timed on a few points (``sweepcore.timing.time_call``)."""
-    from ..timing import refuse_if_too_long, time_call, time_text
-    if _untimed(args):
-        return
-    timing = time_call(grid, call)
-    if timing is None:
-        return
-    if not args.quiet:
-        print(f"{what}: {time_text(timing)}", flush=True)
-    refuse_if_too_long(what, timing, args.max_time, command_line=True)
 
 
 def _finish(ds, study, args, out, png, t0, n, summary, plot=None, attrs=None) -> int:
@@ -484,7 +446,7 @@ def cmd_boundary(args) -> int:
         if not args.quiet:
             print(f"(no picture: {why})")
         png = None
-    _say_time(args, f"sweepcore boundary {args.study}", grid, study,
+    say_time(args, f"sweepcore boundary {args.study}", grid, study,
               *_boundary_runs(grid, b), tol=b["tol"])
     t0 = time.perf_counter()
     ds = _boundary_result(grid, study, b, args)
@@ -493,7 +455,7 @@ def cmd_boundary(args) -> int:
 
 
 def _boundary_runs(grid, b) -> tuple[float, str]:
-    """Attractor runs of the boundary command per grid point (``_say_time``'s
+    """Attractor runs of the boundary command per grid point (``say_time``'s
     ``runs``, and the words that say so): each search scans ``scan`` values and
     bisects its two boundaries down to xtol (log2(span/xtol) runs each); a
     diagram runs every value of its axis once per direction."""
@@ -554,7 +516,7 @@ def cmd_basins(args) -> int:
                   route=b["route"], sampling=b["sampling"], seed=b["seed"],
                   checks=b["checks"], ftol=b["ftol"], match=b["match"],
                   method=study.method, tol=study.tol, **study.options)
-    _say_call_time(args, f"sweepcore basins {args.study}", grid,
+    say_call_time(args, f"sweepcore basins {args.study}", grid,
                    lambda g: basin_stability(g, progress=False, **common))
     t0 = time.perf_counter()
     # with path: run's rules for the file (no symbolic link, FIFO, read-only file,

@@ -1,0 +1,140 @@
+"""Forced responses against the independent reference at random points, by class.
+
+    python -m benchmarks.forced_accuracy [--points 150] [--seed 2026]
+
+Each point is drawn from one of three classes (in turn), started at random, and
+solved by ``sweepcore.attractor`` (default tolerance 1e-8) and by the reference
+(``tests/reference_forced.py``: scipy DOP853 at rtol 1e-12 with exact sticks, the
+stroboscopic map iterated from the same start until its period shows, the fixed
+point by the chord method, multipliers by central differences):
+
+* ``harmonics``: a load of 2-3 harmonics with the anchor's motion, any law of the
+  analytic family, on fixed ground or a belt;
+* ``coexistence``: where a stable slip response coexists with stick-slip: steep
+  Stribeck friction (v_s 0.05-0.3) or static above kinetic (v_s = 0), a belt, a load
+  or the anchor's motion, light damping, starts that reach either;
+* ``harmonic``: one cosine, any law, fixed ground or belt.
+
+A point is *wrong with status ok* when sweepcore says ok and the reference's response
+differs: another multiplicity, stick or stop count, or an amplitude, mean or extreme
+more than 1e-6 of the length scale L away, or aperiodic where the reference finds a
+period (or the other way round). Saves ``benchmarks/results/forced_accuracy.json``:
+per class the counts (agree, wrong with ok, flagged, reference failed) and the
+largest differences of the agreeing points.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+CONTRACT = 1e-6
+
+
+def draw(rng, cls):
+    """A random point of class ``cls``: (Params kwargs, reference kwargs, x0, xd0)."""
+    m, k = rng.uniform(0.5, 2.0, 2)
+    omega = math.sqrt(k / m)
+    kw = dict(m=m, k=k, Omega=omega * rng.uniform(0.4, 3.0))
+    cos = sin = None
+    if cls == "coexistence":
+        r_y = rng.uniform(0.5, 1.5)
+        kw.update(r_y=r_y, r_k=r_y * rng.uniform(0.3, 0.7),
+                  v_s=rng.choice([0.0, rng.uniform(0.05, 0.3)]), c=rng.uniform(0.0, 0.08),
+                  v=rng.uniform(0.3, 1.5))
+        if rng.uniform() < 0.5:
+            kw.update(F0=rng.uniform(0.05, 0.6) * r_y, phi=rng.uniform(0, 2 * math.pi))
+        else:
+            kw.update(Y0=rng.uniform(0.05, 0.6) * r_y / k)
+    else:
+        r_y = rng.uniform(0.3, 1.0)
+        kw.update(r_y=r_y, alpha1=rng.uniform(0.0, 0.2), alpha2=rng.uniform(0.0, 0.1),
+                  r_k=r_y * rng.uniform(0.6, 1.0), v_s=rng.uniform(0.3, 1.0),
+                  c=rng.choice([0.0, rng.uniform(0.02, 0.3)]),
+                  v=rng.choice([0.0, rng.uniform(0.2, 1.5)]),
+                  F0=rng.uniform(0.5, 3.0), phi=rng.uniform(0, 2 * math.pi),
+                  Y0=rng.choice([0.0, rng.uniform(0.2, 1.0)]))
+        if cls == "harmonics":
+            n = int(rng.integers(2, 4))
+            cos, sin = rng.uniform(-1, 1, n), rng.uniform(-1, 1, n)
+    x0, xd0 = rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.5)
+    return kw, cos, sin, x0, xd0
+
+
+def compare(kw, cos, sin, x0, xd0):
+    """One point: the verdict and the differences [L]."""
+    import sweepcore as sc
+    from reference_forced import Forced, forced_steady
+    load = sc.PeriodicLoad(cos=cos, sin=sin) if cos is not None else None
+    mod = Forced(**kw, cos=cos, sin=sin)
+    t = time.process_time()
+    try:
+        ref = forced_steady(mod, x0=x0, xd0=xd0)
+    except RuntimeError as err:
+        return {"verdict": "reference_failed", "why": str(err)[:80]}
+    t_ref = time.process_time() - t
+    t = time.process_time()
+    res = sc.attractor(sc.Params(**kw, load=load), x0=x0, xdot0=xd0)
+    t_mine = time.process_time() - t
+    out = {"t_ref_s": t_ref, "t_sweepcore_s": t_mine, "status": res.status,
+           "regime": res.regime, "reference": ref["status"]}
+    if ref["status"] not in ("ok", "aperiodic"):
+        return {**out, "verdict": "reference_failed"}
+    if res.status != "ok":
+        return {**out, "verdict": "flagged"}
+    if ref["status"] == "aperiodic" or res.regime == "aperiodic":
+        same = ref["status"] == "aperiodic" and res.regime == "aperiodic"
+        return {**out, "verdict": "agree" if same else "wrong_ok"}
+    counts = (res.multiplicity, res.sticks_per_period, res.stops_per_period) == \
+        (ref["multiplicity"], ref["sticks_per_period"], ref["stops_per_period"])
+    d = max(abs(getattr(res, n) - ref[n]) for n in ("amplitude", "mean", "x_max", "x_min"))
+    out.update(diff_L=d / mod.L, floquet_diff=abs(res.floquet - ref["floquet"]))
+    return {**out, "verdict": "agree" if counts and d <= CONTRACT * mod.L else "wrong_ok"}
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--points", type=int, default=150)
+    ap.add_argument("--seed", type=int, default=2026)
+    ap.add_argument("--json", default=str(ROOT / "benchmarks" / "results" /
+                                          "forced_accuracy.json"))
+    args = ap.parse_args(argv)
+    sys.path.insert(0, str(ROOT))
+    sys.path.insert(0, str(ROOT / "tests"))
+    from benchmarks import common
+    rng = np.random.default_rng(args.seed)
+    classes = ("harmonics", "coexistence", "harmonic")
+    rows = []
+    for i in range(args.points):
+        cls = classes[i % 3]
+        kw, cos, sin, x0, xd0 = draw(rng, cls)
+        r = compare(kw, cos, sin, x0, xd0)
+        rows.append({"class": cls, "params": {k: float(v) for k, v in kw.items()},
+                     "cos": None if cos is None else [float(x) for x in cos],
+                     "sin": None if sin is None else [float(x) for x in sin],
+                     "x0": x0, "xdot0": xd0, **r})
+        if r["verdict"] == "wrong_ok":
+            common.log(f"point {i} ({cls}) wrong with ok: {r}")
+    summary = {}
+    for cls in classes:
+        mine = [r for r in rows if r["class"] == cls]
+        diffs = [r["diff_L"] for r in mine if r["verdict"] == "agree" and "diff_L" in r]
+        fl = [r["floquet_diff"] for r in mine if r["verdict"] == "agree" and "floquet_diff" in r]
+        summary[cls] = {v: sum(r["verdict"] == v for r in mine) for v in
+                        ("agree", "wrong_ok", "flagged", "reference_failed")}
+        summary[cls].update(points=len(mine), max_diff_L=max(diffs, default=None),
+                            max_floquet_diff=max(fl, default=None))
+        common.log(f"{cls}: {summary[cls]}")
+    common.save_json({"machine": common.machine(), "points": args.points,
+                      "seed": args.seed, "contract_L": CONTRACT, "summary": summary,
+                      "rows": rows}, args.json)
+    common.log(f"saved {args.json}")
+
+
+if __name__ == "__main__":
+    main()
