@@ -255,7 +255,8 @@ TIME_SCALE_MAX = 1e78
 WEAK = 2.0
 
 
-def unresolvable(P: np.ndarray, o: np.ndarray, laws=(ANALYTIC,)) -> np.ndarray:
+def unresolvable(P: np.ndarray, o: np.ndarray, laws=(ANALYTIC,),
+                 weak: bool = True) -> np.ndarray:
     """Rows of the parameter rows ``P`` (layout ``_kernels.layout``; their laws are
     ``laws[P[:, LAW]]``) whose attractor the kernels cannot resolve with the option
     row ``o``, as a bool array.
@@ -272,7 +273,8 @@ def unresolvable(P: np.ndarray, o: np.ndarray, laws=(ANALYTIC,)) -> np.ndarray:
     conservative field (the law's ``conservative``: for the analytic family c =
     alpha1 without a cubic or Stribeck term, taken as zeta = 0); a static belt
     (``v = 0``) has no cycle through the breakaway point to mistake. (2)
-    ``1/omega > TIME_SCALE_MAX``.
+    ``1/omega > TIME_SCALE_MAX``. ``weak=False`` leaves (1) out: a forced slider's
+    search decides on the stroboscopic map, not on touches at the breakaway point.
     """
     from ._kernels.stepper import ADAPTIVE, TOUCH_FACTOR
     from ._kernels import codes
@@ -295,20 +297,20 @@ def unresolvable(P: np.ndarray, o: np.ndarray, laws=(ANALYTIC,)) -> np.ndarray:
         else:
             factor = TOUCH_FACTOR[method]
         g = np.maximum(o[layout.O_GRAZE], factor * o[layout.O_RTOL])
-        weak = (zeta > 0.0) & (v != 0.0) & (np.pi * zeta <= WEAK * g)
+        weak_friction = (zeta > 0.0) & (v != 0.0) & (np.pi * zeta <= WEAK * g)
         slow = root_m / root_k > TIME_SCALE_MAX
-    return weak | slow
+    return (weak_friction & weak) | slow
 
 
 def flag_unresolvable(P: np.ndarray, o: np.ndarray, out: np.ndarray,
-                      laws=(ANALYTIC,)) -> None:
+                      laws=(ANALYTIC,), weak: bool = True) -> None:
     """Give the observable rows ``out`` (n, ..., NOBS: every slot of a row) of
     :func:`unresolvable` points the status ``unresolvable_scale`` and the regime
     ``failed`` (their numbers are kept, as the search returned them: estimates
     without digits to trust)."""
     from ._kernels import codes
 
-    bad = unresolvable(P, o, laws)
+    bad = unresolvable(P, o, laws, weak)
     if bad.any():
         out[bad, ..., layout.OB_STATUS] = codes.SCALE
         out[bad, ..., layout.OB_REGIME] = codes.R_FAILED

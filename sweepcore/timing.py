@@ -74,7 +74,7 @@ def _points(grid: Grid, P: np.ndarray, o: np.ndarray) -> np.ndarray:
     from . import execute, forced
     out = np.empty((P.shape[0], layout.NFOB if grid.forced else layout.NOBS))
     if grid.forced:
-        forced.responses(P, grid.laws, o, out, True)
+        forced.responses(P, grid.laws, grid.loads, o, out, True)
     else:
         execute.attractors(P, grid.laws, o, out, True)
     return out

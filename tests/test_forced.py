@@ -248,3 +248,21 @@ def test_aperiodic_exponent_against_the_reference():
     assert ref["status"] == "aperiodic"
     err = math.hypot(res.lyapunov_error, ref["lyapunov_error"])
     assert abs(res.lyapunov - ref["lyapunov"]) <= 3.0 * err
+
+
+def test_forced_rows_pass_the_scale_rule(monkeypatch):
+    """The scale rule every entry shares (``sweepcore.law.flag_unresolvable``) runs
+    on forced rows too: a point it calls unresolvable is flagged, never an answer
+    (the rule's own magnitudes: tests/test_scales.py)."""
+    from sweepcore import law
+    calls = []
+    real = law.unresolvable
+
+    def every_other(P, o, laws=None, weak=True):
+        calls.append(weak)
+        return (np.arange(P.shape[0]) % 2 == 0) | real(P, o, laws, weak)
+    monkeypatch.setattr(law, "unresolvable", every_other)
+    ds = sc.sweep(sc.Grid(m=1.0, k=1.0, r_y=1.0, v=0.5, c=0.05, F0=1.0,
+                          Omega=[0.8, 1.1, 1.4, 1.7]), progress=False, max_seconds=None)
+    assert list(ds.status.values) == [12, 0, 12, 0] and calls and not calls[-1]
+    assert (ds.regime.values[::2] == 7).all()

@@ -6,7 +6,9 @@ points of every law kind, load and anchor motion, fixed ground and a moving belt
 The contract: status ok means within 1e-6 of the length scale L of the response the
 start settles on (the default tol 1e-8 leaves a factor 100 to spare); the counts
 (multiplicity, finite sticks, zero-duration stops a period) agree exactly; the
-largest multiplier within 1e-5 (the reference's differences: ~1e-7).
+largest multiplier within 1e-5 (the reference's differences: ~1e-7); the periodic
+point reported (``x_section``, ``xdot_section``: the state at t = 0 mod n T) a fixed
+point of the reference's map over n T to 1e-8 L.
 """
 import math
 
@@ -74,6 +76,12 @@ def _compare(kind, mine, theirs):
         assert abs(getattr(res, name) - ref[name]) <= CONTRACT * mod.Lv, (kind, name)
     assert res.stick_fraction == pytest.approx(ref["stick_fraction"], abs=CONTRACT)
     assert res.floquet == pytest.approx(ref["floquet"], abs=1e-5)
+    # the periodic point is a fixed point of the reference's own map P^n
+    from reference_forced import forced_run
+    back = forced_run(mod, res.x_section, res.xdot_section, 0.0,
+                      res.multiplicity * mod.T)
+    assert abs(back["x1"] - res.x_section) <= 1e-8 * L
+    assert abs(back["xd1"] - res.xdot_section) <= 1e-8 * mod.Lv
 
 
 # the table and Leine kinds run the forced kernels' code on other law functions, each

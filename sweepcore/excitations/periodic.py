@@ -246,9 +246,24 @@ def run(P: np.ndarray, laws, loads, o: np.ndarray, out: np.ndarray, parallel: bo
     """The steady response of every row into ``out`` (n, NFOB): the stroboscopic
     search (``sweepcore/_kernels/strobe.py``) on each group of rows that share a
     method, a law kind and a load (``sweepcore.compiled.responses``)."""
-    from .. import compiled
+    from .. import compiled, law
     compiled.responses(P, laws, loads, o, out, parallel)
+    # the scale rule every entry shares, its time scales: the natural one
+    # (law.unresolvable) and the forcing period's
+    law.flag_unresolvable(P, o, out, laws, weak=False)
+    _flag_slow_forcing(P, out)
     _flag_neutral(P, laws, out)
+
+
+def _flag_slow_forcing(P: np.ndarray, out: np.ndarray) -> None:
+    """A forcing time 1/Omega beyond the kernels' range (``law.TIME_SCALE_MAX``, as
+    the natural time's): status unresolvable_scale, regime failed."""
+    from .. import law
+    from .._kernels import codes, layout
+    with np.errstate(all="ignore"):
+        bad = ~(1.0 / P[:, layout.OMEGA] <= law.TIME_SCALE_MAX)
+    out[bad, layout.OB_STATUS] = codes.SCALE
+    out[bad, layout.OB_REGIME] = codes.R_FAILED
 
 
 def _flag_neutral(P: np.ndarray, laws, out: np.ndarray) -> None:
