@@ -266,3 +266,37 @@ def test_forced_rows_pass_the_scale_rule(monkeypatch):
                           Omega=[0.8, 1.1, 1.4, 1.7]), progress=False, max_seconds=None)
     assert list(ds.status.values) == [12, 0, 12, 0] and calls and not calls[-1]
     assert (ds.regime.values[::2] == 7).all()
+
+
+def test_neutral_only_where_den_hartogs_motion_exists():
+    """At Omega/omega = 1/20 (= 1/(2 n)) on fixed ground, c = 0, Coulomb friction,
+    the friction ratio r_y/F0 is above the continuous-motion boundary r_b(1/20): the
+    responses stick several times a period, no member of the neutral family of
+    Csernak, Stepan & Shaw (which holds Den Hartog's continuous motion): answered ok
+    (all 232 moving cells of this column of studies/forced_map.toml were called
+    neutral), equal to the reference's."""
+    from reference_forced import Forced, forced_steady
+    for F0 in (1.2, 3.5):
+        kw = dict(m=1.0, k=1.0, r_y=1.0, v=0.0, F0=F0, Omega=0.05)
+        res = sc.attractor(sc.Params(**kw), x0=0.0, xdot0=0.0)
+        assert res.status == "ok" and res.regime == "stick_slip", res
+        mod = Forced(**kw)
+        ref = forced_steady(mod, x0=0.0, xd0=0.0, multipliers=False)
+        assert res.sticks_per_period == ref["sticks_per_period"] >= 2
+        assert abs(res.amplitude - ref["amplitude"]) <= 1e-6 * mod.L
+
+
+def test_a_stick_carried_by_the_belt_is_no_response():
+    """Started stuck on a belt, a slider is carried by v T a forcing period: its
+    position's multiplier is 1, but its state moves (no fixed point, no neutral
+    family). Here (m = 5, k = 50, c = 1, r_y = 10, v = 2, F0 = 1, Omega/omega = 50)
+    it slips and settles into steady sliding with the load's small ripple: not
+    `stuck`, which it was reported with amplitude 0."""
+    p = sc.Params(m=5.0, k=50.0, c=1.0, r_y=10.0, v=2.0, F0=1.0,
+                  Omega=50.0 * math.sqrt(10.0))
+    res = sc.attractor(p)
+    assert res.status == "ok" and res.regime == "slip_cycle" and res.amplitude > 0.0
+    # the ripple of the linear response about x_eq (no stick: the belt is faster)
+    ripple = p.F0 / math.hypot(p.k - p.m * p.Omega ** 2, p.c * p.Omega)
+    assert res.amplitude == pytest.approx(ripple, rel=1e-6)
+    assert res.mean == pytest.approx(p.x_eq, rel=1e-9)

@@ -51,6 +51,10 @@ NH = 40               # stroboscopic states kept (2 n + 2 of them used)
 # the start's iterate within this (in L) of a stable fixed point of P^n, and
 # contracting towards it as the fixed point's multiplier says: the response it reaches
 CERTIFY = 0.02
+# a multiplier 1 and an iterate that repeats within this (in L) after n periods: a
+# neutral family's member (a stick carried along by the belt has the multiplier 1 of
+# its position, but moves by v n T: no fixed point at all)
+NEUTRAL = 1e-3
 # what a candidate fixed point did to the search
 GO_ON = 0
 ANSWERED = 1
@@ -153,8 +157,10 @@ def newton(meth, u, n, p, lw, fx, o, acc, T, work, tol, out):
             return False, mu1, mu2, codes.OK
         mu1, mu2, dx, dz, res = _newton_step(u, work, stuck, lx, lv)
         step = max(abs(dx) / lx, abs(dz) / lv)
-        if res <= 1e-2 * tol or step <= 1e-2 * tol:
-            if fine:        # a fixed point (a neutral one too): u itself, within 1e-2 tol
+        # a fixed point (a neutral one too): u itself, within 1e-2 tol (a small step
+        # counts only beside a small residual: a singular Jacobian gives none)
+        if res <= 1e-2 * tol or (step <= 1e-2 * tol and res <= 10.0 * tol):
+            if fine:
                 _observables(acc, n * T, out)
                 return True, mu1, mu2, codes.OK
             last = 0.0      # once more, at the point's tolerance
@@ -332,7 +338,7 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
             if not d <= TRY or cooldown[n] > j:
                 continue
             keep(u, st)
-            verdict, status = _candidate(meth, u, n, j, p, lw, fx, o, o_in[O_RTOL],
+            verdict, status = _candidate(meth, u, n, j, d, p, lw, fx, o, o_in[O_RTOL],
                                          acc, T, work, out, pend)
             st[S_N] = u[S_N]
             if status != codes.OK:
@@ -378,12 +384,13 @@ def _certify(st, u, j, pend, lx, lv, tol):
 
 
 @kernel
-def _candidate(meth, u, n, j, p, lw, fx, o, tol, acc, T, work, out, pend):
-    """Newton on P^n from the state u, j periods in: ``(verdict, status)``, PENDING
-    with u the stable fixed point (``pend``: its n, mu1 and whether it is resolved;
-    ``out``: its observables) that the start's motion must then be shown to reach
-    (``_certify``); ANSWERED for a multiplier 1 (a neutral family, never ok); else
-    GO_ON."""
+def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out, pend):
+    """Newton on P^n from the state u, j periods in, whose iterate moved by d (in L)
+    over the last n periods: ``(verdict, status)``, PENDING with u the stable fixed
+    point (``pend``: its n, mu1 and whether it is resolved; ``out``: its
+    observables) that the start's motion must then be shown to reach
+    (``_certify``); ANSWERED for a multiplier 1 where the motion itself repeats
+    (within ``NEUTRAL`` L: a neutral family, never ok); else GO_ON."""
     start = np.zeros(NSTATE)
     keep(start, u)
     ok, mu1, mu2, status = newton(meth, u, n, p, lw, fx, o, acc, T, work, tol, out)
@@ -406,7 +413,7 @@ def _candidate(meth, u, n, j, p, lw, fx, o, tol, acc, T, work, out, pend):
         pend[3] = mu1
         pend[4] = 1.0 if ok else 0.0
         return PENDING, codes.OK
-    if abs(mu1 - 1.0) <= 1e-3 and mu2 < 1.0:
+    if abs(mu1 - 1.0) <= 1e-3 and mu2 < 1.0 and d <= NEUTRAL:
         # a multiplier 1 and no isolated fixed point: the motion's own numbers, never
         # ok (a neutral family, whose member the start picks, is named by the Python
         # side where one exists: sweepcore.excitations.periodic._flag_neutral)

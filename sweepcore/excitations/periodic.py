@@ -252,7 +252,7 @@ def run(P: np.ndarray, laws, loads, o: np.ndarray, out: np.ndarray, parallel: bo
     # (law.unresolvable) and the forcing period's
     law.flag_unresolvable(P, o, out, laws, weak=False)
     _flag_slow_forcing(P, out)
-    _flag_neutral(P, laws, out)
+    _flag_neutral(P, laws, loads, out)
 
 
 def _flag_slow_forcing(P: np.ndarray, out: np.ndarray) -> None:
@@ -266,23 +266,32 @@ def _flag_slow_forcing(P: np.ndarray, out: np.ndarray) -> None:
     out[bad, layout.OB_REGIME] = codes.R_FAILED
 
 
-def _flag_neutral(P: np.ndarray, laws, out: np.ndarray) -> None:
-    """Den Hartog's slider (constant friction, c = 0, v = 0) at Omega/omega = 1/(2 n):
-    a neutral family of responses (``theory.neutral_family``), whose member a start
+def _flag_neutral(P: np.ndarray, laws, loads, out: np.ndarray) -> None:
+    """Den Hartog's slider (constant friction, c = 0, v = 0, one harmonic) at
+    Omega/omega = 1/(2 n) where his continuous motion exists (the friction ratio
+    below the continuous-motion boundary r_b): a neutral family of responses
+    (``theory.neutral_family``; Csernak, Stepan & Shaw 2007), whose member a start
     picks only on the time scale of a multiplier 1; its numbers are flagged, never a
     confident amplitude (regime neutral, status unresolved). The search's own
     multiplier there is 1 to the accuracy of its Jacobian, not exactly (which makes
     its error estimate large: status unresolved, or ok where the estimate passed);
-    the kernels name no response neutral themselves."""
+    the kernels name no response neutral themselves, and a response that sticks
+    where no continuous motion exists (r above r_b) is no member of the family."""
     from .. import law
     from .._kernels import codes, layout
-    from .theory import neutral_family
+    from .theory import continuous_motion_boundary, neutral_family
+    m, k, om = P[:, layout.M], P[:, layout.K], P[:, layout.OMEGA]
+    one = np.array([loads[int(i)].harmonics == 1 for i in P[:, layout.LOAD]])
     with np.errstate(all="ignore"):
-        family = neutral_family(P[:, layout.M], P[:, layout.K], P[:, layout.OMEGA],
-                                P[:, layout.C], P[:, layout.V])
-    family = np.asarray(family) & law.per_law(P, laws, "closed_form", bool)
+        family = np.asarray(neutral_family(m, k, om, P[:, layout.C], P[:, layout.V]))
+        shape = [loads[int(i)] for i in P[:, layout.LOAD]]
+        a = np.array([s.cos[0] - 1j * s.sin[0] for s in shape])
+        force = np.abs(P[:, layout.F0] * a * np.exp(1j * P[:, layout.PHI]) +
+                       k * P[:, layout.Y0])
+        r = law.per_law(P, laws, "static_bound") / force
+        family &= one & (r < continuous_motion_boundary(om / np.sqrt(k / m)))
+    family &= law.per_law(P, laws, "conservative", bool)
     family &= out[:, layout.OB_REGIME] != codes.R_STUCK
     family &= np.isin(out[:, layout.OB_STATUS], (codes.OK, codes.UNRESOLVED))
     out[family, layout.OB_REGIME] = codes.R_NEUTRAL
     out[family, layout.OB_STATUS] = codes.UNRESOLVED
-
