@@ -95,3 +95,29 @@ def test_random_points_of_every_kind(kind, mine, theirs):
 @pytest.mark.parametrize("kind, mine, theirs", _points(20, 7))
 def test_random_points_of_every_kind_soak(kind, mine, theirs):
     _compare(kind, mine, theirs)
+
+
+@pytest.mark.parametrize("Omega", [1.0, 1.12])
+def test_the_response_reported_is_the_one_the_start_reaches(Omega):
+    """Where a slip cycle and a wider motion coexist (Stribeck law, moving belt, a
+    weak load near resonance), the answer is the motion the start settles on: the
+    reference's map iterated 300 periods from the same start either sits on the
+    reported periodic point (to 1e-6 L over its last 40 periods) or never repeats
+    (its stroboscopic points spread over more than 1e-3 L), as the answer says."""
+    from reference_forced import _map
+    kw = dict(m=1.0, k=1.0, r_y=1.0, r_k=0.5, v_s=0.1, c=0.05, v=1.0, F0=0.08)
+    mod = Forced(**kw, Omega=Omega)
+    z, t, pts = np.array([0.5, 0.9]), 0.0, []
+    for _ in range(300):
+        z = _map(mod, z, t, 1, 1e-9)[0]
+        t += mod.T
+        pts.append(z)
+    pts = np.array(pts[-40:])
+    r = sc.attractor(sc.Params(**kw, Omega=Omega), x0=0.5, xdot0=0.9)
+    assert r.status == "ok"
+    if r.regime == "aperiodic":
+        assert np.ptp(pts[:, 0]) > 1e-3 * mod.L
+    else:
+        assert np.ptp(pts[:, 0]) < 1e-6 * mod.L
+        assert abs(r.x_section - pts[-1, 0]) < CONTRACT * mod.L
+        assert abs(r.xdot_section - pts[-1, 1]) < CONTRACT * mod.Lv

@@ -48,9 +48,13 @@ COARSE = 1e-6         # the loosest, of a Newton iterate far from the fixed poin
 LYAP_PERIODS = 256    # periods of the Lyapunov estimate
 LYAP_BLOCKS = 8
 NH = 40               # stroboscopic states kept (2 n + 2 of them used)
-# the start's iterate within this (in L) of a stable fixed point of P^n, and
-# contracting towards it as the fixed point's multiplier says: the response it reaches
+# the start's iterate within this (in L) of a stable fixed point of P^n, contracting
+# towards it with its pattern of sticks and stops: the response it reaches
 CERTIFY = 0.02
+# ... or within NEAR (or a quarter of a slide's margin to the belt's speed), its
+# deviation predicted by the fixed point's Jacobian to this share of the last one
+LINEAR = 0.1
+NEAR = 0.1
 # a multiplier 1 and an iterate that repeats within this (in L) after n periods: a
 # neutral family's member (a stick carried along by the belt has the multiplier 1 of
 # its position, but moves by v n T: no fixed point at all)
@@ -307,6 +311,7 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
     lx = o[O_LX]
     lv = o[O_LV]
     hist = np.zeros((NH, NSTATE))
+    counts = np.zeros((NH, 2))          # sticks and stops of each period kept
     # the budget: max_periods natural periods, at least 4 nmax + 8 forcing periods
     omega = math.sqrt(p[K] / p[M])
     jmax = max(int(o[O_MAX_TIME] * 2.0 * math.pi / omega / T), 4 * nmax + 8)
@@ -315,8 +320,9 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
     tries = np.zeros(nmax + 1)
     u = np.zeros(NS)
     # the fixed point u pending: its n (0: none), its last check's period and
-    # distance [L], its mu1, whether it is resolved
-    pend = np.zeros(5)
+    # distance [L], its mu1, whether it is resolved, its Jacobian (4), the last
+    # deviation of the motion from it (x, zdot), its margin to the belt's speed [L]
+    pend = np.zeros(12)
     for j in range(1, jmax + 1):
         fresh(acc)
         status = run_periods(meth, st, p, lw, fx, o, acc, T, 1)
@@ -325,8 +331,11 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
         if status != codes.OK:
             return False, status
         keep(hist[j % NH], st)
+        counts[j % NH, 0] = acc[A_NSTICK]
+        counts[j % NH, 1] = acc[A_NSTOP]
         if pend[0] > 0.0:
-            verdict = _certify(st, u, j, pend, lx, lv, o_in[O_RTOL])
+            verdict = _certify(st, u, j, pend, lx, lv, o_in[O_RTOL],
+                               _same_pattern(counts, j, int(pend[0]), out))
             if verdict == ANSWERED:
                 _answered(u, int(pend[0]), j, pend[3], pend[4] > 0.0, p, o, T, out,
                           o_in[O_RTOL])
@@ -346,6 +355,8 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
             if verdict == PENDING:      # on it already: the motion's iterate is u
                 pend[1] = j
                 pend[2] = _dist(st, u, lx, lv)
+                pend[9] = st[S_X] - u[S_X]
+                pend[10] = st[S_ZD] - u[S_ZD]
                 if pend[2] <= 10.0 * o_in[O_RTOL]:
                     verdict = ANSWERED
                     _answered(u, int(pend[0]), j, pend[3], pend[4] > 0.0, p, o, T, out,
@@ -360,27 +371,42 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
 
 
 @kernel
-def _certify(st, u, j, pend, lx, lv, tol):
+def _certify(st, u, j, pend, lx, lv, tol, same):
     """Whether the start's own motion st (period j) converges to the stable fixed
-    point u of P^n (``pend``: n, the period and distance of the last check, mu1):
-    at every n-th period its distance to u must shrink by ``(1 + |mu1|)/2`` at least,
-    and once within ``CERTIFY`` (where the map contracts onto u as its linearisation
-    says) it is the response the start reaches: ANSWERED. Still on its way: PENDING;
-    not contracting (a coexisting response it does not reach, or the pattern of its
-    motion not u's): GO_ON, and u is dropped."""
+    point u of P^n (``pend``: n, the period of the last check, its distance [L],
+    mu1, ok, P^n's Jacobian at u (4), the last deviation st - u (2), u's margin to
+    the belt's speed [L]). Every n-th period the deviation must be what u's
+    linearisation predicts, J times the last one (to ``LINEAR`` of it: a spiral's
+    distance need not shrink every period), or shrink by ``(1 + |mu1|)/2`` at least.
+    The motion is then u's response (ANSWERED) once it has u's sticks and stops
+    (``same``) and is within ``CERTIFY`` of u, shrinking, or follows the
+    linearisation within ``NEAR`` of u (or, for a slide that never reaches the
+    belt's speed, within a quarter of its margin to that speed: it cannot stick);
+    within 10 tol it is u. Still on its way: PENDING. Neither (a coexisting
+    response it does not reach): GO_ON, and u is dropped."""
     n = int(pend[0])
     if (j - int(pend[1])) % n != 0:
         return PENDING
+    dx = st[S_X] - u[S_X]
+    dz = st[S_ZD] - u[S_ZD]
     e = _dist(st, u, lx, lv)
-    ratio = 0.5 * (1.0 + min(pend[3], 1.0))
-    if e <= 10.0 * tol or (e <= CERTIFY and e <= ratio * pend[2]):
+    if e <= 10.0 * tol:
         return ANSWERED
-    if e <= ratio * pend[2]:
-        pend[1] = j
-        pend[2] = e
-        return PENDING
-    pend[0] = 0.0
-    return GO_ON
+    px = pend[5] * pend[9] + pend[6] * pend[10]
+    pz = pend[7] * pend[9] + pend[8] * pend[10]
+    linear = max(abs(dx - px) / lx, abs(dz - pz) / lv) <= LINEAR * pend[2]
+    shrinks = e <= 0.5 * (1.0 + min(pend[3], 1.0)) * pend[2]
+    if not (linear or shrinks):
+        pend[0] = 0.0
+        return GO_ON
+    if same and ((e <= CERTIFY and shrinks) or
+                 (linear and e <= max(0.25 * pend[11], NEAR))):
+        return ANSWERED
+    pend[1] = j
+    pend[2] = e
+    pend[9] = dx
+    pend[10] = dz
+    return PENDING
 
 
 @kernel
@@ -394,9 +420,13 @@ def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out, pend):
     start = np.zeros(NSTATE)
     keep(start, u)
     ok, mu1, mu2, status = newton(meth, u, n, p, lw, fx, o, acc, T, work, tol, out)
+    _keep_jacobian(pend, work)
     if status == codes.OK and ok:
-        n, ok, mu1, status = _least_period(meth, u, n, p, lw, fx, o, acc, T, work, tol,
+        m, ok, mu1, status = _least_period(meth, u, n, p, lw, fx, o, acc, T, work, tol,
                                            mu1, out)
+        if m != n:                  # solved again on P^m
+            _keep_jacobian(pend, work)
+        n = m
     if status != codes.OK:
         return GO_ON, status
     if ok and mu1 < 1.0 - 1e-9:
@@ -409,9 +439,11 @@ def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out, pend):
                                           out)
             if status != codes.OK:
                 return GO_ON, status
+            _keep_jacobian(pend, work)
         pend[0] = n
         pend[3] = mu1
         pend[4] = 1.0 if ok else 0.0
+        pend[11] = _margin(p, o, out)
         return PENDING, codes.OK
     if abs(mu1 - 1.0) <= 1e-3 and mu2 < 1.0 and d <= NEUTRAL:
         # a multiplier 1 and no isolated fixed point: the motion's own numbers, never
@@ -428,6 +460,37 @@ def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out, pend):
             out[OB_STATUS] = codes.UNRESOLVED
         return ANSWERED, codes.OK
     return GO_ON, codes.OK
+
+
+@kernel
+def _margin(p, o, out):
+    """How far [L] the response of ``out`` keeps from the belt's speed (its velocity
+    scale's units): a slide that never sticks or stops, 0 otherwise."""
+    if out[OB_STICKS_PER_PERIOD] != 0.0 or out[OB_STOPS_PER_PERIOD] != 0.0:
+        return 0.0
+    v = p[V]
+    top = out[OB_XDOT_MAX]
+    bottom = top - 2.0 * out[OB_VAMPLITUDE]
+    return min(abs(v - top), abs(v - bottom)) / o[O_LV]
+
+
+@kernel
+def _same_pattern(counts, j, n, out):
+    """Whether the last n periods had the fixed point's sticks and stops (``out``,
+    measured by Newton over its n periods)."""
+    sticks = 0.0
+    stops = 0.0
+    for i in range(n):
+        sticks += counts[(j - i) % NH, 0]
+        stops += counts[(j - i) % NH, 1]
+    return sticks == out[OB_STICKS_PER_PERIOD] and stops == out[OB_STOPS_PER_PERIOD]
+
+
+@kernel(inline="always")
+def _keep_jacobian(pend, work):
+    """P^n's Jacobian at the fixed point, from Newton's last (tracked) image."""
+    for i in range(4):
+        pend[5 + i] = work[S_J + i]
 
 
 @kernel
