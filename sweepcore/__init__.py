@@ -7,7 +7,7 @@ Public API::
     Params, simulate, attractor, Attractor, Grid, sweep, estimate, SweepTooLarge,
     hopf_boundary,
     locate_boundaries, continue_boundary, bifurcation_diagram, slip_cycles,
-    basin_stability, frequency_response, stroboscopic_diagram,
+    basin_stability, frequency_response, stroboscopic_diagram, follow_response,
     open_result, write_netcdf, check_cf, compile,
     plot_result, plot_map, plot_lines, plot_trajectory, plot_cases, plot_friction,
     plot_diagram, plot_hysteresis, plot_boundaries, plot_basins, plot_forced_map,
@@ -46,6 +46,7 @@ _WHERE = {
     "SweepTooLarge": ".sizing", "estimate": ".sizing",
     "sweep": ".sweep",
     "frequency_response": ".response_curves", "stroboscopic_diagram": ".response_curves",
+    "follow_response": ".continuation",
 }
 PLOTS = ("plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
          "plot_friction", "plot_diagram", "plot_hysteresis", "plot_boundaries",
@@ -54,7 +55,7 @@ _NAMES = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "esti
           "SweepTooLarge",
           "hopf_boundary", "locate_boundaries", "continue_boundary",
           "bifurcation_diagram", "slip_cycles", "basin_stability", "frequency_response",
-          "stroboscopic_diagram",
+          "stroboscopic_diagram", "follow_response",
           "open_result", "write_netcdf", "check_cf", "compile", *PLOTS]
 
 

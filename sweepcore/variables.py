@@ -166,3 +166,23 @@ N_ATTRACTORS = ("1", "number of attractors found in the box",
 SAMPLES = ("1", "starts run for the point",
            "sampled route: the Monte-Carlo starts; exact route: the checks of its "
            "premise")
+
+# a followed branch of forced responses (sweepcore.follow_response), along `point`,
+# beside the forced observables it shares: name -> (units, long_name, comment)
+BRANCH = {
+    "floquet": ("1", "largest multiplier modulus",
+                "largest |multiplier| of P^n at the periodic point (the eigenvalues of "
+                "the kernels' tangent, saltation included): < 1 stable"),
+    "multiplier_real": ("1", "real part of a multiplier of P^n",
+                        "the two Floquet multipliers, largest modulus first (dimension "
+                        "multiplier); a start stuck at t = 0 has the second exactly 0"),
+    "multiplier_imag": ("1", "imaginary part of a multiplier of P^n",
+                        "0 for real multipliers; a complex pair is conjugate"),
+    "stable": ("1", "the response is stable", "1 where floquet < 1"),
+    "special_width": ("", "bracket of the special point in the parameter",
+                      "final bracket width of an event's location (0 for a regular "
+                      "point); the event lies within it of the point's parameter"),
+    "arclength": ("1", "pseudo-arclength from the start",
+                  "sum of the steps in the scaled unknowns (x/L, xdot/Lv, "
+                  "parameter/its scale)"),
+}
