@@ -330,6 +330,9 @@ def turn(prob: Problem, tip: Point, t):
             old = prob.on_segment(tip, t, -delta, tip.w - delta * t)
         except Failed:
             continue
+        if old.pattern() != tip.pattern():      # the corrector fell on the other arm
+            old.sigma = -delta
+            return old
         for e in (n1, -n1, n2, -n2):
             try:
                 new = prob.correct(old.w + delta * e, t, t @ tip.w - delta, old.w)
@@ -350,13 +353,17 @@ def turn(prob: Problem, tip: Point, t):
 class Record:
     """A point of the followed branch as the Dataset shows it: ``point`` (None where
     the correction failed: then ``w`` is where it was tried), ``special``,
-    ``width`` (an event's final bracket in the parameter), ``status``."""
+    ``at`` (an event's parameter: the middle of its bracket, or its test
+    function's root), ``width`` (how far the event may lie from ``at``),
+    ``status``, ``change`` (of a pattern event: the patterns before and after)."""
 
-    __slots__ = ("point", "special", "width", "status", "w")
+    __slots__ = ("point", "special", "width", "status", "w", "at", "change")
 
-    def __init__(self, point, special, width=0.0, status=codes.OK, w=None):
+    def __init__(self, point, special, width=0.0, status=codes.OK, w=None, at=None,
+                 change=None):
         self.point, self.special, self.width, self.status = point, special, width, status
         self.w = point.w if point is not None else w
+        self.at, self.change = at, change
 
 
 # why a branch ended
@@ -403,9 +410,10 @@ class _Walk:
             raise Failed(CORRECTOR_FAILED, end.w)
         return end, (REACHED if edge == self.to else LEFT)
 
-    def advance(self, new: Point, special=REGULAR, width=0.0, status=codes.OK):
+    def advance(self, new: Point, special=REGULAR, width=0.0, status=codes.OK,
+                at=None, change=None):
         """Record ``new`` and move the base to it, the tangent along the secant."""
-        self.records.append(Record(new, special, width, status))
+        self.records.append(Record(new, special, width, status, at=at, change=change))
         self.t = tangent(new, new.w - self.base.w)
         self.base = new
 
@@ -461,6 +469,8 @@ def follow(prob: Problem, first: Point, to: float, window, step: float,
             _prune(walk.records, chase)
             walk.records[-1].special = pattern_kind(base.pattern(), other.pattern())
             walk.records[-1].width = small * prob.S[2] * abs(walk.t[2])
+            walk.records[-1].at = prob.lam(base.w)
+            walk.records[-1].change = (base.pattern(), other.pattern())
             walk.advance(other)
             h = RESTART * max_step
             continue
@@ -472,7 +482,9 @@ def follow(prob: Problem, first: Point, to: float, window, step: float,
             _prune(walk.records, chase)
             kind = pattern_kind(base.pattern(), new.pattern())
             came = base.pattern()
-            walk.advance(new, kind, abs(prob.lam(new.w) - prob.lam(base.w)))
+            la, lb = prob.lam(base.w), prob.lam(new.w)
+            walk.advance(new, kind, 0.5 * abs(lb - la), at=0.5 * (la + lb),
+                         change=(base.pattern(), new.pattern()))
             walk.t = tangent(new, walk.t)       # ahead, as the arm before it
             h = RESTART * max_step
             lo, hi = walk.window
@@ -492,7 +504,7 @@ def follow(prob: Problem, first: Point, to: float, window, step: float,
                 continue
             new = end
         for pt, kind, width, status in smooth_events(prob, base, walk.t, new, xtol):
-            walk.records.append(Record(pt, kind, width, status))
+            walk.records.append(Record(pt, kind, width, status, at=prob.lam(pt.w)))
         steps += 1
         walk.advance(new, END if ended else REGULAR)
         if ended:

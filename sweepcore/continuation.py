@@ -306,9 +306,12 @@ def branch_dataset(records, prob, params, over: str, call: str, ended: str) -> x
         "flag_values": np.array([0, 1], np.int8), "flag_meanings": "unstable stable"})
     data["special"] = (dim, np.array([r.special for r in records], np.int8),
                        labels.flags(branch.SPECIAL_NAMES, "special point of the branch"))
-    units_w, long_w, comment_w = variables.BRANCH["special_width"]
-    data["special_width"] = (dim, np.array([r.width for r in records], float),
-                             labels.attrs(UNITS[over], long_w, comment_w))
+    for name, vals in (("special_value", [math.nan if r.at is None else r.at
+                                          for r in records]),
+                       ("special_width", [r.width for r in records])):
+        _u, long_w, comment_w = variables.BRANCH[name]
+        data[name] = (dim, np.array(vals, float), labels.attrs(UNITS[over], long_w,
+                                                                comment_w))
     steps = np.linalg.norm(np.diff(w / prob.S, axis=0), axis=1) if npt > 1 else []
     data["arclength"] = (dim, np.concatenate([[0.0], np.cumsum(steps)]),
                          labels.attrs(*variables.BRANCH["arclength"]))

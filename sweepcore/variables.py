@@ -179,9 +179,14 @@ BRANCH = {
     "multiplier_imag": ("1", "imaginary part of a multiplier of P^n",
                         "0 for real multipliers; a complex pair is conjugate"),
     "stable": ("1", "the response is stable", "1 where floquet < 1"),
-    "special_width": ("", "bracket of the special point in the parameter",
-                      "final bracket width of an event's location (0 for a regular "
-                      "point); the event lies within it of the point's parameter"),
+    "special_value": ("", "parameter of the special point's event",
+                      "the middle of the final bracket of a change of sticks or stops "
+                      "(the point itself is the first of the new pattern), the root "
+                      "of the test function of a fold, branch point, period doubling "
+                      "or torus (the point itself); NaN for a regular point"),
+    "special_width": ("", "error bound of special_value",
+                      "half the final bracket of a pattern change, the secant's error "
+                      "estimate of a test function's root; 0 for a regular point"),
     "arclength": ("1", "pseudo-arclength from the start",
                   "sum of the steps in the scaled unknowns (x/L, xdot/Lv, "
                   "parameter/its scale)"),
