@@ -34,11 +34,11 @@ OBSERVED = ("amplitude", "mean", "x_max", "x_min", "xdot_max", "velocity_amplitu
 
 
 # ------------------------------------------------------------------ the problem
-def check_parameter(name, params: Params | None = None) -> str:
+def check_parameter(name, params: Params | None = None, what: str = "over") -> str:
     """``name`` if a branch can follow it (for ``params``' law), else a ValueError
-    naming it."""
+    naming it (as the argument ``what``)."""
     if not isinstance(name, str) or name not in PARAMETERS:
-        raise ValueError(f"over must be one of {', '.join(PARAMETERS)}, got {name!r}"
+        raise ValueError(f"{what} must be one of {', '.join(PARAMETERS)}, got {name!r}"
                          f"{did_you_mean(str(name), list(PARAMETERS))}")
     if params is not None and params.law is not None and name in ANALYTIC_ONLY:
         raise ValueError(f"over={name!r} is a parameter of the analytic friction "

@@ -65,7 +65,6 @@ def _other(grid: Grid, along: str, lo: float) -> Grid:
     if grid.mode != "product":
         raise ValueError("locate_boundaries needs a product Grid (Grid(...)), not "
                          "Grid.points")
-    continuation.check_parameter(along)
     if grid.law is not None and along in continuation.ANALYTIC_ONLY:
         raise ValueError(f"along={along!r} is a parameter of the analytic law; the "
                          "grid's law is an object")
@@ -150,6 +149,7 @@ def locate_chunk(rows, laws, loads, along, lo, hi, o, tol, xtol, parallel=False)
 def locate_forced(grid: Grid, along: str, bracket, xtol: float, tol: float,
                   method: str, chunks, client, scheduler, options) -> xr.Dataset:
     """:func:`sweepcore.locate_boundaries` of a forced grid (module docstring)."""
+    continuation.check_parameter(along, what="along")
     lo, hi = _bracket(grid, along, bracket)
     other = _other(grid, along, lo)
     forced.check_method(method)
@@ -175,6 +175,7 @@ def continue_forced(grid: Grid, over: str, along: str, bracket, xtol: float,
     """:func:`sweepcore.continue_boundary` of a forced grid: the stick onset along
     ``over``, each step searched in a bracket of +-``NARROW`` of its prediction
     (linear through the previous two), the whole bracket where that finds none."""
+    continuation.check_parameter(along, what="along")
     lo, hi = _bracket(grid, along, bracket)
     other = _other(grid, along, lo)
     if other.swept != (over,):
