@@ -56,6 +56,8 @@ MAX_HALVINGS = 8    # of a Newton step whose residual does not decrease
 COS_MIN = 0.9       # consecutive tangents at least this aligned (else a smaller step)
 KINK = 1e-3         # ... unless the step is below KINK of max_step: a kink (a switch)
 RESTART = 0.02      # the step after a located change, of max_step
+FLIP = 1e-4         # past a change, the new arm is taken backwards where no step of
+                    # FLIP max_step finds it ahead (the change was a non-smooth fold)
 MAX_ROOT = 80       # iterations of one event's root or bisection
 
 
@@ -445,6 +447,7 @@ def follow(prob: Problem, first: Point, to: float, window, step: float,
     walk = _Walk(prob, first, to, window, max_step, xtol)
     h, steps = float(step), 0
     came = None     # the pattern before a change just located (the base is its point)
+    flipped = False  # ... and the new arm is followed backwards (see below)
     chase = []      # records of steps shortened by a change ahead (kept: the last)
     while steps < max_points:
         base = walk.base
@@ -454,15 +457,16 @@ def follow(prob: Problem, first: Point, to: float, window, step: float,
             if came is not None and new.pattern() == came:
                 raise Failed(CORRECTOR_FAILED, new.w)   # back over the change
         except Failed as e:
-            if h > small:
+            ahead = came is not None and not flipped
+            if h > (FLIP * max_step if ahead else small):
                 h *= 0.5
                 continue
-            if came is not None:
+            if ahead:
                 # the new arm does not go on ahead: it leaves the switch backwards
                 # (a non-smooth fold whose point was found just past the tip)
-                walk.t, came, h = -walk.t, None, RESTART * max_step
+                walk.t, flipped, h = -walk.t, True, RESTART * max_step
                 continue
-            other = turn(prob, base, walk.t)
+            other = None if came is not None else turn(prob, base, walk.t)
             if other is None:
                 walk.records.append(Record(None, END, math.nan, e.status, e.w))
                 return walk.records, FAILED
@@ -472,7 +476,7 @@ def follow(prob: Problem, first: Point, to: float, window, step: float,
             walk.records[-1].at = prob.lam(base.w)
             walk.records[-1].change = (base.pattern(), other.pattern())
             walk.advance(other)
-            h = RESTART * max_step
+            came, flipped, h = base.pattern(), True, RESTART * max_step
             continue
         if new.pattern() != base.pattern():
             if h > small:
@@ -481,7 +485,7 @@ def follow(prob: Problem, first: Point, to: float, window, step: float,
                 continue
             _prune(walk.records, chase)
             kind = pattern_kind(base.pattern(), new.pattern())
-            came = base.pattern()
+            came, flipped = base.pattern(), False
             la, lb = prob.lam(base.w), prob.lam(new.w)
             walk.advance(new, kind, 0.5 * abs(lb - la), at=0.5 * (la + lb),
                          change=(base.pattern(), new.pattern()))
@@ -492,7 +496,7 @@ def follow(prob: Problem, first: Point, to: float, window, step: float,
                 return walk.records, (REACHED if abs(prob.lam(new.w) - to) <
                                       abs(prob.lam(new.w) - prob.lam(first.w)) else LEFT)
             continue
-        came = None
+        came, flipped = None, False
         try:
             end, ended = walk.window_end(new)
         except Failed:

@@ -51,8 +51,9 @@ def columns(row: np.ndarray, name: str) -> tuple:
     """The kernel columns the parameter ``name`` sets: its own, and r_k with r_y
     where they are equal (Coulomb friction moves as one level)."""
     col = law.COLUMNS.get(name, excitations.COLUMNS.get(name))
-    if name == "r_y" and row[layout.RK] == row[layout.RY]:
-        return (col, layout.RK)
+    r_k = law.COLUMNS["r_k"]
+    if name == "r_y" and row[r_k] == row[col]:
+        return (col, r_k)
     return (col,)
 
 

@@ -144,12 +144,16 @@ MAX_BRANCHES = 4     # branches followed from a curve's responses at most
 # responses of higher multiplicity start no branch: subharmonic responses live in
 # narrow tongues whose branches fold many times (follow one with follow_response)
 BRANCH_MULTIPLICITY = 2
-SAME_BRANCH = 1e-3   # a response this near a followed branch (scaled) is on it
+# a response nearer a followed branch's polyline than this (scaled), or than this
+# fraction of the segment's length (the chord's sag), is on it
+SAME_BRANCH = 1e-3
+SAG = 0.1
 
 
 def _near(branch_ds, x, xd, w, scale) -> bool:
-    """Whether (x, xd) at Omega = w lies within SAME_BRANCH of the branch's polyline
-    in the scaled unknowns (x/L, xdot/Lv, Omega/Lambda)."""
+    """Whether (x, xd) at Omega = w lies on the branch's polyline in the scaled
+    unknowns (x/L, xdot/Lv, Omega/Lambda), within SAME_BRANCH or SAG of a segment's
+    length."""
     pts = np.stack([branch_ds.x_section.values, branch_ds.xdot_section.values,
                     branch_ds.Omega.values], axis=1) / scale
     pts = pts[np.isfinite(pts).all(axis=1)]
@@ -160,7 +164,8 @@ def _near(branch_ds, x, xd, w, scale) -> bool:
     d = b - a
     f = np.clip(np.einsum("ij,ij->i", q - a, d) / np.maximum(
         np.einsum("ij,ij->i", d, d), 1e-300), 0.0, 1.0)
-    return bool(np.min(np.linalg.norm(a + f[:, None] * d - q, axis=1)) < SAME_BRANCH)
+    dist = np.linalg.norm(a + f[:, None] * d - q, axis=1)
+    return bool(np.any(dist < np.maximum(SAME_BRANCH, SAG * np.linalg.norm(d, axis=1))))
 
 
 def _branches(params, values, scans, tol, method, options) -> list:

@@ -22,11 +22,10 @@ import math
 import numpy as np
 import xarray as xr
 
-from .. import branch, continuation, execute, forced, labels
+from .. import branch, continuation, execute, forced, labels, law
 from .._kernels import codes, layout
 from ..excitations import HARMONIC, theory
 from ..grid import Grid, checked_grid
-from ..laws import ANALYTIC
 from ..options import make_options
 from ..params import LONG_NAMES, UNITS, check_real
 from .point import ABSENT, FAILED, INCONSISTENT, LOCATED, SEARCH_NAMES
@@ -99,7 +98,7 @@ def _events(records) -> dict:
     return out
 
 
-def locate_point(row, law, load, along: str, lo: float, hi: float, o, tol: float,
+def locate_point(row, law_object, load, along: str, lo: float, hi: float, o, tol: float,
                  xtol: float) -> dict:
     """The stick onset and the stops change of one kernel row along ``along`` in
     [lo, hi] (the row's start: the grid's), as a dict of the Dataset's fields."""
@@ -110,13 +109,13 @@ def locate_point(row, law, load, along: str, lo: float, hi: float, o, tol: float
     for c in cols:
         row[c] = lo
     out = np.empty((1, layout.NFOB))
-    forced.responses(row[None, :], (law,), (load,), o, out)
+    forced.responses(row[None, :], (law_object,), (load,), o, out)
     n = out[0, layout.OB_MULTIPLICITY]
     if int(out[0, layout.OB_STATUS]) not in (codes.OK, codes.UNRESOLVED) or \
             not math.isfinite(n):
         res["stick_status"] = res["stops_status"] = FAILED
         return res
-    prob = continuation.problem(row, law, load, along, int(n), o, tol,
+    prob = continuation.problem(row, law_object, load, along, int(n), o, tol,
                                 max(abs(lo), abs(hi)))
     try:
         first = prob.at_parameter(prob.scaled(out[0, layout.OB_X_SECTION],
@@ -188,19 +187,19 @@ def continue_forced(grid: Grid, over: str, along: str, bracket, xtol: float,
     rows = other.rows(0, other.size)
     results, found = [], []
     for i, row in enumerate(rows):
-        law, load = other.laws[int(row[layout.LAW])], other.loads[int(row[layout.LOAD])]
+        law_object, load = other.laws[int(row[layout.LAW])], other.loads[int(row[layout.LOAD])]
         res = None
         if len(found) >= 2:
             (x1, y1), (x2, y2) = found[-2:]
             guess = y2 + (y2 - y1) * (xs[i] - x2) / (x2 - x1)
             a, b = max(lo, guess * (1 - NARROW)), min(hi, guess * (1 + NARROW))
             if a < b:
-                res = locate_point(row, law, load, along, a, b, o, tol, xtol)
+                res = locate_point(row, law_object, load, along, a, b, o, tol, xtol)
                 if res["stick_status"] != LOCATED:
                     res = None
         continued = res is not None
         if res is None:
-            res = locate_point(row, law, load, along, lo, hi, o, tol, xtol)
+            res = locate_point(row, law_object, load, along, lo, hi, o, tol, xtol)
         res["continued"] = int(continued)
         if res["stick_status"] == LOCATED:
             found.append((xs[i], res["stick_value"]))
@@ -221,21 +220,19 @@ def continue_forced(grid: Grid, over: str, along: str, bracket, xtol: float,
 # ------------------------------------------------------------------ the Dataset
 def den_hartog(rows, laws, loads, along: str) -> np.ndarray:
     """Den Hartog's continuous-motion boundary in F0, r_y / r_b(Omega/omega) [kN],
-    at each row where it applies (c = 0, v = 0, Coulomb friction, one cosine, no
-    base motion, the analytic law); NaN elsewhere."""
+    at each row where it applies (the analytic law with Coulomb friction, c = 0,
+    v = 0, one cosine, no base motion); NaN elsewhere."""
     out = np.full(len(rows), np.nan)
     if along != "F0":
         return out
     for i, r in enumerate(rows):
-        law, load = laws[int(r[layout.LAW])], loads[int(r[layout.LOAD])]
-        if law is not ANALYTIC or load != HARMONIC:
+        src = law.from_row(r, laws[int(r[layout.LAW])])
+        if "law" in src or loads[int(r[layout.LOAD])] != HARMONIC or r[layout.Y0] or \
+                src["c"] or src["v"] or src["alpha1"] or src["alpha2"] or \
+                src["r_k"] != src["r_y"]:
             continue
-        if r[layout.C] or r[layout.V] or r[layout.Y0] or r[layout.A1] or \
-                r[layout.A2] or r[layout.RK] != r[layout.RY]:
-            continue
-        omega = math.sqrt(r[layout.K] / r[layout.M])
-        out[i] = r[layout.RY] / float(theory.continuous_motion_boundary(
-            r[layout.OMEGA] / omega))
+        out[i] = src["r_y"] / float(theory.continuous_motion_boundary(
+            r[layout.OMEGA] / math.sqrt(src["k"] / src["m"])))
     return out
 
 
