@@ -92,6 +92,23 @@ def test_the_branch_turns_through_a_fold_onto_unstable_responses(fold_branch):
     assert float(fold.special_width[0]) <= 1e-9 * float(fold.Omega[0])
 
 
+@pytest.mark.parametrize("start", [1.1, 1.175])
+def test_from_inside_the_window_the_branch_turns_at_the_grazing(start, fold_branch):
+    """Started on the slip response between the torus and Omega = 1.3, the branch
+    (inside the window 0.95-1.3) meets the grazing's non-smooth fold and turns onto
+    the stick-slip arm, as from 1.3: the same fold (whose multiplier the reference
+    puts on the circle, above) to 1e-9."""
+    p = sc.Params(**SLIDER, Omega=start)
+    ds = sc.follow_response(p, over="Omega", to=0.95, x0=p.x_eq, xdot0=0.0,
+                            bounds=(0.95, 1.3))
+    assert ds.attrs["ended"] == "reached"
+    names = ds.special.attrs["flag_meanings"].split()
+    assert [names[c] for c in ds.special.values if c > 0] == \
+        ["start", "torus", "stick_onset", "fold", "end"]
+    fold = float(_special(ds, "fold").special_value[0])
+    assert abs(fold - float(_special(fold_branch, "fold").special_value[0])) < 1e-9
+
+
 def _sampled(ds, every=5):
     """Regular points of the branch, every ``every``-th."""
     regular = np.flatnonzero(ds.special.values == branch.REGULAR)
