@@ -11,7 +11,7 @@ Public API::
     open_result, write_netcdf, check_cf, compile,
     plot_result, plot_map, plot_lines, plot_trajectory, plot_cases, plot_friction,
     plot_diagram, plot_hysteresis, plot_boundaries, plot_basins, plot_forced_map,
-    plot_frequency_response, plot_stroboscopic, plot_branch,
+    plot_frequency_response, plot_stroboscopic, plot_branch, plot_forced_boundaries,
     TableLaw, LeineLaw (every law class of ``sweepcore.laws.LAWS``),
     PeriodicLoad (every load class of ``sweepcore.excitations.LOADS``)
 
@@ -51,7 +51,7 @@ _WHERE = {
 PLOTS = ("plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
          "plot_friction", "plot_diagram", "plot_hysteresis", "plot_boundaries",
          "plot_basins", "plot_forced_map", "plot_frequency_response", "plot_stroboscopic",
-         "plot_branch")
+         "plot_branch", "plot_forced_boundaries")
 _NAMES = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "estimate",
           "SweepTooLarge",
           "hopf_boundary", "locate_boundaries", "continue_boundary",

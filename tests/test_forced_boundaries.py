@@ -15,7 +15,8 @@ What is proven, and to what tolerance:
   periodic point, finds finite sticks at 1 - 1e-7 of the located load and none at
   1 + 1e-7 (beta = 0.8 and 2);
 * continue_boundary along Omega: every step within 1e-9 of Den Hartog's boundary,
-  the steps after the first two searched around their prediction (``continued``);
+  the steps after the first two searched around their prediction (``continued``),
+  drawn by plot_result with Den Hartog's curve beside it;
 * refusals name the argument and its value.
 
 Runtime: ~10 s of calls after the kernels are compiled.
@@ -79,6 +80,9 @@ def test_continue_boundary_follows_den_hartogs_boundary_along_omega():
     exact = R / theory.continuous_motion_boundary(betas)
     assert np.abs(ds.F0_stick_onset.values - exact).max() <= 1e-9 * exact.min()
     assert (ds.continued.values[2:] == 1).all()
+    labels = [ln.get_label() for ln in sc.plot_result(ds).axes[0].get_lines()]
+    assert "F0 stick onset (located)" in labels and \
+        any(lb.startswith("Den Hartog") for lb in labels)
 
 
 @pytest.mark.parametrize("kwargs, match", [

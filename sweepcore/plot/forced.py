@@ -88,9 +88,53 @@ def continuous_motion_boundary(ds: xr.Dataset, Omega: np.ndarray):
     return r_y / r_b(np.asarray(Omega) / omega)
 
 
+def _boundary_lines(ax, bds: xr.Dataset, x: str) -> None:
+    """A forced boundary file's curves over ``x`` (its one dimension): the stick
+    onset solid, the stops change dotted where it differs, Den Hartog's boundary
+    dashed where it applies."""
+    along = bds.attrs["along"]
+    u = bds[x].values
+    onset = bds[f"{along}_stick_onset"].values
+    ax.plot(u, onset, "-", color="k", lw=1.6, marker=".", ms=4,
+            label=f"{along} stick onset (located)")
+    stops = bds[f"{along}_stops_change"].values
+    if not np.allclose(stops, onset, rtol=1e-6, equal_nan=True):
+        ax.plot(u, stops, ":", color="#882255", lw=1.4, label=f"{along} stops change")
+    if f"{along}_den_hartog" in bds:
+        ax.plot(u, bds[f"{along}_den_hartog"].values, "--", color="#E69F00", lw=1.2,
+                label="Den Hartog r / r_b(Omega/omega)")
+
+
+@checked_keywords
+def plot_forced_boundaries(ds: xr.Dataset) -> Figure:
+    """A forced boundary file (``locate_boundaries`` / ``continue_boundary`` of a
+    forced grid over one axis): the stick onset and the stops change against that
+    axis, Den Hartog's boundary beside them where it applies."""
+    checked_result(ds)
+    along = ds.attrs.get("along")
+    if ds.attrs.get("sweepcore_kind") != "boundaries" or \
+            f"{along}_stick_onset" not in ds:
+        raise ValueError("ds must be a forced boundary file (locate_boundaries of a "
+                         "forced grid)")
+    dims = [d for d in ds[f"{along}_stick_onset"].dims]
+    if len(dims) != 1:
+        raise ValueError(f"a forced boundary file over one axis is drawn, this one is "
+                         f"over {dims}")
+    fig = Figure(figsize=(7, 4), layout="constrained")
+    ax = fig.subplots()
+    _boundary_lines(ax, ds, dims[0])
+    ax.set_xlabel(_axis_label(ds, dims[0]))
+    ax.set_ylabel(_axis_label(ds, along) if along in ds.coords else
+                  f"{along} [{ds[f'{along}_stick_onset'].attrs.get('units', '')}]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.suptitle(f"{ds.attrs.get('title', '')}\n{fixed_parameters(ds)}", fontsize=9)
+    return fig
+
+
 @checked_keywords
 def plot_forced_map(ds: xr.Dataset, x: str = "Omega", y: str = "F0",
-                    variables=FORCED_MAP_VARIABLES) -> Figure:
+                    variables=FORCED_MAP_VARIABLES, boundaries=None) -> Figure:
     """A forced response map: the count variables (``stops_per_period``,
     ``sticks_per_period``) as categorical maps, any other as a colour map (the
     amplitude on a log scale), over (x, y); with Den Hartog's continuous-motion
@@ -104,6 +148,9 @@ def plot_forced_map(ds: xr.Dataset, x: str = "Omega", y: str = "F0",
         Its swept dimensions across and up (default Omega and F0).
     variables : sequence of str
         One panel each.
+    boundaries : xarray.Dataset, optional
+        A forced boundary file along ``y`` over ``x`` (``locate_boundaries`` of the
+        same slider): its stick onset drawn over each panel.
     """
     checked_result(ds, "sweep")
     for n in (x, y):
@@ -136,6 +183,9 @@ def plot_forced_map(ds: xr.Dataset, x: str = "Omega", y: str = "F0",
         if boundary is not None:
             ax.plot(fine, boundary, "k--", lw=1.2,
                     label="F0 = r / r_b(Omega/omega): no stick above (Den Hartog)")
+        if boundaries is not None and f"{y}_stick_onset" in boundaries:
+            ax.plot(boundaries[x].values, boundaries[f"{y}_stick_onset"].values, "-",
+                    color="#CC79A7", lw=1.6, label=f"{y} stick onset (located)")
         handles = ax.get_legend_handles_labels()[0] + extra
         if name not in CLASS_VARIABLES and handles:
             ax.legend(handles=handles, loc="lower right", fontsize=7)
