@@ -10,23 +10,29 @@ speed scale and the parameter's). A point of the branch solves
 ``J = d(x, zdot)/d(x0, zdot0)`` come from the kernels (``sweepcore.compiled.images``:
 the variational equations with a saltation matrix at every switch); a start that is
 stuck is one number (x: the stick forgets the velocity), so J's second column is 0
-there, which makes ``F`` one smooth map on either side of a stick's end through the
-section. ``dP^n/dlam`` is a central difference of two more images
-(``DIFF`` of the parameter's scale; one-sided next to a bound the parameter may not
-cross). The predictor steps along the tangent (the null vector of ``DF``, the cross
-product of its two rows, oriented along the secant); the corrector is Newton's
-method on ``F = 0`` and ``t . (y - y_k) = sigma`` (Keller's pseudo-arclength
-condition, after Dankowicz & Schilder's COCO), to ``|F| <= tol``.
+there, which makes ``F`` one continuous, piecewise-smooth map on either side of a
+stick's end through the section. ``dP^n/dlam`` is a central difference of two more
+images (``DIFF`` of the parameter's scale; one-sided next to a bound the parameter
+may not cross). The predictor steps along the tangent (the null vector of ``DF``,
+the cross product of its two rows, oriented along the secant); the corrector is
+Newton's method on ``F = 0`` and ``t . (y - y_k) = sigma`` (Keller's
+pseudo-arclength condition, after Dankowicz & Schilder's COCO), to ``|F| <= tol``,
+each step halved until the residual decreases.
 
-Between two points the branch is parametrised by sigma (the same hyperplanes), and
-* a change of the pattern (finite sticks, zero-duration stops per response period)
-  is bisected on sigma until the parameter's bracket is below ``xtol`` (a third
-  pattern inside splits the bracket: two events);
-* inside a stretch of one pattern, a sign change of a test function is solved by
-  the Illinois method on sigma: ``det(J - I)`` (a multiplier through +1: a fold if
-  the tangent's parameter component changes sign too, else a branch point),
-  ``det(J + I)`` (through -1: period doubling), ``det(J) - 1`` between complex
-  multipliers (through the unit circle: torus).
+* A step whose point has another pattern (finite sticks, zero-duration stops per
+  response period) than its base is halved until the parameter moves less than
+  ``xtol`` times its value over it: the change lies between the two points. Next to
+  a grazing the arms of the two patterns run a few degrees apart, and a corrector
+  started between them lands on either: halving from the last point of the old
+  pattern keeps to its arm. The new arm is then followed ahead, or backwards where
+  no step finds it ahead; an arm that ends with nothing ahead (a non-smooth fold)
+  turns onto the other arm behind its tip (:func:`turn`).
+* Between two points of one pattern (parametrised by sigma on the hyperplanes of
+  the first), a sign change of a test function is solved by the Illinois method:
+  ``det(J - I)`` (a multiplier through +1: a fold if the tangent's parameter
+  component changes sign too, else a branch point), ``det(J + I)`` (through -1:
+  period doubling), ``det(J) - 1`` between complex multipliers (through the unit
+  circle: torus).
 """
 from __future__ import annotations
 
