@@ -57,13 +57,20 @@ def columns(row: np.ndarray, name: str) -> tuple:
     return (col,)
 
 
+def excitation(row: np.ndarray) -> dict:
+    """The excitation's keywords of a kernel row, read through the excitation
+    table's columns (``sweepcore.excitations.COLUMNS``)."""
+    return {name: float(row[col]) for name, col in excitations.COLUMNS.items()}
+
+
 def scales(row: np.ndarray, law_object, load) -> tuple:
     """(L [cm], Lv [cm/s]) of a forced row: the static bound and the excitation
     over k, plus |v|/omega; Lv = omega L + |v|."""
     k, m, c = row[layout.K], row[layout.M], row[layout.C]
     omega = math.sqrt(k / m)
-    excite = abs(row[layout.F0]) * load.bound() + abs(row[layout.Y0]) * math.hypot(
-        k, c * row[layout.OMEGA])
+    ex = excitation(row)
+    excite = abs(ex["F0"]) * load.bound() + abs(ex["Y0"]) * math.hypot(
+        k, c * ex["Omega"])
     L = float(law.length_scale(row[None, :], (law_object,))[0]) + excite / k
     return L, omega * L + abs(row[layout.V])
 

@@ -227,12 +227,13 @@ def den_hartog(rows, laws, loads, along: str) -> np.ndarray:
         return out
     for i, r in enumerate(rows):
         src = law.from_row(r, laws[int(r[layout.LAW])])
-        if "law" in src or loads[int(r[layout.LOAD])] != HARMONIC or r[layout.Y0] or \
+        ex = continuation.excitation(r)
+        if "law" in src or loads[int(r[layout.LOAD])] != HARMONIC or ex["Y0"] or \
                 src["c"] or src["v"] or src["alpha1"] or src["alpha2"] or \
                 src["r_k"] != src["r_y"]:
             continue
         out[i] = src["r_y"] / float(theory.continuous_motion_boundary(
-            r[layout.OMEGA] / math.sqrt(src["k"] / src["m"])))
+            ex["Omega"] / math.sqrt(src["k"] / src["m"])))
     return out
 
 

@@ -112,8 +112,7 @@ def plot_forced_boundaries(ds: xr.Dataset) -> Figure:
     axis, Den Hartog's boundary beside them where it applies."""
     checked_result(ds)
     along = ds.attrs.get("along")
-    if ds.attrs.get("sweepcore_kind") != "boundaries" or \
-            f"{along}_stick_onset" not in ds:
+    if ds.attrs.get("sweepcore_kind") != "boundaries" or "sticks_below" not in ds:
         raise ValueError("ds must be a forced boundary file (locate_boundaries of a "
                          "forced grid)")
     dims = [d for d in ds[f"{along}_stick_onset"].dims]

@@ -36,7 +36,7 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
         if "unstable_amplitude" in ds and np.isfinite(ds.unstable_amplitude).any():
             return plot_hysteresis(ds)     # coexisting attractors
         return plot_diagram(ds)
-    if kind == "boundaries" and f"{ds.attrs.get('along')}_stick_onset" in ds:
+    if kind == "boundaries" and "sticks_below" in ds:
         return plot_forced_boundaries(ds)      # a forced grid's
     if kind == "boundaries":
         along_v = ds.attrs.get("along", "v") == "v"   # a map under curves along v
