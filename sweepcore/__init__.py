@@ -7,11 +7,11 @@ Public API::
     Params, simulate, attractor, Attractor, Grid, sweep, estimate, SweepTooLarge,
     hopf_boundary,
     locate_boundaries, continue_boundary, bifurcation_diagram, slip_cycles,
-    basin_stability, frequency_response, stroboscopic_diagram,
+    basin_stability, frequency_response, stroboscopic_diagram, follow_response,
     open_result, write_netcdf, check_cf, compile,
     plot_result, plot_map, plot_lines, plot_trajectory, plot_cases, plot_friction,
     plot_diagram, plot_hysteresis, plot_boundaries, plot_basins, plot_forced_map,
-    plot_frequency_response, plot_stroboscopic,
+    plot_frequency_response, plot_stroboscopic, plot_branch, plot_forced_boundaries,
     TableLaw, LeineLaw (every law class of ``sweepcore.laws.LAWS``),
     PeriodicLoad (every load class of ``sweepcore.excitations.LOADS``)
 
@@ -46,15 +46,17 @@ _WHERE = {
     "SweepTooLarge": ".sizing", "estimate": ".sizing",
     "sweep": ".sweep",
     "frequency_response": ".response_curves", "stroboscopic_diagram": ".response_curves",
+    "follow_response": ".continuation",
 }
 PLOTS = ("plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
          "plot_friction", "plot_diagram", "plot_hysteresis", "plot_boundaries",
-         "plot_basins", "plot_forced_map", "plot_frequency_response", "plot_stroboscopic")
+         "plot_basins", "plot_forced_map", "plot_frequency_response", "plot_stroboscopic",
+         "plot_branch", "plot_forced_boundaries")
 _NAMES = ["Params", "simulate", "attractor", "Attractor", "Grid", "sweep", "estimate",
           "SweepTooLarge",
           "hopf_boundary", "locate_boundaries", "continue_boundary",
           "bifurcation_diagram", "slip_cycles", "basin_stability", "frequency_response",
-          "stroboscopic_diagram",
+          "stroboscopic_diagram", "follow_response",
           "open_result", "write_netcdf", "check_cf", "compile", *PLOTS]
 
 

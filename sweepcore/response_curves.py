@@ -140,10 +140,102 @@ def coexisting(ds: xr.Dataset) -> np.ndarray:
     return ok & differ
 
 
+MAX_BRANCHES = 4     # branches followed from a curve's responses at most
+# responses of higher multiplicity start no branch: subharmonic responses live in
+# narrow tongues whose branches fold many times (follow one with follow_response)
+BRANCH_MULTIPLICITY = 2
+# a response nearer a followed branch's polyline than this (scaled), or than this
+# fraction of the segment's length (the chord's sag), is on it
+SAME_BRANCH = 1e-3
+SAG = 0.1
+
+
+def _near(branch_ds, x, xd, w, scale) -> bool:
+    """Whether (x, xd) at Omega = w lies on the branch's polyline in the scaled
+    unknowns (x/L, xdot/Lv, Omega/Lambda), within SAME_BRANCH or SAG of a segment's
+    length."""
+    pts = np.stack([branch_ds.x_section.values, branch_ds.xdot_section.values,
+                    branch_ds.Omega.values], axis=1) / scale
+    pts = pts[np.isfinite(pts).all(axis=1)]
+    q = np.array([x, xd, w]) / scale
+    if len(pts) < 2:
+        return len(pts) == 1 and np.linalg.norm(pts[0] - q) < SAME_BRANCH
+    a, b = pts[:-1], pts[1:]
+    d = b - a
+    f = np.clip(np.einsum("ij,ij->i", q - a, d) / np.maximum(
+        np.einsum("ij,ij->i", d, d), 1e-300), 0.0, 1.0)
+    dist = np.linalg.norm(a + f[:, None] * d - q, axis=1)
+    return bool(np.any(dist < np.maximum(SAME_BRANCH, SAG * np.linalg.norm(d, axis=1))))
+
+
+def _branches(params, values, scans, tol, method, options) -> list:
+    """The branches (``sweepcore.follow_response``) through the curve's periodic
+    ok responses, each followed both ways over the curve's Omega range; a response
+    already on a followed branch starts none."""
+    import warnings
+    from .continuation import follow_response, scales
+    lo, hi = float(values[0]), float(values[-1])
+    L, Lv = scales(params.row(0.0, 0.0), params.friction_law, params.loads[0])
+    scale = np.array([L, Lv, max(abs(lo), abs(hi))])
+    out = []
+    # in each sweep's own order (the scans are stored along ascending Omega)
+    seeds = [(w, r) for i, rows in enumerate(scans)
+             for w, r in (zip(values, rows) if i == 0 else
+                          zip(values[::-1], rows[::-1]))]
+    for w, r in seeds:
+        if len(out) >= MAX_BRANCHES:
+            break
+        if r.status != "ok" or not r.multiplicity <= BRANCH_MULTIPLICITY or \
+                any(_near(b, r.x_section, r.xdot_section, w, scale) for b in out):
+            continue
+        p = dataclasses.replace(params, Omega=float(w))
+        halves = []
+        for to in (lo, hi):
+            if to == w:
+                continue
+            try:
+                halves.append(follow_response(
+                    p, "Omega", to=to, x0=r.x_section, xdot0=r.xdot_section,
+                    multiplicity=int(r.multiplicity), bounds=(lo, hi), tol=tol,
+                    method=method, **options))
+            except ValueError as e:
+                warnings.warn(f"frequency_response: no branch from the response at "
+                              f"Omega = {w:g}: {e}", RuntimeWarning, stacklevel=3)
+                break
+        else:
+            parts = [halves[0].isel(point=slice(None, None, -1))] + \
+                [h.isel(point=slice(1, None)) for h in halves[1:]]
+            one = xr.concat(parts, dim="point", data_vars="all")
+            out.append(one.assign_coords(point=np.arange(one.sizes["point"])))
+    return out
+
+
+def _with_branches(ds: xr.Dataset, branches: list) -> xr.Dataset:
+    """``ds`` with the branches' variables along ``point`` (prefix ``branch_``) and
+    ``branch_index``, which branch each point is on."""
+    if not branches:
+        ds.attrs["branches"] = 0
+        return ds
+    joined = xr.concat(branches, dim="point", data_vars="all", coords="minimal",
+                       compat="override")
+    npt = joined.sizes["point"]
+    index = np.concatenate([np.full(b.sizes["point"], i) for i, b in enumerate(branches)])
+    data = {f"branch_{n}": v for n, v in joined.data_vars.items()}
+    data["branch_index"] = xr.Variable("point", index.astype(np.int64), {
+        "units": "1", "long_name": "index of the branch the point is on"})
+    ds = ds.assign(data).assign_coords(
+        point=xr.Variable("point", np.arange(npt), {
+            "units": "1", "long_name": "index of the point along the branches"}),
+        multiplier=joined["multiplier"])
+    ds.attrs["branches"] = len(branches)
+    return ds
+
+
 @checked_keywords(options=True)
 def frequency_response(params: Params, Omega, direction: str = "both",
                        x0: float = 0.0, xdot0: float | None = None, tol: float = 1e-8,
-                       method: str = "auto", **options) -> xr.Dataset:
+                       method: str = "auto", branches: bool = False,
+                       **options) -> xr.Dataset:
     """Steady responses of a forced slider along the excitation frequency, swept up
     and down, each point started from its neighbour's response.
 
@@ -161,6 +253,12 @@ def frequency_response(params: Params, Omega, direction: str = "both",
         xdot0 None is stuck on the belt, xdot0 = v).
     tol, method, **options
         As :func:`sweepcore.attractor` (``periods``: the largest multiplicity).
+    branches : bool
+        Also follow, by :func:`sweepcore.follow_response` over the Omega range,
+        the branch of every distinct periodic ok response of the sweeps of
+        multiplicity up to ``BRANCH_MULTIPLICITY`` (at most ``MAX_BRANCHES``
+        branches): their unstable stretches, folds and pattern changes, which a
+        sweep jumps over. Default False (the sweeps alone).
 
     Returns
     -------
@@ -169,7 +267,10 @@ def frequency_response(params: Params, Omega, direction: str = "both",
         ``sweepcore.variables.FORCED_OBSERVABLES`` with its units, ``regime``,
         ``status``, ``converged``, the start of each point (``start_x`` [cm],
         ``start_xdot`` [cm/s]) and, with both directions, ``coexisting`` over Omega
-        (:func:`coexisting`: two steady responses at that frequency).
+        (:func:`coexisting`: two steady responses at that frequency). With
+        ``branches``: every variable of :func:`sweepcore.follow_response` with the
+        prefix ``branch_`` along ``point`` (the branches one after the other,
+        ``branch_index`` saying which), and the attribute ``branches`` (how many).
     """
     _checked_direction(direction)
     values = _checked(params, "Omega", Omega, x0, xdot0)
@@ -235,6 +336,8 @@ def frequency_response(params: Params, Omega, direction: str = "both",
             "settled state", "Units kN, cm, s."),
         "sweepcore_kind": "frequency_response", "direction": direction, "tol": float(tol),
         "omega": float(params.omega)})
+    if branches:
+        ds = _with_branches(ds, _branches(params, values, scans, tol, method, options))
     return ds
 
 

@@ -166,3 +166,28 @@ N_ATTRACTORS = ("1", "number of attractors found in the box",
 SAMPLES = ("1", "starts run for the point",
            "sampled route: the Monte-Carlo starts; exact route: the checks of its "
            "premise")
+
+# a followed branch of forced responses (sweepcore.follow_response), along `point`,
+# beside the forced observables it shares: name -> (units, long_name, comment)
+BRANCH = {
+    "floquet": ("1", "largest multiplier modulus",
+                "largest |multiplier| of P^n at the periodic point (the eigenvalues of "
+                "the kernels' tangent, saltation included): < 1 stable"),
+    "multiplier_real": ("1", "real part of a multiplier of P^n",
+                        "the two Floquet multipliers, largest modulus first (dimension "
+                        "multiplier); a start stuck at t = 0 has the second exactly 0"),
+    "multiplier_imag": ("1", "imaginary part of a multiplier of P^n",
+                        "0 for real multipliers; a complex pair is conjugate"),
+    "stable": ("1", "the response is stable", "1 where floquet < 1"),
+    "special_value": ("", "parameter of the special point's event",
+                      "the middle of the final bracket of a change of sticks or stops "
+                      "(the point itself is the first of the new pattern), the root "
+                      "of the test function of a fold, branch point, period doubling "
+                      "or torus (the point itself); NaN for a regular point"),
+    "special_width": ("", "error bound of special_value",
+                      "half the final bracket of a pattern change, the secant's error "
+                      "estimate of a test function's root; 0 for a regular point"),
+    "arclength": ("1", "pseudo-arclength from the start",
+                  "sum of the steps in the scaled unknowns (x/L, xdot/Lv, "
+                  "parameter/its scale)"),
+}

@@ -136,7 +136,15 @@ def continue_boundary(grid: Grid, over: str = "alpha2", along: str = "v",
         As :func:`locate_boundaries` over ``over`` (without the ``transition``
         variables), plus ``continued`` (1 where the step was seeded, 0 where it
         fell back to a scan).
+
+        A forced grid (F0 or Y0 given) follows ``<along>_stick_onset`` (and
+        reports the stops change) along ``over``: each step is searched within
+        5 % of its prediction through the previous two, the whole bracket where
+        that finds none (:func:`sweepcore.boundaries.forced.continue_forced`).
     """
+    if getattr(grid, "forced", False):
+        from .forced import continue_forced
+        return continue_forced(grid, over, along, bracket, xtol, tol, method, options)
     _check_search(along, xtol, offset)
     if along != "v":
         raise ValueError(f"continue_boundary follows boundaries along v only, got "

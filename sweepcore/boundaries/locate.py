@@ -340,7 +340,21 @@ def locate_boundaries(grid: Grid, along: str = "v", bracket=None, xtol: float = 
         ``regime_below``, ``regime_above``, ``transition_status``. (With
         ``along`` other than v the names keep the ``v_`` prefix; units follow
         ``along``.)
+
+        A forced grid (F0 or Y0 given; ``along`` any parameter of
+        :func:`sweepcore.follow_response`, e.g. ``"F0"``): over the other axes,
+        ``<along>_stick_onset`` (where the response's finite sticks appear or
+        vanish) and ``<along>_stops_change`` (where its stops per period change),
+        each with ``_width`` (half its final bracket, below ``xtol`` times the
+        value: ``xtol`` is relative here), ``stick_status``, ``stops_status``, the
+        counts either side, and ``<along>_den_hartog`` where Den Hartog's
+        boundary applies (:mod:`sweepcore.boundaries.forced`; ``scan`` and
+        ``offset`` are not used).
     """
+    if getattr(grid, "forced", False):
+        from .forced import locate_forced
+        return locate_forced(grid, along, bracket, xtol, tol, method, chunks, client,
+                             scheduler, options)
     _check_search(along, xtol, offset)
     execute.check_chunks(chunks)
     values = _scan_values(grid, along, bracket, scan, chunks)

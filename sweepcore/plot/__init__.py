@@ -19,7 +19,10 @@ atomically. :func:`plot_result` picks the natural picture of any result:
 * a forced response map (F0 or Y0 given): :func:`plot_forced_map`, stops and
   sticks per period as categorical maps and the amplitude; a frequency-response
   curve: :func:`plot_frequency_response`; a stroboscopic diagram:
-  :func:`plot_stroboscopic`;
+  :func:`plot_stroboscopic`; a branch of responses (``sweepcore.follow_response``):
+  :func:`plot_branch`, unstable stretches dashed, special points marked; a forced
+  boundary file: :func:`plot_forced_boundaries` (also over a map:
+  ``plot_forced_map(..., boundaries=)``);
 * a bifurcation diagram: :func:`plot_diagram`, or :func:`plot_hysteresis` (stable
   branches solid, unstable slip cycles dashed) where it has unstable cycles;
   located boundaries: :func:`plot_boundaries`; any other 1-D file: its variables
@@ -35,7 +38,8 @@ Rooms: ``style`` (colours, labels, save), ``maps``, ``lines``, ``trajectories``,
 """
 from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
-from .forced import plot_forced_map, plot_frequency_response, plot_stroboscopic
+from .forced import (plot_branch, plot_forced_boundaries, plot_forced_map,
+                     plot_frequency_response, plot_stroboscopic)
 from .branches import plot_hysteresis
 from .friction import plot_friction
 from .lines import plot_lines
@@ -48,5 +52,5 @@ from .trajectories import plot_cases, plot_trajectory
 __all__ = ["plot_result", "plot_map", "plot_lines", "plot_trajectory", "plot_cases",
            "plot_friction", "plot_basins", "plot_diagram", "plot_hysteresis",
            "plot_boundaries", "plot_forced_map", "plot_frequency_response",
-           "plot_stroboscopic", "map_panel", "save", "REGIME_COLOURS", "fixed_parameters",
+           "plot_stroboscopic", "plot_branch", "plot_forced_boundaries", "map_panel", "save", "REGIME_COLOURS", "fixed_parameters",
            "flag_axis", "is_geometric", "label", "pretty_units"]

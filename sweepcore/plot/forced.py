@@ -88,9 +88,52 @@ def continuous_motion_boundary(ds: xr.Dataset, Omega: np.ndarray):
     return r_y / r_b(np.asarray(Omega) / omega)
 
 
+def _boundary_lines(ax, bds: xr.Dataset, x: str) -> None:
+    """A forced boundary file's curves over ``x`` (its one dimension): the stick
+    onset solid, the stops change dotted where it differs, Den Hartog's boundary
+    dashed where it applies."""
+    along = bds.attrs["along"]
+    u = bds[x].values
+    onset = bds[f"{along}_stick_onset"].values
+    ax.plot(u, onset, "-", color="k", lw=1.6, marker=".", ms=4,
+            label=f"{along} stick onset (located)")
+    stops = bds[f"{along}_stops_change"].values
+    if not np.allclose(stops, onset, rtol=1e-6, equal_nan=True):
+        ax.plot(u, stops, ":", color="#882255", lw=1.4, label=f"{along} stops change")
+    if f"{along}_den_hartog" in bds:
+        ax.plot(u, bds[f"{along}_den_hartog"].values, "--", color="#E69F00", lw=1.2,
+                label="Den Hartog r / r_b(Omega/omega)")
+
+
+@checked_keywords
+def plot_forced_boundaries(ds: xr.Dataset) -> Figure:
+    """A forced boundary file (``locate_boundaries`` / ``continue_boundary`` of a
+    forced grid over one axis): the stick onset and the stops change against that
+    axis, Den Hartog's boundary beside them where it applies."""
+    checked_result(ds)
+    along = ds.attrs.get("along")
+    if ds.attrs.get("sweepcore_kind") != "boundaries" or "sticks_below" not in ds:
+        raise ValueError("ds must be a forced boundary file (locate_boundaries of a "
+                         "forced grid)")
+    dims = [d for d in ds[f"{along}_stick_onset"].dims]
+    if len(dims) != 1:
+        raise ValueError(f"a forced boundary file over one axis is drawn, this one is "
+                         f"over {dims}")
+    fig = Figure(figsize=(7, 4), layout="constrained")
+    ax = fig.subplots()
+    _boundary_lines(ax, ds, dims[0])
+    ax.set_xlabel(_axis_label(ds, dims[0]))
+    ax.set_ylabel(_axis_label(ds, along) if along in ds.coords else
+                  f"{along} [{ds[f'{along}_stick_onset'].attrs.get('units', '')}]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.suptitle(f"{ds.attrs.get('title', '')}\n{fixed_parameters(ds)}", fontsize=9)
+    return fig
+
+
 @checked_keywords
 def plot_forced_map(ds: xr.Dataset, x: str = "Omega", y: str = "F0",
-                    variables=FORCED_MAP_VARIABLES) -> Figure:
+                    variables=FORCED_MAP_VARIABLES, boundaries=None) -> Figure:
     """A forced response map: the count variables (``stops_per_period``,
     ``sticks_per_period``) as categorical maps, any other as a colour map (the
     amplitude on a log scale), over (x, y); with Den Hartog's continuous-motion
@@ -104,6 +147,9 @@ def plot_forced_map(ds: xr.Dataset, x: str = "Omega", y: str = "F0",
         Its swept dimensions across and up (default Omega and F0).
     variables : sequence of str
         One panel each.
+    boundaries : xarray.Dataset, optional
+        A forced boundary file along ``y`` over ``x`` (``locate_boundaries`` of the
+        same slider): its stick onset drawn over each panel.
     """
     checked_result(ds, "sweep")
     for n in (x, y):
@@ -136,6 +182,9 @@ def plot_forced_map(ds: xr.Dataset, x: str = "Omega", y: str = "F0",
         if boundary is not None:
             ax.plot(fine, boundary, "k--", lw=1.2,
                     label="F0 = r / r_b(Omega/omega): no stick above (Den Hartog)")
+        if boundaries is not None and f"{y}_stick_onset" in boundaries:
+            ax.plot(boundaries[x].values, boundaries[f"{y}_stick_onset"].values, "-",
+                    color="#CC79A7", lw=1.6, label=f"{y} stick onset (located)")
         handles = ax.get_legend_handles_labels()[0] + extra
         if name not in CLASS_VARIABLES and handles:
             ax.legend(handles=handles, loc="lower right", fontsize=7)
@@ -198,7 +247,9 @@ def plot_frequency_response(ds: xr.Dataset, variables=("amplitude", "mean")) -> 
     """A frequency-response curve (``sweepcore.frequency_response``): each variable
     against Omega, the up sweep solid with upward triangles, the down sweep dashed
     with downward ones; points whose status is not ok hollow; the band where the two
-    sweeps differ (two coexisting responses, between the jumps) shaded. A count
+    sweeps differ (two coexisting responses, between the jumps) shaded; with its
+    branches (``branches=True``) those too, grey, stable solid and unstable
+    dashed, their special points marked (:func:`plot_branch`). A count
     per response period (sticks, stops) is marked ``6 per 13 T`` where the response
     repeats only after n > 1 forcing periods T."""
     checked_result(ds)
@@ -225,6 +276,12 @@ def plot_frequency_response(ds: xr.Dataset, variables=("amplitude", "mean")) -> 
                 lo = w[max(i - 1, 0)] if i else w[i]
                 ax.axvspan(0.5 * (lo + w[i]), 0.5 * (w[i] + w[min(i + 1, w.size - 1)]),
                            color="0.85", lw=0, zorder=0)
+        if f"branch_{name}" in ds:
+            shown = set()
+            index = ds["branch_index"].values
+            for b in np.unique(index):
+                _draw_branch(ax, *_branch_arrays(ds, "branch_", "Omega", name,
+                                                 index == b), shown)
         ax.set_ylabel(label(ds[name], name))
         if name in CLASS_VARIABLES[:2]:
             _mark_multiplicity(ax, ds, name)
@@ -235,6 +292,84 @@ def plot_frequency_response(ds: xr.Dataset, variables=("amplitude", "mean")) -> 
                   if "coexisting" in ds and ds["coexisting"].values.any() else None,
                   title_fontsize=8)
     axs[-1].set_xlabel(_axis_label(ds, "Omega"))
+    fig.suptitle(f"{ds.attrs.get('title', '')}\n{fixed_parameters(ds)}", fontsize=9)
+    return fig
+
+
+# the special points of a branch: marker and colour (start, end, regular: none)
+SPECIAL_MARKS = {"fold": ("o", "#D55E00"), "branch_point": ("D", "#CC79A7"),
+                 "period_doubling": ("s", "#009E73"), "torus": ("*", "#E69F00"),
+                 "stick_onset": ("^", "#0072B2"), "grazing": ("v", "#56B4E9"),
+                 "stops_change": ("<", "#882255")}
+
+
+def _draw_branch(ax, x, y, stable, special, ok, meanings: dict, shown: set,
+                 colour="0.15") -> None:
+    """One branch: stable stretches solid, unstable dashed (a stretch shares its
+    last point with the next, so the line is unbroken), failed points left out,
+    special points marked once per kind in the legend (``shown``)."""
+    n = len(x)
+    i = 0
+    while i < n:
+        if not ok[i]:
+            i += 1
+            continue
+        j = i
+        while j + 1 < n and ok[j + 1] and stable[j + 1] == stable[i]:
+            j += 1
+        end = j + 2 if j + 1 < n and ok[j + 1] else j + 1
+        key = "stable" if stable[i] else "unstable"
+        ax.plot(x[i:end], y[i:end], "-" if stable[i] else "--", color=colour,
+                lw=1.3 if stable[i] else 1.0,
+                label=f"{key} branch" if key not in shown else None)
+        shown.add(key)
+        i = j + 1
+    for code, name in meanings.items():
+        if name not in SPECIAL_MARKS:
+            continue
+        sel = (special == code) & ok
+        if sel.any():
+            marker, c = SPECIAL_MARKS[name]
+            ax.plot(x[sel], y[sel], marker, color=c, ms=7, mec="k", mew=0.5,
+                    label=name.replace("_", " ") if name not in shown else None,
+                    zorder=5)
+            shown.add(name)
+
+
+def _branch_arrays(ds: xr.Dataset, prefix: str, x: str, name: str, sel=None):
+    def get(v):
+        a = ds[prefix + v].values
+        return a if sel is None else a[sel]
+    meta = ds[prefix + "special"].attrs
+    meanings = dict(zip(np.atleast_1d(meta["flag_values"]).tolist(),
+                        str(meta["flag_meanings"]).split()))
+    return (get(x).astype(float), get(name).astype(float),
+            get("stable").astype(bool), get("special"),
+            get("status") == codes.OK, meanings)
+
+
+@checked_keywords
+def plot_branch(ds: xr.Dataset, variables=("amplitude",)) -> Figure:
+    """A branch of responses (``sweepcore.follow_response``): each variable against
+    the parameter followed, stable stretches solid, unstable dashed, the special
+    points marked (folds, period doublings, tori, stick onsets, grazings)."""
+    checked_result(ds)
+    if ds.attrs.get("sweepcore_kind") != "response_branch":
+        raise ValueError("ds must be a branch of responses (sweepcore.follow_response)")
+    over = ds.attrs["over"]
+    variables = list(variables)
+    for name in variables:
+        if name not in ds:
+            raise ValueError(f"{name!r} is not a variable of the branch")
+    fig = Figure(figsize=(7, 3.2 * len(variables) + 0.6), layout="constrained")
+    axs = np.atleast_1d(fig.subplots(len(variables), 1, sharex=True))
+    for ax, name in zip(axs, variables):
+        shown = set()
+        _draw_branch(ax, *_branch_arrays(ds, "", over, name), shown)
+        ax.set_ylabel(label(ds[name], name))
+        ax.grid(alpha=0.3)
+    axs[0].legend(fontsize=8)
+    axs[-1].set_xlabel(_axis_label(ds, over) if over in SHORT else label(ds[over], over))
     fig.suptitle(f"{ds.attrs.get('title', '')}\n{fixed_parameters(ds)}", fontsize=9)
     return fig
 

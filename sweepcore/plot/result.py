@@ -13,7 +13,8 @@ from .basins import plot_basins
 from .boundaries import plot_boundaries, plot_diagram
 from .branches import plot_hysteresis
 from .checks import checked_result, swept
-from .forced import plot_forced_map, plot_frequency_response, plot_stroboscopic
+from .forced import (plot_branch, plot_forced_boundaries, plot_forced_map,
+                     plot_frequency_response, plot_stroboscopic)
 from .lines import plot_lines
 from .maps import plot_map
 from .style import SYMBOLS, flag_axis, fmt, label
@@ -35,6 +36,8 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
         if "unstable_amplitude" in ds and np.isfinite(ds.unstable_amplitude).any():
             return plot_hysteresis(ds)     # coexisting attractors
         return plot_diagram(ds)
+    if kind == "boundaries" and "sticks_below" in ds:
+        return plot_forced_boundaries(ds)      # a forced grid's
     if kind == "boundaries":
         along_v = ds.attrs.get("along", "v") == "v"   # a map under curves along v
         return plot_boundaries(ds, over=over_map(ds) if along_v else None)
@@ -42,6 +45,8 @@ def plot_result(ds: xr.Dataset, **kwargs) -> Figure:
         return plot_frequency_response(ds)
     if kind == "stroboscopic_diagram":
         return plot_stroboscopic(ds)
+    if kind == "response_branch":
+        return plot_branch(ds)
     if "time" in ds.dims:
         statuses = run_statuses(ds)
         if all(s != "ok" for s in statuses):
