@@ -31,9 +31,8 @@ from .holding import critical_phases, stick_exit as _trig_exit
 from .jit import kernel, resolved_by
 from .law import accel, field_slope, static_limits
 from .layout import C, K, OMEGA, V
-from .trig import (XC_END, XC_FTOL, XC_HEAD, XC_N, XC_OMEGA, XC_PERIOD, XC_STAGE, XC_START,
-                   XC_TOP, bound,
-                   derivative, stage_loads)
+from .trig import (XC_END, XC_FTOL, XC_HEAD, XC_N, XC_OMEGA, XC_PERIOD, XC_PHASE, XC_STAGE,
+                   XC_START, XC_STEP, XC_TOP, bound, derivative, stage_loads)
 
 EPS = np.finfo(np.float64).eps
 
@@ -81,6 +80,8 @@ def _resolve(xc, p, lw):
     om = p[OMEGA]
     xc[XC_OMEGA] = om
     xc[XC_PERIOD] = 2.0 * math.pi / om
+    xc[XC_PHASE] = np.nan                # no phase kept yet (trig.phase)
+    xc[XC_STEP + 1] = -1.0               # no step yet (trig.derivative)
     top = 0
     n_h = int(xc[XC_N])
     for i in range(n_h):

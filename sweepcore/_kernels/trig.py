@@ -28,7 +28,9 @@ XC_TOP = 5       # the highest harmonic with a nonzero coefficient
 XC_STAGE = 8     # the load at the stages of the last step (``stage_loads``), 20 slots:
 XC_START = 26    # ... its last two: the load at the step's start
 XC_END = 27      # ... and at its end
-XC_HEAD = 28     # then alpha_n, beta_n, E_n, F_n (N each), the critical phases
+XC_PHASE = 28    # the last phase u = Omega t asked for, and its cos and sin (``phase``)
+XC_STEP = 31     # the start t and length h [s] of the last step (E_n, F_n rotated to t)
+XC_HEAD = 33     # then alpha_n, beta_n, E_n, F_n (N each), the critical phases
 
 
 @kernel(inline="always")
@@ -52,18 +54,26 @@ def crit_at(xc):
 @kernel
 def derivative(xc, t, d):
     """The d-th time derivative of e at t (d = 0, 1, 2, 3) [kN / s^d]: the harmonics
-    by the rotation (cos, sin)(n u) from (cos, sin)(u), u = Omega t."""
+    by the rotation (cos, sin)(n u) from (cos, sin)(u). Inside the last step
+    (t0 <= t <= t0 + h, where events are located) from its harmonics E_n, F_n
+    rotated to t0, u = Omega (t - t0) and ``cos_sin`` (the step turns no harmonic's
+    phase by more than 0.5: no library call); elsewhere from alpha_n, beta_n and u =
+    Omega t."""
     om = xc[XC_OMEGA]
     n_h = int(xc[XC_N])
-    u = om * t
-    c1 = math.cos(u)
-    s1 = math.sin(u)
+    tau = t - xc[XC_STEP]
+    if 0.0 <= tau <= xc[XC_STEP + 1]:
+        c1, s1 = cos_sin(om * tau)
+        a0 = XC_HEAD + 2 * n_h
+    else:
+        c1, s1 = phase(xc, om * t)
+        a0 = XC_HEAD
     cn = c1
     sn = s1
     total = 0.0
     for i in range(n_h):
-        a = xc[XC_HEAD + i]
-        b = xc[XC_HEAD + n_h + i]
+        a = xc[a0 + i]
+        b = xc[a0 + n_h + i]
         w = (i + 1) * om
         if d == 0:
             total += a * cn + b * sn
@@ -75,6 +85,17 @@ def derivative(xc, t, d):
             total -= w * w * w * (b * cn - a * sn)
         cn, sn = cn * c1 - sn * s1, sn * c1 + cn * s1
     return total
+
+
+@kernel(inline="always")
+def phase(xc, u):
+    """cos and sin of the phase u [rad], kept in xc for the next call at the same
+    phase (an event asks for the load and its rates at one time)."""
+    if u != xc[XC_PHASE]:
+        xc[XC_PHASE] = u
+        xc[XC_PHASE + 1] = math.cos(u)
+        xc[XC_PHASE + 2] = math.sin(u)
+    return xc[XC_PHASE + 1], xc[XC_PHASE + 2]
 
 
 @kernel
@@ -99,9 +120,7 @@ def stage_loads(xc, t, h, cs):
     multiples by rotation."""
     n_h = int(xc[XC_N])
     om = xc[XC_OMEGA]
-    u = om * t
-    c1 = math.cos(u)
-    s1 = math.sin(u)
+    c1, s1 = phase(xc, om * t)
     cn = c1
     sn = s1
     e0 = XC_HEAD + 2 * n_h
@@ -115,6 +134,8 @@ def stage_loads(xc, t, h, cs):
     for i in range(n_h):
         e_start += xc[e0 + i]
     xc[XC_START] = e_start
+    xc[XC_STEP] = t
+    xc[XC_STEP + 1] = h
     th = om * h
     if n_h == 1:                # one harmonic: scalars only
         e1 = xc[e0]
