@@ -48,13 +48,23 @@ SAMPLES = 4000          # samples of the holding force per forcing period
 # ------------------------------------------------------------- the kernels
 @njit(cache=False)
 def _loads(ex, p, lw, ts, out):
-    """e(t), e'(t) at the times ts into out (2, n), for the point p."""
+    """e(t), e'(t) at the times ts into out (4, n), for the point p: from the
+    harmonics (rows 0, 1), and from inside a step of the longest length the driver
+    takes, t 0.3 of the way in (rows 2, 3: the step's own rotated harmonics, where
+    events are located)."""
     owner = np.zeros(interface.work_size(ex))
     fx = interface.with_work(ex, owner)
     ok = interface.prepare(fx, p, lw)
+    h = interface.capped(fx, np.inf)
+    cs = np.zeros(1)
     for i in range(ts.shape[0]):
+        out[0, i] = interface.load(fx, ts[i] + 1e3 * h)    # leave the step
         out[0, i] = interface.load(fx, ts[i])
         out[1, i] = interface.load_rate(fx, ts[i])
+        interface.step_load(fx, ts[i] - 0.3 * h, h, cs)
+        out[2, i] = interface.load(fx, ts[i])
+        out[3, i] = interface.load_rate(fx, ts[i])
+        interface.step_load(fx, ts[i] - 2.0 * h, h, cs)   # t after the step's end
     return ok
 
 
@@ -123,16 +133,30 @@ def test_load_is_the_python_sides_and_its_rate_the_derivative(kind):
         ts = np.random.default_rng(i).uniform(-3.0 * T, 3.0 * T, 40)
         h = 1e-3 * T
         stencil = np.concatenate([ts, ts + h, ts - h, ts + 0.5 * h, ts - 0.5 * h])
-        out = np.empty((2, stencil.size))
+        out = np.empty((4, stencil.size))
         assert _loads(p.loads[0].data(), p.row(0.0, 0.0), _law_data(p), stencil, out)
         e = out[0].reshape(5, -1)
         scale = p.loads[0].bound() * p.F0 + p.k * p.Y0 + p.c * p.Omega * p.Y0
         assert np.allclose(e[0], excitations.load(p, ts), rtol=0, atol=1e-13 * scale)
+        assert np.allclose(out[2], out[0], rtol=0, atol=1e-13 * scale)
+        assert np.allclose(out[3], out[1], rtol=0, atol=1e-13 * scale * p.Omega)
         d1 = (e[1] - e[2]) / (2 * h)
         d2 = (e[3] - e[4]) / h
         fd = (4.0 * d2 - d1) / 3.0                  # Richardson: O(h^4)
         rate = out[1].reshape(5, -1)[0]
         assert np.allclose(rate, fd, rtol=0, atol=1e-7 * scale * p.Omega), kind
+
+
+def test_cos_sin_is_the_librarys_in_and_beyond_a_steps_turn():
+    """The stages' cos and sin (``trig.cos_sin``): Taylor polynomials where a step
+    turns the phase by at most 0.6 (within 2.3e-16 of the library), reduced and
+    doubled beyond (within 3e-15 up to |th| = 50)."""
+    from sweepcore._kernels.trig import cos_sin
+    both = njit(cache=False)(lambda th: cos_sin(th))
+    for top, tol in ((0.6, 2.3e-16), (50.0, 3e-15)):
+        for th in np.linspace(-top, top, 4001):
+            c, s = both(th)
+            assert abs(c - math.cos(th)) <= tol and abs(s - math.sin(th)) <= tol, th
 
 
 # ------------------------------------------------------------ the stick's exit

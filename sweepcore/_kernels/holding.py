@@ -97,7 +97,8 @@ def _trig_root(xc, d, a0, a1, t0, lo, hi):
     """The one root in [lo, hi] of ``f(t) = e^(d)(t) - a0 - a1 (t - t0)`` (d = 0: the
     holding force at a level; d = 1: h'), where f changes sign once: safeguarded
     Newton (f' = e^(d+1) - a1), bisection where a step leaves the bracket, to the
-    resolution of t."""
+    resolution of t (the bracket's width, or Newton's step: converging from one
+    side, Newton never narrows the bracket)."""
     flo = derivative(xc, lo, d) - a0 - a1 * (lo - t0)
     t = 0.5 * (lo + hi)
     for _ in range(100):
@@ -114,6 +115,8 @@ def _trig_root(xc, d, a0, a1, t0, lo, hi):
         tn = t - f / df if df != 0.0 else 0.5 * (lo + hi)
         if not lo < tn < hi:
             tn = 0.5 * (lo + hi)
+        elif abs(tn - t) <= 2.0 * EPS * max(abs(t), 1.0):
+            return tn                       # Newton's step below the resolution of t
         t = tn
     return 0.5 * (lo + hi)
 
