@@ -398,8 +398,11 @@ def test_forced_response_is_quoted_as_it_prints(tmp_path):
             assert f"between Omega = {low} and {high} rad/s it sticks {times} a " \
                 "forcing period" in doc
     bad = re.findall(r"(up|down) at Omega = ([\d.]+) rad/s \((\w+)\)", text)
-    assert bad and not re.search(r"'\d+'", text)          # names, not codes
+    assert not re.search(r"'\d+'", text)                  # names, not codes
     for sweep, at, status in bad:
         assert f"the {sweep} sweep's at {at} rad/s, ends `{status}`" in doc
+    if not bad:
+        assert "not ok: none;" in text
+        assert "Every point of both sweeps ends ok" in doc
     gap = _number(r"where both are ok = (\S+);", text)
     assert f"|A_up - A_down| / max A = {gap}" in doc

@@ -81,9 +81,12 @@ def _forced_rows(meth):
         P, lw, o, out = unowned(P), borrowed(lw), unowned(o), unowned(out)
         owner = np.zeros(work_size(ex))
         fx = with_work(ex, unowned(owner))
+        space = np.empty(strobe.WORKSPACE)
+        ws = unowned(space)
         for i in range(P.shape[0]):
-            strobe.strobe_point(meth, P[i], lw, fx, o, out[i])
-        owner[:] = 0.0                  # the work array lives until here
+            strobe.strobe_point(meth, P[i], lw, fx, o, out[i], ws)
+        owner[:] = 0.0                  # the work arrays live until here
+        space[0] = 0.0
     return forced_rows
 
 
@@ -95,9 +98,12 @@ def _image_rows(meth):
         P, lw, o, out = unowned(P), borrowed(lw), unowned(o), unowned(out)
         owner = np.zeros(work_size(ex))
         fx = with_work(ex, unowned(owner))
+        space = np.empty(strobe.WORKSPACE)
+        ws = unowned(space)
         for i in range(P.shape[0]):
-            strobe.image_point(meth, P[i], lw, fx, o, n, out[i])
-        owner[:] = 0.0                  # the work array lives until here
+            strobe.image_point(meth, P[i], lw, fx, o, n, out[i], ws)
+        owner[:] = 0.0                  # the work arrays live until here
+        space[0] = 0.0
     return image_rows
 
 

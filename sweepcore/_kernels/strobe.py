@@ -28,10 +28,10 @@ import math
 import numpy as np
 
 from . import codes
-from .attractor import method_status, resolve_options
+from .attractor import method_status, resolve_into
 from .driver import advance, init_state
 from .excitation import period, prepare
-from .jit import kernel, runtime
+from .jit import copy_into, kernel, runtime
 from .law import anti_damped
 from .layout import (IM_J, IM_MODE, IM_MODE0, IM_X, IM_XDOT, NIM, A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN,
                      K, M, NA, NFOB, NO, NP, NS, NSTATE, O_LV, O_LX, O_MAX_STEPS,
@@ -48,6 +48,12 @@ COARSE = 1e-6         # the loosest, of a Newton iterate far from the fixed poin
 LYAP_PERIODS = 256    # periods of the Lyapunov estimate
 LYAP_BLOCKS = 8
 NH = 40               # stroboscopic states kept (2 n + 2 of them used)
+# a point's workspace (``strobe_point``): the option row, the state, the image's
+# state, the accumulators, then the search's: its states kept and their counts, the
+# cooldown and tries of each n, the fixed point pending with its record, Newton's start
+SEARCH = NH * (NSTATE + 2) + 2 * NH + NS + 12 + NSTATE
+BASE = NO + 2 * NS + NA
+WORKSPACE = BASE + SEARCH
 # the start's iterate within this (in L) of a stable fixed point of P^n, contracting
 # towards it with its pattern of sticks and stops: the response it reaches
 CERTIFY = 0.02
@@ -257,10 +263,13 @@ def _observables(acc, dur, out):
 
 
 @kernel
-def strobe_point(meth, p, lw, fx, o_in, out):
+def strobe_point(meth, p, lw, fx, o_in, out, ws):
     """Fill ``out`` (layout OB_*, length NFOB) with the steady response of one forced
     point reached from (p[X0], p[XD0]) at t = 0 (module docstring); ``fx`` the
-    excitation as the call's kernels use it (``excitation.with_work``)."""
+    excitation as the call's kernels use it (``excitation.with_work``); ``ws`` a
+    workspace of ``WORKSPACE`` floats for the point's state (its caller's, a view
+    without reference count, ``jit.unowned``: the many kernels the state passes
+    through count none)."""
     for i in range(NFOB):
         out[i] = np.nan
     out[OB_NSTEPS] = 0.0
@@ -270,19 +279,16 @@ def strobe_point(meth, p, lw, fx, o_in, out):
     if not prepare(fx, p, lw):
         _failure(out, codes.EVENT_FAILURE, runtime(False))
         return
-    o = resolve_options(meth, p, lw, fx, o_in)
-    o[O_RTOL] = max(1e-2 * o_in[O_RTOL], RTOL_FLOOR)
+    o, st, work, acc = _carve(meth, p, lw, fx, o_in, ws)
     refused = method_status(meth, p, lw, fx, o)
     if refused != codes.OK:
         _failure(out, refused, runtime(False))
         return
-    st = np.zeros(NS)
     init_state(st, p[X0], p[XD0], p, lw, fx, o)
     st[S_SECTIONS] = 2.0                 # extrema of x noted, never a stop
-    acc = np.empty(NA)
-    work = np.zeros(NS)
     T = period(fx)
-    answered, status = _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out)
+    answered, status = _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out,
+                               ws[BASE:])
     out[OB_NSTEPS] = st[S_N]
     if answered:
         return
@@ -300,29 +306,50 @@ def strobe_point(meth, p, lw, fx, o_in, out):
         out[OB_STATUS] = codes.OK
 
 
+@kernel(inline="always")
+def _carve(meth, p, lw, fx, o_in, ws):
+    """The option row (resolved for the point, its integration tolerance 1e-2 the
+    requested), the state, the image's state and the accumulators: views of ws."""
+    o = ws[:NO]
+    copy_into(o, o_in)
+    resolve_into(meth, p, lw, fx, o)
+    o[O_RTOL] = max(1e-2 * o_in[O_RTOL], RTOL_FLOOR)
+    st = ws[NO:NO + NS]
+    work = ws[NO + NS:NO + 2 * NS]
+    for i in range(NS):
+        st[i] = 0.0
+        work[i] = 0.0
+    return o, st, work, ws[NO + 2 * NS:BASE]
+
+
 @kernel
-def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
+def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out, ws):
     """Iterate P from st, trying Newton on P^n where states nearly repeat after n
     periods; a stable fixed point found is the answer once the start's own motion
     is shown to converge to it (``_certify``). Returns ``(answered, status)``:
     answered when ``out`` holds the answer, else the status with which the search
-    ended (ok: the budget spent, out[OB_T_SETTLE] set)."""
+    ended (ok: the budget spent, out[OB_T_SETTLE] set). ``ws``: the workspace's
+    ``SEARCH`` floats for the states kept."""
     nmax = min(int(o_in[O_PERIODS]), (NH - 2) // 2)
     lx = o[O_LX]
     lv = o[O_LV]
-    hist = np.zeros((NH, NSTATE))
-    counts = np.zeros((NH, 2))          # sticks and stops of each period kept
+    for i in range(SEARCH):
+        ws[i] = 0.0
+    hist = ws[:NH * NSTATE].reshape((NH, NSTATE))
+    counts = ws[NH * NSTATE:NH * (NSTATE + 2)].reshape((NH, 2))   # sticks, stops
     # the budget: max_periods natural periods, at least 4 nmax + 8 forcing periods
     omega = math.sqrt(p[K] / p[M])
     jmax = max(int(o[O_MAX_TIME] * 2.0 * math.pi / omega / T), 4 * nmax + 8)
     keep(hist[0], st)
-    cooldown = np.zeros(nmax + 1)
-    tries = np.zeros(nmax + 1)
-    u = np.zeros(NS)
+    at = NH * (NSTATE + 2)
+    cooldown = ws[at:at + NH]
+    tries = ws[at + NH:at + 2 * NH]
+    u = ws[at + 2 * NH:at + 2 * NH + NS]
     # the fixed point u pending: its n (0: none), its last check's period and
     # distance [L], its mu1, whether it is resolved, its Jacobian (4), the last
     # deviation of the motion from it (x, zdot), its margin to the belt's speed [L]
-    pend = np.zeros(12)
+    pend = ws[at + 2 * NH + NS:at + 2 * NH + NS + 12]
+    start = ws[at + 2 * NH + NS + 12:SEARCH]
     for j in range(1, jmax + 1):
         fresh(acc)
         status = run_periods(meth, st, p, lw, fx, o, acc, T, 1)
@@ -348,7 +375,7 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out):
                 continue
             keep(u, st)
             verdict, status = _candidate(meth, u, n, j, d, p, lw, fx, o, o_in[O_RTOL],
-                                         acc, T, work, out, pend)
+                                         acc, T, work, out, pend, start)
             st[S_N] = u[S_N]
             if status != codes.OK:
                 return False, status
@@ -410,14 +437,13 @@ def _certify(st, u, j, pend, lx, lv, tol, same):
 
 
 @kernel
-def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out, pend):
+def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out, pend, start):
     """Newton on P^n from the state u, j periods in, whose iterate moved by d (in L)
     over the last n periods: ``(verdict, status)``, PENDING with u the stable fixed
     point (``pend``: its n, mu1 and whether it is resolved; ``out``: its
     observables) that the start's motion must then be shown to reach
     (``_certify``); ANSWERED for a multiplier 1 where the motion itself repeats
     (within ``NEUTRAL`` L: a neutral family, never ok); else GO_ON."""
-    start = np.zeros(NSTATE)
     keep(start, u)
     ok, mu1, mu2, status = newton(meth, u, n, p, lw, fx, o, acc, T, work, tol, out)
     _keep_jacobian(pend, work)
@@ -562,7 +588,7 @@ def _answer(u, n, j, mu1, p, o, T, out, tol):
 
 
 @kernel
-def image_point(meth, p, lw, fx, o_in, n, out):
+def image_point(meth, p, lw, fx, o_in, n, out, ws):
     """``P^n`` of the start (p[X0], p[XD0]) at t = 0 (the periodic point's coordinates:
     a state at a whole number of forcing periods), with its tangent and the
     observables of the run, into ``out`` (layout OB_*, length NFOB, and
@@ -576,15 +602,11 @@ def image_point(meth, p, lw, fx, o_in, n, out):
     if not prepare(fx, p, lw):
         _failure(out, codes.EVENT_FAILURE, runtime(False))
         return
-    o = resolve_options(meth, p, lw, fx, o_in)
-    o[O_RTOL] = max(1e-2 * o_in[O_RTOL], RTOL_FLOOR)
+    o, u, work, acc = _carve(meth, p, lw, fx, o_in, ws)
     refused = method_status(meth, p, lw, fx, o)
     if refused != codes.OK:
         _failure(out, refused, runtime(False))
         return
-    u = np.zeros(NS)
-    work = np.zeros(NS)
-    acc = np.empty(NA)
     init_state(u, p[X0], p[XD0], p, lw, fx, o)
     u[S_SECTIONS] = 2.0
     T = period(fx)
