@@ -227,6 +227,35 @@ def test_belt_speed_numbers(toml_studies):
         assert f"Stick-slip up to {float(stick.max()):g} cm/s" in _doc("studies.md")
 
 
+def test_forced_map_numbers(toml_studies, capsys):
+    """docs/studies.md's counts of the forced map are what ``sweepcore info`` counts
+    in the study's file now (they were the counts of an older engine: ok 65526 and
+    unresolved 8 against 65285 and 251)."""
+    text = _info(toml_studies / "forced_map.nc", capsys)
+    doc = _doc("studies.md")
+
+    def counts(title):
+        line = _number(rf"{title}: ([^\n]+)", text)
+        return dict(re.findall(r"(\w+(?: measured)?) (\d+)", line))
+
+    sticks = counts("finite sticks per period")
+    assert (f"0 on {sticks['0']} points, 2 on {sticks['2']}, 4 on {sticks['4']}, "
+            f"6 on {sticks['6']}, 8 on {sticks['8']}, 10 on {sticks['10']}") in doc
+    stops = counts("zero-duration stops per period")
+    assert f"2 on {stops['2']} points" in doc and f"0 on {stops['0']};" in doc
+    single = counts("multiplicity \\(response period / forcing period\\)")
+    assert f"multiplicity 1 on every point with a response ({single['1']})" in doc
+    block = text.split("status counts:")[1].split("converged:")[0]
+    status = dict(re.findall(r"^\s+(\w+)\s+(\d+)", block, flags=re.M))
+    said = [f"ok on {status.pop('ok')} points"] + \
+        [f"`{name}` on {n}" for name, n in status.items()]
+    for phrase in said:
+        assert phrase in doc, phrase
+    stuck = _number(r"\n\s+stuck\s+(\d+)", text.split("regime counts:")[1])
+    assert f"stuck (F0 < r_y: the load never overcomes the friction bound): {stuck} " \
+        "points" in doc
+
+
 # ------------------------------------------------------------------ every file
 def test_info_and_plot_handle_every_file_the_studies_write(out, toml_studies, capsys):
     files = sorted(out.glob("*.nc")) + sorted(toml_studies.glob("*.nc"))

@@ -121,3 +121,31 @@ def test_the_response_reported_is_the_one_the_start_reaches(Omega):
         assert np.ptp(pts[:, 0]) < 1e-6 * mod.L
         assert abs(r.x_section - pts[-1, 0]) < CONTRACT * mod.L
         assert abs(r.xdot_section - pts[-1, 1]) < CONTRACT * mod.Lv
+
+
+@pytest.mark.slow          # 40 s of the reference; the forced map's counts in the
+def test_a_motion_still_settling_is_not_called_aperiodic():   # default run see it too
+    """Den Hartog's slider (c = 0, Coulomb, fixed ground) at Omega = 0.481 rad/s,
+    F0 = 3.325 kN, sticks twice a period and settles on its period-1 response only
+    algebraically (a multiplier at 1: the reference's map moves the stroboscopic
+    point less and less, never back). A search that runs out of periods there has
+    not found an aperiodic motion: it says unconverged (the shipped forced map
+    called 54 such cells 'aperiodic', ok)."""
+    from reference_forced import _map
+    kw = dict(m=1.0, k=1.0, r_y=1.0, v=0.0, F0=3.3254902, Omega=0.481042058)
+    mod = Forced(**kw)
+    z, t, steps = np.array([0.0, 0.0]), 0.0, []
+    for j in range(3000):
+        z1 = _map(mod, z, t, 1, 1e-10)[0]
+        t += mod.T
+        steps.append(abs(z1[0] - z[0]))
+        z = z1
+    blocks = [max(steps[i:i + 500]) for i in range(1000, 3000, 500)]
+    assert all(b2 < b1 for b1, b2 in zip(blocks, blocks[1:])), blocks   # settling
+    assert blocks[-1] < 0.2 * blocks[0] and blocks[-1] < 1e-6 * mod.L
+    r = sc.attractor(sc.Params(**kw), x0=0.0)
+    assert r.regime != "aperiodic"
+    if r.status == "ok":                       # found: the reference's response
+        assert abs(r.x_section - z[0]) < 1e-3 * mod.L
+    else:
+        assert r.status == "unconverged" and r.regime == "unconverged"

@@ -52,6 +52,7 @@ NH = 40               # stroboscopic states kept (2 n + 2 of them used)
 # state, the accumulators, then the search's: its states kept and their counts, the
 # cooldown and tries of each n, the fixed point pending with its record, Newton's start
 SEARCH = NH * (NSTATE + 2) + 2 * NH + NS + 12 + NSTATE
+PEND = NH * (NSTATE + 2) + 2 * NH + NS      # where the pending fixed point's record is
 BASE = NO + 2 * NS + NA
 WORKSPACE = BASE + SEARCH
 # the start's iterate within this (in L) of a stable fixed point of P^n, contracting
@@ -298,8 +299,10 @@ def strobe_point(meth, p, lw, fx, o_in, out, ws):
     if status != codes.OK:
         _failure(out, status, anti_damped(p, lw))
         return
-    if out[OB_LYAPUNOV] + 3.0 * out[OB_LYAPUNOV_ERROR] < 0.0:
-        out[OB_REGIME] = codes.R_UNCONVERGED       # contracting: a period not found
+    if out[OB_LYAPUNOV] + 3.0 * out[OB_LYAPUNOV_ERROR] < 0.0 or ws[BASE + PEND] > 0.0:
+        # contracting, or on its way to a stable fixed point not reached in the
+        # budget (a multiplier near 1): a period not found, not an aperiodic motion
+        out[OB_REGIME] = codes.R_UNCONVERGED
         out[OB_STATUS] = codes.UNCONVERGED
     else:
         out[OB_REGIME] = codes.R_APERIODIC
@@ -348,8 +351,8 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out, ws):
     # the fixed point u pending: its n (0: none), its last check's period and
     # distance [L], its mu1, whether it is resolved, its Jacobian (4), the last
     # deviation of the motion from it (x, zdot), its margin to the belt's speed [L]
-    pend = ws[at + 2 * NH + NS:at + 2 * NH + NS + 12]
-    start = ws[at + 2 * NH + NS + 12:SEARCH]
+    pend = ws[PEND:PEND + 12]
+    start = ws[PEND + 12:SEARCH]
     for j in range(1, jmax + 1):
         fresh(acc)
         status = run_periods(meth, st, p, lw, fx, o, acc, T, 1)
