@@ -237,5 +237,53 @@ def main(argv=None):
     common.log(f"saved {args.json}")
 
 
+
+NAMES = {"ground": "fixed ground, F0/r_y 0.2-4", "belt": "belt v = 0.5, F0/r_y 0.2-4",
+         "ground_F0_1.2-4": "fixed ground, F0/r_y 1.2-4",
+         "belt_F0_1.2-4": "belt v = 0.5, F0/r_y 1.2-4", "hopf": "the Hopf map"}
+
+
+def stored_section(path=None) -> str:
+    """The benchmarks/README.md section of the stored ``results/forced.json``."""
+    path = Path(path or ROOT / "benchmarks" / "results" / "forced.json")
+    if not path.is_file():
+        return ""
+    R = json.loads(path.read_text())
+    if "after" not in R:
+        return ""
+    m = R["machine"]
+    before = R.get("before", {})
+    rows = []
+    for name, a in R["after"].items():
+        b = before.get(name)
+        ref = a.get("reference", {})
+        rows.append([NAMES.get(name, name), f"{a['cpu_us_per_point']:.1f}",
+                     f"{b['cpu_us_per_point']:.1f}" if b else "-",
+                     f"{a['ratio_to_hopf']:.2f}",
+                     f"{b['ratio_to_hopf']:.2f}" if b else "-",
+                     f"{a['stepper_calls_mean']:.0f}",
+                     f"{b['stepper_calls_mean']:.0f}" if b else "-",
+                     ", ".join(f"{k} {v}" for k, v in a["statuses"].items()),
+                     f"{ref['amplitude_L']:.1e}" if ref else "-"])
+    from benchmarks.report import table
+    head = ["map (64 x 64 unless said)", "CPU us a point", "before", "x Hopf map",
+            "x Hopf map before", "stepper calls a point", "before", "statuses",
+            "reference: largest amplitude difference [L]"]
+    return "\n".join([
+        "## Forced maps", "",
+        f"`python -m benchmarks.forced --before {R.get('commit_before', '')[:7]}` "
+        f"({m['date']}, commit `{m['git_commit'][:10]}`; {R['side']} x {R['side']} maps, "
+        f"one thread, warm, {R['rounds']} interleaved rounds of {R['repeats']} runs, "
+        "medians; 'before' is the commit's own package in a probe of its own, run "
+        "beside this checkout's) writes `results/forced.json`: the forced response "
+        "maps of m = k = 1, r_y = 1, c = 0.05, Omega in [0.3, 3] rad/s, started at rest "
+        "at x = 0, CPU per point against the Hopf map's in the same probe (m = 5, k = 50, "
+        "r_y = 10, alpha1 = 1, v in [0.5, 10], alpha2 in [1e-3, 0.1], started stuck), "
+        "and the stepper calls a point (deterministic). The reference (scipy DOP853 "
+        "with exact sticks, `tests/reference_forced.py`) reruns a few points of each "
+        "forced map:", "",
+        table(head, rows), ""])
+
+
 if __name__ == "__main__":
     main()

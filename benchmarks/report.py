@@ -132,8 +132,12 @@ def write_readme(outdir, readme, mode, total):
         parts.append(_pybasin(Pb))
     if La:
         parts.append(_laws(La))
-    from benchmarks import boundaries, compile_probe, memory   # their own scripts' results
+    from benchmarks import (autonomous_identity, boundaries,  # their own scripts' results
+                            compile_probe, forced, forced_accuracy, memory)
     parts.append(boundaries.stored_section())
+    parts.append(autonomous_identity.stored_section())
+    parts.append(forced.stored_section())
+    parts.append(forced_accuracy.stored_section())
     parts.append(memory.stored_section())
     parts.append(compile_probe.stored_section())
     readme.write_text("\n".join(parts))
