@@ -150,20 +150,14 @@ SUITE = (("attractor_rows", "dop853", "polynomial"), ("trajectory", "dop853", "p
 
 
 def _entry_arguments(name, kind):
-    """Arrays of the types the Python side calls entry ``name`` with for ``kind``."""
-    import numpy as np
+    """Arrays of the types the Python side calls entry ``name`` with for ``kind``
+    (the forced entries with the first forced excitation kind's sample data)."""
     from sweepcore import compiled
-    from sweepcore._kernels import layout
+    from sweepcore._kernels import excitations
     from sweepcore._kernels import laws as kernel_laws
-    from sweepcore.excitations import harmonic
     lw = kernel_laws.SAMPLES[kind]
-    if name == "forced_rows":
-        return (np.zeros((1, layout.NP)), lw, harmonic.DATA, np.zeros(layout.NO),
-                np.zeros((1, layout.NFOB)))
-    if name == "forced_trajectory":
-        f, i = np.zeros(1), np.zeros(1, np.int64)
-        return (np.zeros(layout.NP), lw, harmonic.DATA, np.zeros(layout.NO), f, f, f, i,
-                f, i, f, f, np.zeros(layout.NA))
+    if name in compiled.FORCED_ENTRIES:
+        return compiled._arguments(name, lw, excitations.EXCITATIONS[1][3])
     return compiled._arguments(name, lw)
 
 

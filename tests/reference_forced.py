@@ -407,7 +407,9 @@ def forced_steady(mod, x0=0.0, xd0=0.0, t0=0.0, n_max=16, max_periods=2000,
     1e-5 of the scales, at rtol: error ~ rtol/1e-5 + 1e-10).
 
     Returns a dict: status ('ok'; 'rest': stuck for ever on fixed ground;
-    'aperiodic': no period up to n_max within ``max_periods``; 'no_convergence'),
+    'aperiodic': no period up to n_max within ``max_periods``, or with ``multipliers``
+    only a period whose orbit repels, largest modulus above 1 + 1e-3, given as
+    ``repelling_orbit`` (n, modulus); 'no_convergence'),
     multiplicity n, period n T [s], amplitude, mean, x_max, x_min [cm], xdot_max,
     xdot_min, velocity_amplitude [cm/s], sticks_per_period, stops_per_period,
     stick_fraction, multipliers (largest modulus first; NaN without
@@ -449,6 +451,12 @@ def forced_steady(mod, x0=0.0, xd0=0.0, t0=0.0, n_max=16, max_periods=2000,
     if multipliers:
         mu = np.linalg.eigvals(_jacobian(mod, zs, ts, n, rtol, scale, h=1e-5))
         mu = mu[np.argsort(-np.abs(mu))]
+        if abs(mu[0]) > 1.0 + 1e-3:
+            # the chord method found an orbit that repels (inside a chaotic motion
+            # the iterates pass near unstable ones): not where the motion settles
+            lam, err = lyapunov(mod, z, t, 200, rtol)
+            return dict(status="aperiodic", multiplicity=0, lyapunov=lam,
+                        lyapunov_error=err, repelling_orbit=(n, float(abs(mu[0]))))
     span = n * mod.T
     ev = orbit["events"]
     xe, xde = orbit["x_ext"], orbit["xd_ext"]

@@ -222,11 +222,14 @@ def test_the_second_compilers_signature_is_the_kernels():
     from sweepcore._kernels import attractor, prefetch, stepper
     sc.attractor(sc.Params(m=5.0, k=50.0, r_y=10.0, alpha1=1.0, alpha2=0.01, v=5.0))
     want = prefetch.search_signature(stepper.DOP853, "polynomial")
-    if not attractor.on_event.signatures:    # the kernel came whole from the cache
+    # the signatures compiled in this process for this method and law kind (other
+    # tests may have compiled others: the table law's, another method's)
+    mine = [tuple(s) for s in attractor.on_event.signatures
+            if s[0] == want[0] and s[4] == want[4]]
+    if not mine:                             # the kernel came whole from the cache
         attractor.on_event.compile(want)
-        assert len(attractor.on_event.signatures) == 1
         return      # (cache hits are what the kernel's own typing would ask for)
-    assert want in [tuple(s) for s in attractor.on_event.signatures]
+    assert want in mine
     assert np.all(prefetch.derived_signature("table")[1] ==
                   prefetch.law_type("table"))
 

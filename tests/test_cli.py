@@ -421,6 +421,7 @@ def test_closed_pipe_is_quiet(small_run):
     assert proc.returncode == 0
 
 
+@pytest.mark.slow    # two cold compiles (40 s); test_compile's notices run by default
 def test_compile_notice_only_on_a_cold_cache(tmp_path):
     """While numba compiles, the command says what (the kernel, its method and law
     kind) and, at the end, how long it took; from the filled cache it says nothing.

@@ -267,6 +267,7 @@ def forced_ref():
     return sc.attractor(FORCED, method="dop853", tol=1e-12, x0=0.0, xdot0=0.0)
 
 
+@pytest.mark.slow     # each compiles its method's forced kernels (20-40 s)
 @pytest.mark.parametrize("method,dts,lo,hi", [
     ("gps", [2e-3, 1e-3], 0.9, 1.1),          # the paper's scheme, with time
     ("rk4", [0.04, 0.02, 0.01], 3.7, 4.3),

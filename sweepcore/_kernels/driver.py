@@ -181,7 +181,7 @@ def _finish_zero(meth, st, p, lw, fx, o, acc, x0, zd0, s, h, xe, touched, a0, cf
     xr, zr, qx, qv, qw, ql = part
     if xr != xr:
         xr, zr, qx, qv, qw, ql, _e, _ok, ks = step_kept(meth, t0, x0, zd0, h, s, p, lw, fx,
-                                                        o, True)
+                                                        o, runtime(True))
         st[S_N] += 1.0
         if st[S_TRACK] > 0.0:
             _track(meth, st, p, lw, fx, o, t0, x0, zd0, s, h, xr, zr, ks)
@@ -240,7 +240,7 @@ def _section(meth, st, p, lw, fx, o, acc, x, zd, z1, s, t, h, h_ev, a0, a1, cf, 
         _note_x(acc, xx, 0.0)
         return codes.EV_NONE
     xr, zr, qx, qv, qw, ql, _e, _ok, ks = step_kept(meth, t, x, zd, h_xe, s, p, lw, fx, o,
-                                                    True)
+                                                    runtime(True))
     st[S_N] += 1.0
     if st[S_TRACK] > 0.0:
         _track(meth, st, p, lw, fx, o, t, x, zd, s, h_xe, xr, zr, ks)
@@ -295,7 +295,7 @@ def slide_until_event(meth, st, p, lw, fx, o, acc, t_stop):
             st[S_T] = t_stop
             return codes.EV_STOP_TIME, codes.OK
         x1, z1, qx, qv, qw, ql, err, ok, ks = step_kept(meth, t, x, zd, h, s, p, lw, fx, o,
-                                                        True)
+                                                        runtime(True))
         st[S_N] += 1.0
         if not ok:                  # GPS denominator guard: halve the step
             ok, h, x1, z1, qx, qv, qw, ql = _halved(meth, st, p, lw, fx, o, t, x, zd, s, h,

@@ -27,8 +27,8 @@ import math
 
 import numpy as np
 from . import codes
-from .holding import critical_phases, stick_exit as _trig_exit
-from .jit import kernel, resolved_by
+from .holding import critical_phases, trig_exit as _trig_exit
+from .jit import kernel, resolved_by, runtime
 from .law import accel, field_slope, static_limits
 from .layout import C, K, OMEGA, V
 from .trig import (XC_END, XC_FTOL, XC_HEAD, XC_N, XC_OMEGA, XC_PERIOD, XC_PHASE, XC_STAGE,
@@ -89,7 +89,7 @@ def _resolve(xc, p, lw):
             top = i + 1
     xc[XC_TOP] = max(top, 1)
     r_pos, r_neg = static_limits(p, lw)
-    xc[XC_FTOL] = 1e3 * EPS * (max(r_pos, r_neg) + bound(xc, 0))
+    xc[XC_FTOL] = 1e3 * EPS * (max(r_pos, r_neg) + bound(xc, runtime(0)))
     return critical_phases(xc, p[K] * p[V])
 
 
@@ -114,31 +114,31 @@ def top_frequency(fx):
 @interface(inline=True)
 def load_bound(fx):
     """A bound of |e(t)| over all t [kN]."""
-    return bound(fx.xc, 0)
+    return bound(fx.xc, runtime(0))
 
 
 @interface(inline=True)
 def load(fx, t):
     """e(t) [kN]."""
-    return derivative(fx.xc, t, 0)
+    return derivative(fx.xc, t, runtime(0))
 
 
 @interface(inline=True)
 def load_rate(fx, t):
     """e'(t) [kN/s]."""
-    return derivative(fx.xc, t, 1)
+    return derivative(fx.xc, t, runtime(1))
 
 
 @interface(inline=True)
 def plus_load(fx, t, a, m):
     """``a + e(t)/m``: an acceleration of the autonomous field [cm/s^2] with the load."""
-    return a + derivative(fx.xc, t, 0) / m
+    return a + derivative(fx.xc, t, runtime(0)) / m
 
 
 @interface(inline=True)
 def plus_rate(fx, t, j, m):
     """``j + e'(t)/m``: a jerk of the autonomous field [cm/s^3] with the load's."""
-    return j + derivative(fx.xc, t, 1) / m
+    return j + derivative(fx.xc, t, runtime(1)) / m
 
 
 @interface()
@@ -190,7 +190,7 @@ def zero_mode(fx, x, t, s, p, lw, gtol):
     edge it slides on), else slide on by the sign of the force that exceeds it (a
     zero-duration stop: eq. 30 reversing, eq. 31 on in the same direction)."""
     r_pos, r_neg = static_limits(p, lw)
-    h = derivative(fx.xc, t, 0) - p[K] * x - p[C] * p[V]
+    h = derivative(fx.xc, t, runtime(0)) - p[K] * x - p[C] * p[V]
     over_pos = h - r_pos
     over_neg = -r_neg - h
     if max(over_pos, over_neg) < -fx.xc[XC_FTOL]:

@@ -26,7 +26,7 @@ import math
 import numpy as np
 
 from . import codes
-from .jit import kernel
+from .jit import kernel, runtime
 from .law import static_limits
 from .layout import C, K, V
 from .trig import XC_HEAD, XC_N, XC_NCRIT, XC_PERIOD, bound, crit_at, derivative
@@ -45,8 +45,8 @@ def critical_phases(xc, kv):
     n_h = int(xc[XC_N])
     at = crit_at(xc)
     room = 4 * n_h + 8
-    m2 = bound(xc, 2)
-    m3 = bound(xc, 3)
+    m2 = bound(xc, runtime(2))
+    m3 = bound(xc, runtime(3))
     if not m2 > 0.0:                    # no load (a load and an anchor that cancel)
         xc[XC_NCRIT] = 0
         return True
@@ -64,16 +64,16 @@ def critical_phases(xc, kv):
         top -= 1
         a = sa[top]
         b = sb[top]
-        ga = derivative(xc, a, 1) - kv
-        gb = derivative(xc, b, 1) - kv
+        ga = derivative(xc, a, runtime(1)) - kv
+        gb = derivative(xc, b, runtime(1)) - kv
         w = b - a
         if abs(ga) + abs(gb) > m2 * w:
             continue                        # no root
         m = 0.5 * (a + b)
         root = np.nan
-        if abs(derivative(xc, m, 2)) > 0.5 * m3 * w:
+        if abs(derivative(xc, m, runtime(2))) > 0.5 * m3 * w:
             if (ga > 0.0) != (gb > 0.0) or ga == 0.0:
-                root = _trig_root(xc, 1, kv, 0.0, 0.0, a, b)
+                root = _trig_root(xc, runtime(1), kv, 0.0, 0.0, a, b)
         elif w <= FLOOR * T or top + 2 > cap:
             root = m                        # a double root or a near miss: a cut
         else:
@@ -155,11 +155,11 @@ def next_cut(xc, a):
 @kernel(inline="always")
 def holding(xc, t, t0, x0, p):
     """The force h(t) [kN] that holds a slider stuck since (t0, x0)."""
-    return derivative(xc, t, 0) - p[K] * (x0 + p[V] * (t - t0)) - p[C] * p[V]
+    return derivative(xc, t, runtime(0)) - p[K] * (x0 + p[V] * (t - t0)) - p[C] * p[V]
 
 
 @kernel
-def stick_exit(xc, t0, x0, p, lw, t_stop):
+def trig_exit(xc, t0, x0, p, lw, t_stop):
     """``(dt, slips, mode, x_slip)``: the duration of the stick entered at (t0, x0)
     until the holding force leaves the band or t_stop, whether it ends in a slip,
     the slide it starts and the position there (module docstring)."""
@@ -179,7 +179,7 @@ def stick_exit(xc, t0, x0, p, lw, t_stop):
             up = hb > r_pos
             # h(t) = e(t) - k x0 - c v - k v (t - t0) at the level
             level = (r_pos if up else -r_neg) + p[K] * x0 + p[C] * v
-            tb = _trig_root(xc, 0, level, p[K] * v, t0, a, b)
+            tb = _trig_root(xc, runtime(0), level, p[K] * v, t0, a, b)
             return (tb - t0, True, codes.SLIDE_POS if up else codes.SLIDE_NEG,
                     x0 + v * (tb - t0))
         if b >= t_stop or (v == 0.0 and b - t0 > T):

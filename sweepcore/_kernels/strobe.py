@@ -227,7 +227,7 @@ def lyapunov(meth, u, p, lw, fx, o, acc, T, work, out):
             work[S_J + 1] = 0.0
             work[S_J + 2] = 0.0
             work[S_J + 3] = 1.0
-            status = run_periods(meth, work, p, lw, fx, o, acc, T, 1)
+            status = run_periods(meth, work, p, lw, fx, o, acc, T, runtime(1))
             if status != codes.OK:
                 return status
             ex = (work[S_J] * wx * lx + work[S_J + 1] * wz * lv) / lx
@@ -271,22 +271,9 @@ def strobe_point(meth, p, lw, fx, o_in, out, ws):
     workspace of ``WORKSPACE`` floats for the point's state (its caller's, a view
     without reference count, ``jit.unowned``: the many kernels the state passes
     through count none)."""
-    for i in range(NFOB):
-        out[i] = np.nan
-    out[OB_NSTEPS] = 0.0
-    if p.shape[0] != NP or o_in.shape[0] != NO or out.shape[0] != NFOB:
-        _failure(out, codes.BAD_ROW, runtime(False))
+    o, st, work, acc, ok = _start(meth, p, lw, fx, o_in, out, NFOB, ws)
+    if not ok:
         return
-    if not prepare(fx, p, lw):
-        _failure(out, codes.EVENT_FAILURE, runtime(False))
-        return
-    o, st, work, acc = _carve(meth, p, lw, fx, o_in, ws)
-    refused = method_status(meth, p, lw, fx, o)
-    if refused != codes.OK:
-        _failure(out, refused, runtime(False))
-        return
-    init_state(st, p[X0], p[XD0], p, lw, fx, o)
-    st[S_SECTIONS] = 2.0                 # extrema of x noted, never a stop
     T = period(fx)
     answered, status = _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out,
                                ws[BASE:])
@@ -307,6 +294,34 @@ def strobe_point(meth, p, lw, fx, o_in, out, ws):
     else:
         out[OB_REGIME] = codes.R_APERIODIC
         out[OB_STATUS] = codes.OK
+
+
+@kernel
+def _start(meth, p, lw, fx, o_in, out, size, ws):
+    """A point's start: out (``size`` floats) cleared, the row checked, the
+    excitation prepared, the workspace carved (``_carve``) and the state set at
+    (p[X0], p[XD0]), t = 0; ``ok`` False where out holds a failure instead."""
+    for i in range(out.shape[0]):
+        out[i] = np.nan
+    out[OB_NSTEPS] = 0.0
+    o = ws[:NO]
+    st = ws[NO:NO + NS]
+    work = ws[NO + NS:NO + 2 * NS]
+    acc = ws[NO + 2 * NS:BASE]
+    if p.shape[0] != NP or o_in.shape[0] != NO or out.shape[0] != size:
+        _failure(out, codes.BAD_ROW, runtime(False))
+        return o, st, work, acc, False
+    if not prepare(fx, p, lw):
+        _failure(out, codes.EVENT_FAILURE, runtime(False))
+        return o, st, work, acc, False
+    _carve(meth, p, lw, fx, o_in, ws)
+    refused = method_status(meth, p, lw, fx, o)
+    if refused != codes.OK:
+        _failure(out, refused, runtime(False))
+        return o, st, work, acc, False
+    init_state(st, p[X0], p[XD0], p, lw, fx, o)
+    st[S_SECTIONS] = 2.0                 # extrema of x noted, never a stop
+    return o, st, work, acc, True
 
 
 @kernel(inline="always")
@@ -355,7 +370,7 @@ def _search(meth, st, p, lw, fx, o, o_in, acc, T, work, out, ws):
     start = ws[PEND + 12:SEARCH]
     for j in range(1, jmax + 1):
         fresh(acc)
-        status = run_periods(meth, st, p, lw, fx, o, acc, T, 1)
+        status = run_periods(meth, st, p, lw, fx, o, acc, T, runtime(1))
         if status == codes.OK and st[S_N] >= o[O_MAX_STEPS]:
             status = codes.STEP_BUDGET
         if status != codes.OK:
@@ -597,21 +612,9 @@ def image_point(meth, p, lw, fx, o_in, n, out, ws):
     observables of the run, into ``out`` (layout OB_*, length NFOB, and
     ``IM_*``): the primitive of a continuation (``sweepcore.continuation``), whose
     Newton and pseudo-arclength steps run in Python on these images."""
-    for i in range(NFOB + NIM):
-        out[i] = np.nan
-    if p.shape[0] != NP or o_in.shape[0] != NO or out.shape[0] != NFOB + NIM:
-        _failure(out, codes.BAD_ROW, runtime(False))
+    o, u, work, acc, ok = _start(meth, p, lw, fx, o_in, out, NFOB + NIM, ws)
+    if not ok:
         return
-    if not prepare(fx, p, lw):
-        _failure(out, codes.EVENT_FAILURE, runtime(False))
-        return
-    o, u, work, acc = _carve(meth, p, lw, fx, o_in, ws)
-    refused = method_status(meth, p, lw, fx, o)
-    if refused != codes.OK:
-        _failure(out, refused, runtime(False))
-        return
-    init_state(u, p[X0], p[XD0], p, lw, fx, o)
-    u[S_SECTIONS] = 2.0
     T = period(fx)
     status = _image(meth, u, n, p, lw, fx, o, acc, T, work, runtime(True))
     out[OB_NSTEPS] = u[S_N]
