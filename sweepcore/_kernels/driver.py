@@ -42,7 +42,6 @@ from .jit import kernel
 from . import codes
 from .excitation import (capped, end_load, field_accel, load_rate, start_load,
                          stick_exit, top_frequency, zero_mode)
-from .jit import runtime
 from .law import (accel, certified_rest, constants, friction_force, integrand,
                   step_bound)
 from .layout import (A_DT, A_ILAW, A_IX, A_IXD2, A_NSTICK, A_NSTOP, A_TSTICK, A_WF,
@@ -181,7 +180,7 @@ def _finish_zero(meth, st, p, lw, fx, o, acc, x0, zd0, s, h, xe, touched, a0, cf
     xr, zr, qx, qv, qw, ql = part
     if xr != xr:
         xr, zr, qx, qv, qw, ql, _e, _ok, ks = step_kept(meth, t0, x0, zd0, h, s, p, lw, fx,
-                                                        o, runtime(True))
+                                                        o, True)
         st[S_N] += 1.0
         if st[S_TRACK] > 0.0:
             _track(meth, st, p, lw, fx, o, t0, x0, zd0, s, h, xr, zr, ks)
@@ -240,7 +239,7 @@ def _section(meth, st, p, lw, fx, o, acc, x, zd, z1, s, t, h, h_ev, a0, a1, cf, 
         _note_x(acc, xx, 0.0)
         return codes.EV_NONE
     xr, zr, qx, qv, qw, ql, _e, _ok, ks = step_kept(meth, t, x, zd, h_xe, s, p, lw, fx, o,
-                                                    runtime(True))
+                                                    True)
     st[S_N] += 1.0
     if st[S_TRACK] > 0.0:
         _track(meth, st, p, lw, fx, o, t, x, zd, s, h_xe, xr, zr, ks)
@@ -295,7 +294,7 @@ def slide_until_event(meth, st, p, lw, fx, o, acc, t_stop):
             st[S_T] = t_stop
             return codes.EV_STOP_TIME, codes.OK
         x1, z1, qx, qv, qw, ql, err, ok, ks = step_kept(meth, t, x, zd, h, s, p, lw, fx, o,
-                                                        runtime(True))
+                                                        True)
         st[S_N] += 1.0
         if not ok:                  # GPS denominator guard: halve the step
             ok, h, x1, z1, qx, qv, qw, ql = _halved(meth, st, p, lw, fx, o, t, x, zd, s, h,
@@ -474,7 +473,7 @@ def _track_partial(meth, st, p, lw, fx, o, t, x, zd, s, h):
     """The tangent through the partial step h to an event (the step taken again
     for the slopes the tangent needs)."""
     x1, z1, _a, _b, _c, _d, _e, _ok, ks = step_kept(meth, t, x, zd, h, s, p, lw, fx, o,
-                                                    runtime(False))
+                                                    True)   # one compiled copy
     st[S_N] += 1.0
     _track(meth, st, p, lw, fx, o, t, x, zd, s, h, x1, z1, ks)
 
