@@ -10,12 +10,14 @@ largest multiplier within 1e-5 (the reference's differences: ~1e-7); the periodi
 point reported (``x_section``, ``xdot_section``: the state at t = 0 mod n T) a fixed
 point of the reference's map over n T to 1e-8 L.
 """
+import collections
 import math
 
 import numpy as np
 import pytest
 
 import sweepcore as sc
+from sweepcore._kernels import codes
 from reference_forced import Forced, forced_steady
 
 CONTRACT = 1e-6
@@ -149,3 +151,21 @@ def test_a_motion_still_settling_is_not_called_aperiodic():   # default run see 
         assert abs(r.x_section - z[0]) < 1e-3 * mod.L
     else:
         assert r.status == "unconverged" and r.regime == "unconverged"
+
+
+@pytest.mark.slow          # 1,024 forced points (10 s warm)
+def test_a_stribeck_belt_map_is_answered_not_flagged():
+    """The 32 x 32 Stribeck map on a belt (m = k = 1, c = 0.05, r_y = 1, r_k = 0.6,
+    v_s = 0.3, v = 0.5, Omega 0.3-3, F0 0.2-3) where 44 points were flagged (25
+    failed on the step budget, 12 'neutral' where no neutral family exists): at most
+    10 flagged (an aperiodic motion with its exponent is an answer), none neutral,
+    none failed."""
+    g = sc.Grid(m=1.0, k=1.0, c=0.05, v=0.5, r_y=1.0, r_k=0.6, v_s=0.3,
+                Omega=np.linspace(0.3, 3, 32), F0=np.linspace(0.2, 3, 32))
+    ds = sc.sweep(g, progress=False)
+    a = ds.status.attrs
+    names = dict(zip(np.atleast_1d(a["flag_values"]).tolist(), a["flag_meanings"].split()))
+    said = [names[int(s)] for s in ds.status.values.ravel()]
+    assert sum(s != "ok" for s in said) <= 10, collections.Counter(said)
+    assert "step_budget_exceeded" not in said
+    assert not np.isin(ds.regime.values, [codes.R_NEUTRAL, codes.R_FAILED]).any()
