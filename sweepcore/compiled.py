@@ -111,22 +111,30 @@ def attractors(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray,
             out[rows] = sub
 
 
+def _by_load(P: np.ndarray, laws, loads, o: np.ndarray, out: np.ndarray):
+    """The forced rows of P by method, law kind and load (``layout.LOAD`` indexes
+    ``loads``): yields (method, kind, law data, the group's rows of P, its rows of
+    ``out``, the load's kernel data); the group's results are written back into
+    ``out`` when the caller asks for the next group."""
+    which = P[:, layout.LOAD].astype(np.intp)
+    for meth, kind, rows, lw in groups(P, laws, o, forced=True):
+        for j in np.unique(which[rows]):
+            mine = rows[which[rows] == j]
+            sub = _sub(out, mine, P.shape[0])
+            yield meth, kind, lw, _sub(P, mine, P.shape[0]), sub, loads[j].data()
+            if sub is not out:
+                out[mine] = sub
+
+
 def responses(P: np.ndarray, laws, loads, o: np.ndarray, out: np.ndarray,
               parallel: bool = False) -> None:
     """The steady forced response of every row of P into ``out`` (n, NFOB): the
     rows grouped by method, law kind and load (``layout.LOAD`` indexes ``loads``),
     each group on the method's ``forced_rows`` entry, shared out as
     :func:`attractors`."""
-    which = P[:, layout.LOAD].astype(np.intp)
-    for meth, kind, rows, lw in groups(P, laws, o, forced=True):
-        for j in np.unique(which[rows]):
-            mine = rows[which[rows] == j]
-            sub = _sub(out, mine, P.shape[0])
-            with compiling("forced response", meth, kind):
-                _batched("forced_rows", meth, _sub(P, mine, P.shape[0]), lw, o, (sub,),
-                         parallel, (loads[j].data(),))
-            if sub is not out:
-                out[mine] = sub
+    for meth, kind, lw, Pj, sub, data in _by_load(P, laws, loads, o, out):
+        with compiling("forced response", meth, kind):
+            _batched("forced_rows", meth, Pj, lw, o, (sub,), parallel, (data,))
 
 
 def images(P: np.ndarray, laws, loads, o: np.ndarray, n: int, out: np.ndarray) -> None:
@@ -134,16 +142,9 @@ def images(P: np.ndarray, laws, loads, o: np.ndarray, n: int, out: np.ndarray) -
     tangent and the run's observables into ``out`` (rows, NFOB + NIM): the
     stroboscopic map's image (``sweepcore._kernels.strobe.image_point``), grouped as
     :func:`responses`."""
-    which = P[:, layout.LOAD].astype(np.intp)
-    for meth, kind, rows, lw in groups(P, laws, o, forced=True):
-        for j in np.unique(which[rows]):
-            mine = rows[which[rows] == j]
-            sub = _sub(out, mine, P.shape[0])
-            with compiling("stroboscopic image", meth, kind):
-                entries.entry("image_rows", meth)(_sub(P, mine, P.shape[0]), lw,
-                                                  loads[j].data(), o, int(n), sub)
-            if sub is not out:
-                out[mine] = sub
+    for meth, kind, lw, Pj, sub, data in _by_load(P, laws, loads, o, out):
+        with compiling("stroboscopic image", meth, kind):
+            entries.entry("image_rows", meth)(Pj, lw, data, o, int(n), sub)
 
 
 def cycles(P: np.ndarray, laws, o: np.ndarray, out: np.ndarray, found: np.ndarray,

@@ -104,6 +104,7 @@ def _image_rows(meth):
             strobe.image_point(meth, P[i], lw, fx, o, n, out[i], ws)
         owner[:] = 0.0                  # the work arrays live until here
         space[0] = 0.0
+        space[0] = 0.0
     return image_rows
 
 

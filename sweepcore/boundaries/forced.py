@@ -27,7 +27,8 @@ from .._kernels import codes, layout
 from ..excitations import HARMONIC, theory
 from ..grid import Grid, checked_grid
 from ..options import make_options
-from ..params import LONG_NAMES, UNITS, check_real
+from ..params import LONG_NAMES, UNITS
+from .locate import checked_bracket
 from .point import ABSENT, FAILED, INCONSISTENT, LOCATED, SEARCH_NAMES
 
 NARROW = 0.05       # half-width of a continued step's bracket, of its prediction
@@ -35,20 +36,9 @@ SUCCESS = (branch.REACHED, branch.LEFT, branch.CLOSED)
 
 
 def _bracket(grid: Grid, along: str, bracket):
-    """(lo, hi) of the search, checked; the grid's ``along`` range by default."""
-    ax = grid.axis(along)
-    if bracket is None:
-        if not isinstance(ax, np.ndarray):
-            raise ValueError(f"bracket is needed when {along!r} is not swept in the "
-                             f"grid (got {along}={ax!r})")
-        bracket = (float(ax.min()), float(ax.max()))
-    if not (isinstance(bracket, (tuple, list, np.ndarray)) and len(bracket) == 2):
-        raise ValueError(f"bracket must be a pair (lo, hi) [{UNITS[along]}], got "
-                         f"{bracket!r}")
-    lo, hi = (check_real(f"bracket[{i}] (along {along})", x)
-              for i, x in enumerate(bracket))
-    if not lo < hi:
-        raise ValueError(f"bracket must be finite with lo < hi, got {bracket!r}")
+    """(lo, hi) of the search, checked (``locate.checked_bracket``), each end a
+    slider the grid accepts; the grid's ``along`` range by default."""
+    lo, hi = checked_bracket(grid, along, bracket)
     import dataclasses
     for name, value in (("bracket[0]", lo), ("bracket[1]", hi)):
         try:        # every slider of the bracket's ends, checked as a Grid checks them

@@ -188,12 +188,9 @@ def _locate_point(pt: _Point, values: np.ndarray, xtol: float, offset: float, st
 
 
 # ------------------------------------------------------------------ arguments
-def _scan_values(grid: Grid, along: str, bracket, scan: int,
-                 chunks: int | None = None) -> np.ndarray:
-    """The coarse scan along ``along``, after the size rule of the searches
-    (:func:`sweepcore.sizing.boundary_need`; a task of ``chunks`` searches, default
-    all of them)."""
-    checked_grid(grid)
+def checked_bracket(grid: Grid, along: str, bracket) -> tuple[float, float]:
+    """(lo, hi) of a search along ``along``, checked: a pair of finite reals with
+    lo < hi; the grid's ``along`` range where ``bracket`` is None."""
     ax = grid.axis(along)
     if bracket is None:
         if not isinstance(ax, np.ndarray):
@@ -207,6 +204,17 @@ def _scan_values(grid: Grid, along: str, bracket, scan: int,
               enumerate(bracket))
     if not lo < hi:
         raise ValueError(f"bracket must be finite with lo < hi, got {bracket!r}")
+    return lo, hi
+
+
+def _scan_values(grid: Grid, along: str, bracket, scan: int,
+                 chunks: int | None = None) -> np.ndarray:
+    """The coarse scan along ``along``, after the size rule of the searches
+    (:func:`sweepcore.sizing.boundary_need`; a task of ``chunks`` searches, default
+    all of them)."""
+    checked_grid(grid)
+    ax = grid.axis(along)
+    lo, hi = checked_bracket(grid, along, bracket)
     if along == "v" and lo <= 0.0:
         raise ValueError(f"bracket along v must lie in v > 0 (the motion is mirror "
                          f"symmetric in v), got lo = {lo!r}")
