@@ -31,8 +31,9 @@ from .holding import critical_phases, trig_exit as _trig_exit
 from .jit import kernel, resolved_by, runtime
 from .law import accel, field_slope, static_limits
 from .layout import C, K, OMEGA, V
-from .trig import (XC_END, XC_FTOL, XC_HEAD, XC_N, XC_OMEGA, XC_PERIOD, XC_PHASE, XC_STAGE,
-                   XC_START, XC_STEP, XC_TOP, bound, derivative, stage_loads)
+from .trig import (XC_END, XC_FTOL, XC_HEAD, XC_N, XC_NCRIT, XC_OMEGA, XC_PERIOD, XC_PHASE,
+                   XC_STAGE, XC_START, XC_STEP, XC_TOP, bound, crit_at, derivative,
+                   stage_loads)
 
 EPS = np.finfo(np.float64).eps
 
@@ -181,6 +182,31 @@ def stick_exit(fx, t, x, p, lw, t_stop):
     the holding force leaves the static band (``holding.py``) or t_stop; ``slips``,
     the slide it starts and the position there."""
     return _trig_exit(fx.xc, t, x, p, lw, t_stop)
+
+
+@interface()
+def rest_band(fx, p, lw):
+    """``(x_lo, x_hi)`` [cm]: on fixed ground (v = 0) the positions where a stuck
+    slider stays stuck for ever, ``-r_neg <= e(t) - k x <= r_pos`` at every t
+    (empty where x_lo > x_hi), from the load's extremes at its critical phases
+    (``prepare``: with v = 0 the roots of e'). NaN on a moving belt."""
+    return _rest_band(fx.xc, p, lw)
+
+
+@kernel
+def _rest_band(xc, p, lw):
+    """The generic ``rest_band``."""
+    if p[V] != 0.0:
+        return np.nan, np.nan
+    at = crit_at(xc)
+    lo = derivative(xc, 0.0, runtime(0))
+    hi = lo
+    for i in range(int(xc[XC_NCRIT])):
+        e = derivative(xc, xc[at + i], runtime(0))
+        lo = min(lo, e)
+        hi = max(hi, e)
+    r_pos, r_neg = static_limits(p, lw)
+    return (hi - r_pos) / p[K], (lo + r_neg) / p[K]
 
 
 @interface()

@@ -30,7 +30,7 @@ import numpy as np
 from . import codes
 from .attractor import method_status, resolve_into
 from .driver import advance, init_state
-from .excitation import period, prepare
+from .excitation import period, prepare, rest_band
 from .jit import copy_into, kernel, runtime
 from .law import anti_damped
 from .layout import (IM_J, IM_MODE, IM_MODE0, IM_X, IM_XDOT, NIM, A_IX, A_NSTICK, A_NSTOP, A_TSTICK, A_XDMAX, A_XDMIN, A_XMAX, A_XMIN,
@@ -66,6 +66,11 @@ NEAR = 0.1
 # neutral family's member (a stick carried along by the belt has the multiplier 1 of
 # its position, but moves by v n T: no fixed point at all)
 NEUTRAL = 1e-3
+# a stick-slip fixed point on fixed ground with a multiplier within CREEP of 1, within
+# EDGE (in L) outside the positions where the slider rests for ever: the motion creeps
+# to the edge of that band, its slips shrinking without end (``_creeps``)
+CREEP = 1e-3
+EDGE = 1e-3
 # what a candidate fixed point did to the search
 GO_ON = 0
 ANSWERED = 1
@@ -473,6 +478,10 @@ def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out, pend, sta
         n = m
     if status != codes.OK:
         return GO_ON, status
+    if ok and mu1 >= 1.0 - CREEP and out[OB_STICKS_PER_PERIOD] > 0.0:
+        edge = _creeps(u[S_X], start[S_X], p, lw, fx, o)
+        if not math.isnan(edge):
+            return _at_rest(meth, u, edge, j, p, lw, fx, o, acc, T, work, out, tol)
     if ok and mu1 < 1.0 - 1e-9:
         # the integration error of n periods, amplified by 1/(1 - mu1) in the fixed
         # point, must be within tol: else solve again, tighter
@@ -504,6 +513,48 @@ def _candidate(meth, u, n, j, d, p, lw, fx, o, tol, acc, T, work, out, pend, sta
             out[OB_STATUS] = codes.UNRESOLVED
         return ANSWERED, codes.OK
     return GO_ON, codes.OK
+
+
+@kernel
+def _creeps(x, x_motion, p, lw, fx, o):
+    """The edge [cm] of the band where a slider on fixed ground rests for ever
+    (``excitation.rest_band``) to which the motion creeps, NaN if it does not: the
+    stick-slip fixed point x found (a multiplier near 1) lies within EDGE outside the
+    band and the motion's iterate x_motion outside on the same side. There every
+    period's slip is towards the band and shrinks with the distance to its edge, so
+    the motion approaches the edge without end and P's near-fixed points beside it
+    are not fixed points (Newton's residual vanishes there to a higher order, and a
+    residual within tol leaves the point far more than tol from the edge)."""
+    lo, hi = rest_band(fx, p, lw)
+    if not lo <= hi:
+        return np.nan
+    lx = o[O_LX]
+    if hi < x <= hi + EDGE * lx and x_motion > hi:
+        return hi
+    if lo - EDGE * lx <= x < lo and x_motion < lo:
+        return lo
+    return np.nan
+
+
+@kernel
+def _at_rest(meth, u, edge, j, p, lw, fx, o, acc, T, work, out, tol):
+    """The answer of a motion creeping to ``edge`` (``_creeps``): its limit, the
+    slider at rest there (a thousandth of tol inside the band: the rest is exact to
+    that), which the motion reaches only as time goes to infinity (t_settle: when
+    it was found). Returns ``(ANSWERED, status)``."""
+    inward = 1e-3 * tol * o[O_LX]
+    u[S_X] = edge - inward if u[S_X] > edge else edge + inward
+    u[S_ZD] = 0.0
+    u[S_MODE] = codes.STICK
+    u[S_ARMED] = 0.0
+    status = _image(meth, u, 1, p, lw, fx, o, acc, T, work, runtime(False))
+    if status != codes.OK:
+        return GO_ON, status
+    _observables(acc, T, out)
+    _answer(u, 1, j, 1.0, p, o, T, out, tol)
+    if out[OB_REGIME] != codes.R_STUCK:     # the band's edge not held: no answer
+        return GO_ON, codes.OK
+    return ANSWERED, codes.OK
 
 
 @kernel
