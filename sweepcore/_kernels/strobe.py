@@ -430,9 +430,10 @@ def _certify(st, u, j, pend, lx, lv, tol, same):
     distance need not shrink every period), or shrink by ``(1 + |mu1|)/2`` at least.
     The motion is then u's response (ANSWERED) once it has u's sticks and stops
     (``same``) and is within ``CERTIFY`` of u, shrinking, or follows the
-    linearisation within ``NEAR`` of u (or, for a slide that never reaches the
-    belt's speed, within a quarter of its margin to that speed: it cannot stick);
-    within 10 tol it is u. Still on its way: PENDING. Neither (a coexisting
+    linearisation within ``NEAR`` of u; for a slide that never reaches the belt's
+    speed, within a quarter of its margin to that speed in both (farther, it could
+    reach the belt and stick: a coexisting stick-slip response); within 10 tol it
+    is u. Still on its way: PENDING. Neither (a coexisting
     response it does not reach): GO_ON, and u is dropped."""
     n = int(pend[0])
     if (j - int(pend[1])) % n != 0:
@@ -449,8 +450,12 @@ def _certify(st, u, j, pend, lx, lv, tol, same):
     if not (linear or shrinks):
         pend[0] = 0.0
         return GO_ON
-    if same and ((e <= CERTIFY and shrinks) or
-                 (linear and e <= max(0.25 * pend[11], NEAR))):
+    # a slide that never reaches the belt's speed: a quarter of its margin to that
+    # speed bounds both radii (a deviation beyond it can reach the belt and stick)
+    slide = pend[11] > 0.0
+    close = min(CERTIFY, 0.25 * pend[11]) if slide else CERTIFY
+    near = 0.25 * pend[11] if slide else NEAR
+    if same and ((e <= close and shrinks) or (linear and e <= near)):
         return ANSWERED
     pend[1] = j
     pend[2] = e
