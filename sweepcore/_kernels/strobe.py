@@ -552,11 +552,12 @@ def _at_rest(meth, u, edge, j, p, lw, fx, o, acc, T, work, out, tol):
     u[S_ZD] = 0.0
     u[S_MODE] = codes.STICK
     u[S_ARMED] = 0.0
-    status = _image(meth, u, 1, p, lw, fx, o, acc, T, work, runtime(False))
+    one = runtime(1)            # one period (a literal would compile _image again)
+    status = _image(meth, u, one, p, lw, fx, o, acc, T, work, runtime(False))
     if status != codes.OK:
         return GO_ON, status
     _observables(acc, T, out)
-    _answer(u, 1, j, 1.0, p, o, T, out, tol)
+    _answer(u, one, j, 1.0, p, o, T, out, tol)
     if out[OB_REGIME] != codes.R_STUCK:     # the band's edge not held: no answer
         return GO_ON, codes.OK
     return ANSWERED, codes.OK
