@@ -11,16 +11,18 @@ The same holds for xdot, stored as ``zdot + v`` to ``eps (|v| + V)`` against the
 velocity amplitude ``V``.
 
 A cycle is resolved when both ratios are at most ``RESOLUTION = 1e-6``, the relative
-accuracy an answer with status ok promises; otherwise its observables carry fewer
-digits than that and the point is flagged ``below_resolution``.
+accuracy an answer with status ok promises, and its period and mean are finite (a
+subnormal belt speed loads the spring across the static band only after more than the
+largest float64 of seconds); otherwise its observables carry fewer digits than that
+and the point is flagged ``below_resolution``.
 """
 import numpy as np
 
 from .jit import kernel
 
 from . import codes
-from .layout import (OB_AMPLITUDE, OB_REGIME, OB_STATUS, OB_VAMPLITUDE, OB_X_MAX,
-                     OB_X_MIN, V)
+from .layout import (OB_AMPLITUDE, OB_MEAN, OB_PERIOD, OB_REGIME, OB_STATUS,
+                     OB_VAMPLITUDE, OB_X_MAX, OB_X_MIN, V)
 
 EPS = np.finfo(np.float64).eps
 RESOLUTION = 1e-6
@@ -33,7 +35,8 @@ def cycle_resolved(out, p):
     vamp = out[OB_VAMPLITUDE]
     u = EPS * max(abs(out[OB_X_MAX]), abs(out[OB_X_MIN]))
     w = EPS * (abs(p[V]) + vamp)
-    return amp * RESOLUTION >= u and vamp * RESOLUTION >= w
+    return (amp * RESOLUTION >= u and vamp * RESOLUTION >= w
+            and np.isfinite(out[OB_PERIOD]) and np.isfinite(out[OB_MEAN]))
 
 
 @kernel
