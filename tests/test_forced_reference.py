@@ -150,9 +150,10 @@ def test_a_motion_creeping_to_rest_is_answered_by_its_limit(kw, cos, sin, start)
     above it slips down a little every period, less and less (the friction of a slow
     slip is the static limit's): the reference's stroboscopic x falls towards the
     band's edge (min e + r_y)/k and never reaches it. The search's Newton found a
-    near-fixed point beside the edge (a residual within tol 1e-10 L, 4e-6 to 8e-6 L from the
-    edge) and called it an ok stick-slip response; the motion's limit is the rest at
-    the edge: regime stuck, mean the edge within 1e-7 L (reached as t -> inf)."""
+    near-fixed point beside the edge (a residual within tol 1e-10 L, 4e-6 to 8e-6 L
+    from the edge) and called it an ok stick-slip response; the motion's limit is the
+    rest at the edge: regime stuck, mean the edge within 1e-7 L (reached as t ->
+    inf)."""
     from reference_forced import _map
     load = sc.PeriodicLoad(cos=cos, sin=sin) if cos is not None else None
     mod = Forced(**kw, cos=cos, sin=sin)
