@@ -123,14 +123,6 @@ def compare(kw, cos, sin, x0, xd0):
     return {**out, "verdict": "agree" if counts and d <= CONTRACT * mod.L else "wrong_ok"}
 
 
-def _extreme(mod, which):
-    """The load's min or max over a period: on 401 phases, then 2001 around the best."""
-    ph = np.linspace(0.0, mod.T, 401)
-    i = int((np.argmin if which is min else np.argmax)([mod.load(s) for s in ph]))
-    fine = np.linspace(ph[max(i - 1, 0)], ph[min(i + 1, 400)], 2001)
-    return which(mod.load(s) for s in fine)
-
-
 def long_check(mod, res, x0, xd0, periods=20000, rtol=1e-10):
     """Where the reference's search fails: sweepcore's ok answer against the
     reference's motion from the same start (scipy at ``rtol``, exact sticks).
@@ -144,7 +136,7 @@ def long_check(mod, res, x0, xd0, periods=20000, rtol=1e-10):
     motion is followed until its state repeats after n periods within 1e-9 of the
     scales, then the state nearest sweepcore's periodic point and the amplitude of its
     last n periods must agree within the contract, and its sticks and stops."""
-    from reference_forced import _map
+    from reference_forced import _map, load_extreme
     scale = np.array([mod.L, mod.Lv])
     z, t = np.array([x0, xd0], float), 0.0
     try:
@@ -154,8 +146,8 @@ def long_check(mod, res, x0, xd0, periods=20000, rtol=1e-10):
                 z = _map(mod, z, t, 1, rtol)[0]
                 t += mod.T
                 xs.append(z[0])
-            edges = ((_extreme(mod, min) + mod.r_neg) / mod.k,
-                     (_extreme(mod, max) - mod.r_pos) / mod.k)
+            edges = ((load_extreme(mod, min) + mod.r_neg) / mod.k,
+                     (load_extreme(mod, max) - mod.r_pos) / mod.k)
             edge = min(edges, key=lambda x: abs(x - res.mean))
             steps = np.diff(xs[10:])
             side = np.sign(xs[-1] - edge)

@@ -1,5 +1,16 @@
 """Shared fixtures. numba kernels are compiled (or loaded from cache) once per session."""
 import math
+import os
+
+# Under pytest-xdist each worker keeps its own kernel cache below the usual one: a
+# cache that both workers had written was once left with an entry that failed at its
+# call ("NRT_adapt_ndarray_to_python: 'descr' is NULL", 2026-12-08), and a directory
+# one process writes alone cannot be raced. Set before sweepcore is imported.
+_WORKER = os.environ.get("PYTEST_XDIST_WORKER")
+if _WORKER and not os.environ.get("NUMBA_CACHE_DIR"):
+    _BASE = os.environ.get("SWEEPCORE_CACHE_DIR") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.expanduser("~/.cache"), "sweepcore")
+    os.environ["SWEEPCORE_CACHE_DIR"] = os.path.join(_BASE, "test-" + _WORKER)
 
 import numpy as np
 import pytest

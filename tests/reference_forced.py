@@ -140,6 +140,16 @@ class Forced:
         return 0
 
 
+def load_extreme(mod, which):
+    """The load's min or max over a period (``which`` is ``min`` or ``max``) [kN]: on
+    401 phases, then on 2001 between the neighbours of the best (spacing T/4e5: the
+    quadratic error (T/4e5)^2 |e''|/8 is at rounding for the loads of the tests)."""
+    ph = np.linspace(0.0, mod.T, 401)
+    i = int((np.argmin if which is min else np.argmax)([mod.load(s) for s in ph]))
+    fine = np.linspace(ph[max(i - 1, 0)], ph[min(i + 1, 400)], 2001)
+    return which(mod.load(s) for s in fine)
+
+
 # ------------------------------------------------------------------------ stick
 def _critical_phases(mod):
     """The times in [0, T) at which h'(t) = e'(t) - k v vanishes: with z =

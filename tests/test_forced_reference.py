@@ -154,15 +154,10 @@ def test_a_motion_creeping_to_rest_is_answered_by_its_limit(kw, cos, sin, start)
     from the edge) and called it an ok stick-slip response; the motion's limit is the
     rest at the edge: regime stuck, mean the edge within 1e-7 L (reached as t ->
     inf)."""
-    from reference_forced import _map
+    from reference_forced import _map, load_extreme
     load = sc.PeriodicLoad(cos=cos, sin=sin) if cos is not None else None
     mod = Forced(**kw, cos=cos, sin=sin)
-    t = np.linspace(0.0, mod.T, 400_001)
-    # the edge to rounding: the load's minimum refined on the fine grid near the
-    # coarse one (the load is smooth: a quadratic error (T/4e5)^2 |e''|/8 ~ 1e-11)
-    i = int(np.argmin([mod.load(ti) for ti in t[::1000]])) * 1000
-    near = t[max(i - 1000, 0):i + 1001]
-    edge = (min(mod.load(ti) for ti in near) + kw["r_y"]) / kw["k"]
+    edge = (load_extreme(mod, min) + kw["r_y"]) / kw["k"]    # the band's upper edge
     z, tt, xs = np.array(start, float), 0.0, []
     for _ in range(60):
         z = _map(mod, z, tt, 1, 1e-10)[0]
